@@ -1,0 +1,43 @@
+# Two commands on a fresh machine: `make demo` and `make test`.
+# Both create .venv, install what is missing (Debian's libfftw3-dev for SHTns), then run.
+VENV   ?= .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+PYTHON ?= python3
+
+.PHONY: demo test test-all bench fftw clean
+
+demo: $(STAMP)
+	$(VENV)/bin/spectralshell demo --out demo-output
+
+test: $(STAMP)
+	$(PY) -m pytest -m "not slow" -q
+
+test-all: $(STAMP)
+	$(PY) -m pytest -q
+
+bench: $(STAMP)
+	@for f in validation/bench_*.py; do echo "== $$f"; $(PY) $$f || exit 1; done
+
+# SHTns is built from its PyPI source and needs the FFTW3 headers.
+fftw:
+	@if [ ! -f /usr/include/fftw3.h ]; then \
+	  if [ "$$(id -u)" = 0 ]; then \
+	    echo "installing libfftw3-dev (needed to build SHTns)"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libfftw3-dev >/dev/null; \
+	  else \
+	    echo "SHTns needs FFTW3 headers: run 'sudo apt-get install -y libfftw3-dev', then repeat this make command" >&2; exit 2; \
+	  fi; \
+	fi
+
+$(PY):
+	$(PYTHON) -m venv $(VENV)
+
+$(STAMP): pyproject.toml | $(PY)
+	@$(MAKE) --no-print-directory fftw
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[test]'
+	@touch $(STAMP)
+
+clean:
+	rm -rf $(VENV) demo-output .pytest_cache

@@ -1,0 +1,78 @@
+"""Argument validators with one message format (a leaf module).
+
+Each validator returns the cleaned value or raises :class:`~spectralshell.errors.ParameterError`
+with the message ``"<name> = <value> is invalid: must be <allowed range>"``.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Iterable
+
+from .errors import ParameterError
+
+
+def _fail(name: str, value: object, allowed: str) -> ParameterError:
+    return ParameterError(f"{name} = {value!r} is invalid: must be {allowed}")
+
+
+def require_real(name: str, value: object) -> float:
+    """Return ``value`` as a finite float."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        if isinstance(value, str):
+            try:
+                value = float(value)
+            except ValueError:
+                raise _fail(name, value, "a finite real number") from None
+        else:
+            raise _fail(name, value, "a finite real number")
+    value = float(value)
+    if not math.isfinite(value):
+        raise _fail(name, value, "a finite real number")
+    return value
+
+
+def require_nonnegative(name: str, value: object) -> float:
+    """Return ``value`` as a finite float >= 0."""
+    v = require_real(name, value)
+    if v < 0:
+        raise _fail(name, value, "a finite real number >= 0")
+    return v
+
+
+def require_positive(name: str, value: object) -> float:
+    """Return ``value`` as a finite float > 0."""
+    v = require_real(name, value)
+    if v <= 0:
+        raise _fail(name, value, "a finite real number > 0")
+    return v
+
+
+def require_int_in_range(name: str, value: object, lo: int, hi: int | None = None) -> int:
+    """Return ``value`` as an int with ``lo <= value <= hi`` (``hi=None``: no upper bound)."""
+    if isinstance(value, bool):
+        raise _fail(name, value, _int_range(lo, hi))
+    if isinstance(value, numbers.Integral):
+        v = int(value)
+    elif isinstance(value, numbers.Real) and float(value).is_integer():
+        v = int(value)
+    elif isinstance(value, str) and value.strip().lstrip("+-").isdigit():
+        v = int(value)
+    else:
+        raise _fail(name, value, _int_range(lo, hi))
+    if v < lo or (hi is not None and v > hi):
+        raise _fail(name, value, _int_range(lo, hi))
+    return v
+
+
+def _int_range(lo: int, hi: int | None) -> str:
+    return f"an integer >= {lo}" if hi is None else f"an integer in [{lo}, {hi}]"
+
+
+def require_choice(name: str, value: object, choices: Iterable[str]) -> str:
+    """Return ``value`` if it is one of ``choices``."""
+    choices = tuple(choices)
+    if not isinstance(value, str) or value not in choices:
+        raise _fail(name, value, "one of " + ", ".join(repr(c) for c in choices))
+    return value

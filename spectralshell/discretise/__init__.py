@@ -1,0 +1,1 @@
+"""Stage 3, discretisation: Fourier/Floquet conventions and Hill matrices (truncated systems)."""

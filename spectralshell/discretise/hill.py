@@ -1,0 +1,133 @@
+"""Hill matrices: the truncated generalised eigenproblem A v = tau B v for any model.
+
+One assembler serves every model. The model supplies D(s) and G of
+D(s_n) u_n = i tau G (u_{n-1} - u_{n+1}) (see :mod:`spectralshell.models.base`; thesis (2.6)), so
+A is block diagonal with the blocks D(s_n) and B is block tridiagonal, coupling n only to n +- 1.
+Both are stored as arrays of equal-size blocks: ``diag`` (K, s, s) for A, and for B ``lower``
+(coupling of row block k to k - 1), ``upper`` (to k + 1) and, where present, ``self_coupling``.
+
+Two forms, with identical finite spectra (packing in :mod:`spectralshell.discretise.fourier`):
+
+* ``"real"``: reality conditions (2.7)/(2.8) applied, n = 0..N, blocks of size s = 2b acting on
+  [Re u_n, Im u_n]. With D = D_r + i D_i and J = [[0, -1], [1, 0]], splitting (2) into real and
+  imaginary parts gives A_n = [[D_r, -D_i], [D_i, D_r]], lower = kron(J, G), upper = -kron(J, G).
+  At n = 0 the reflected neighbour enters:
+  harmonic, u_{-1} = conj u_1: D(0) Re u_0 = 2 G Im u_1, so upper_0 = [[0, 2G], [0, 0]]; u_0 is real,
+  and the slot of Im u_0 carries the row Im u_0 = 0 (A_0 = diag(D(0), I), B row zero: one infinite
+  eigenvalue, as in the thesis's A_0 = I_2 with the zero second row of its B-hat/B-tilde);
+  subharmonic, u_{-1} = conj u_0: i G conj(u_0) gives self_coupling_0 = [[0, G], [G, 0]].
+  (The thesis's blocks are these multiplied by -i/kappa, a row scaling that leaves tau unchanged.)
+* ``"two-sided"``: complex, k = -N..N (harmonic) or -N-1..N (subharmonic), s = b,
+  lower = i G, upper = -i G, no self-coupling. An independent check of the packing, and, being
+  bipartite for both kinds, the form of the fast subharmonic solver.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..models.base import HillSystem
+from .fourier import check_kind, frequencies, real_indices, two_sided_indices
+
+FORMS = ("real", "two-sided")
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class HillMatrices:
+    """A truncated Hill pencil A v = tau B v in block-tridiagonal storage.
+
+    Attributes
+    ----------
+    kind, form, n_temporal : what was assembled.
+    diag : (K, s, s) diagonal blocks of A.
+    lower, upper : (K - 1, s, s) blocks B_{k,k-1} and B_{k,k+1}.
+    self_coupling : (K, s, s) diagonal blocks of B, or None when they all vanish (then B couples
+        only neighbouring Fourier indices and the pencil is bipartite).
+    """
+
+    kind: str
+    form: str
+    n_temporal: int
+    diag: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    self_coupling: np.ndarray | None
+
+    @property
+    def is_real(self) -> bool:
+        return self.form == "real"
+
+    @property
+    def bipartite(self) -> bool:
+        return self.self_coupling is None
+
+    @cached_property
+    def A(self) -> sp.csr_matrix:
+        """A as a sparse matrix."""
+        K, s, _ = self.diag.shape
+        return sp.bsr_matrix((self.diag, np.arange(K), np.arange(K + 1)), shape=(K * s,) * 2).tocsr()
+
+    @cached_property
+    def B(self) -> sp.csr_matrix:
+        """B as a sparse matrix."""
+        K, s, _ = self.diag.shape
+        rows = np.concatenate([np.arange(1, K), np.arange(K - 1)])
+        cols = np.concatenate([np.arange(K - 1), np.arange(1, K)])
+        data = [self.lower, self.upper]
+        if self.self_coupling is not None:
+            rows, cols = np.concatenate([rows, np.arange(K)]), np.concatenate([cols, np.arange(K)])
+            data.append(self.self_coupling)
+        data = np.concatenate(data)
+        order = np.lexsort((cols, rows))
+        indptr = np.searchsorted(rows[order], np.arange(K + 1))
+        return sp.bsr_matrix((data[order], cols[order], indptr), shape=(K * s,) * 2).tocsr()
+
+
+def _realify(d: np.ndarray) -> np.ndarray:
+    """Real 2b x 2b blocks [[Re d, -Im d], [Im d, Re d]] of complex (k, b, b) blocks."""
+    top = np.concatenate([d.real, -d.imag], axis=2)
+    bottom = np.concatenate([d.imag, d.real], axis=2)
+    return np.concatenate([top, bottom], axis=1)
+
+
+def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real") -> HillMatrices:
+    """Assemble the truncated Hill pencil of ``system`` for one Floquet ``kind``.
+
+    Notes
+    -----
+    Implements thesis (2.6) with the reality conditions (2.7)/(2.8) for a general block model; the
+    module docstring derives each block. Cost: K evaluations of D(s) and O(K s^2) memory.
+    """
+    check_kind(kind)
+    if form not in FORMS:
+        raise ValueError(f"form = {form!r} is invalid: must be one of {FORMS}")
+    if int(n_temporal) < 1:
+        raise ValueError(f"n_temporal = {n_temporal!r} is invalid: must be an integer >= 1")
+    b = system.block_size
+    G = np.asarray(system.forcing, dtype=float)
+    self_coupling = None
+    if form == "two-sided":
+        k = two_sided_indices(kind, n_temporal)
+        diag = np.asarray(system.unforced(frequencies(kind, k)), dtype=complex)
+        lower = np.broadcast_to(1j * G, (len(k) - 1, b, b))
+        upper = -lower
+    else:
+        n = real_indices(n_temporal)
+        D = np.asarray(system.unforced(frequencies(kind, n)), dtype=complex)
+        JG = np.kron(np.array([[0.0, -1.0], [1.0, 0.0]]), G)
+        diag = _realify(D)
+        lower = np.broadcast_to(JG, (n_temporal, 2 * b, 2 * b))
+        upper = np.array(np.broadcast_to(-JG, (n_temporal, 2 * b, 2 * b)))
+        zero = np.zeros_like(G)
+        if kind == "harmonic":
+            diag[0] = np.block([[D[0].real, zero], [zero, np.eye(b)]])
+            upper[0] = np.block([[zero, 2 * G], [zero, zero]])
+        else:
+            self_coupling = np.zeros_like(diag)
+            self_coupling[0] = np.block([[zero, G], [G, zero]])
+    return HillMatrices(kind=kind, form=form, n_temporal=int(n_temporal), diag=diag,
+                        lower=lower, upper=upper, self_coupling=self_coupling)

@@ -1,0 +1,21 @@
+"""Exception types of spectralshell (a leaf module: imports nothing from the package).
+
+Every error the package raises on purpose derives from :class:`SpectralShellError`, so that
+callers can catch the package's errors without catching programming mistakes.
+"""
+
+
+class SpectralShellError(Exception):
+    """Base class of every error raised on purpose by spectralshell."""
+
+
+class ParameterError(SpectralShellError, ValueError):
+    """A parameter is outside its allowed range; the message names parameter, value and range."""
+
+
+class ConvergenceError(SpectralShellError, RuntimeError):
+    """A computation did not reach its requested accuracy; the message says what to change."""
+
+
+class BackendUnavailable(SpectralShellError, ImportError):
+    """An optional backend (e.g. an extra) is not installed; the message names the extra."""

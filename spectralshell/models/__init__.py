@@ -1,0 +1,1 @@
+"""Stage 2, physics: per-Fourier-index blocks of each model, independent of any truncation."""

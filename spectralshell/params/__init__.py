@@ -1,0 +1,1 @@
+"""Stage 1: parameters (frozen dataclasses per model), presets, scenes and the scene planner."""

@@ -1,0 +1,122 @@
+"""Floquet characteristic exponents gamma at a given forcing amplitude tau (Hill's method).
+
+For a model with polynomial D(s) = sum_j s^j D_j (invertible leading D_p), write (1) of
+:mod:`spectralshell.models.base` as a first-order system y' = (C_0 + 2 sin(t) C_1) y with
+y = (u, u', ..., u^{(p-1)}) (companion form). Inserting y = exp(gamma t) sum_k y_k exp(i k t)
+(thesis (2.4)-(2.5)) gives the standard eigenproblem, for k = -N..N,
+
+    gamma y_k = (C_0 - i k I) y_k - i tau C_1 (y_{k-1} - y_{k+1}).
+
+Its eigenvalues are gamma + i l for every integer l; the representative of each exponent is the
+eigenvalue whose eigenvector is centred at k = 0 (smallest |Fourier centroid|), which is also the
+best-resolved copy. Exponents are returned with Im gamma folded into (-1/2, 1/2] and sorted by
+decreasing Re gamma (the growth rate per unit time); multipliers are exp(2 pi gamma).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+
+from ..errors import ConvergenceError
+from ..models.base import HillSystem
+
+N_MAX = 200
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Exponents:
+    """Floquet exponents of one model at one tau.
+
+    Attributes
+    ----------
+    gamma : complex exponents, Im in (-1/2, 1/2], sorted by decreasing Re.
+    n_temporal : truncation N (Fourier indices -N..N).
+    error_estimate : max |change| of the exponents between N and the previous truncation.
+    """
+
+    gamma: np.ndarray
+    n_temporal: int
+    error_estimate: float
+
+
+def companion(system: HillSystem) -> tuple[np.ndarray, np.ndarray]:
+    """C_0 and C_1 of the first-order form y' = (C_0 + 2 sin(t) C_1) y of a polynomial model."""
+    if system.polynomial is None:
+        raise NotImplementedError(
+            f"Floquet exponents need a polynomial D(s); model {system.name!r} does not provide one")
+    coeffs = [np.asarray(c, dtype=float) for c in system.polynomial]
+    p, b = len(coeffs) - 1, system.block_size
+    lead = np.linalg.inv(coeffs[-1])
+    C0 = np.zeros((p * b, p * b))
+    C0[: (p - 1) * b, b:] = np.eye((p - 1) * b)
+    for j in range(p):
+        C0[(p - 1) * b:, j * b:(j + 1) * b] = -lead @ coeffs[j]
+    C1 = np.zeros_like(C0)
+    C1[(p - 1) * b:, :b] = -lead @ np.asarray(system.forcing, dtype=float)
+    return C0, C1
+
+
+def _fold(gamma: np.ndarray) -> np.ndarray:
+    imag = gamma.imag - np.ceil(gamma.imag - 0.5)
+    return gamma.real + 1j * imag
+
+
+def _exponents_at(system: HillSystem, tau: float, n: int) -> np.ndarray:
+    C0, C1 = companion(system)
+    d = C0.shape[0]
+    k = np.arange(-n, n + 1)
+    H = np.kron(np.eye(len(k)), C0) - 1j * np.kron(np.diag(k), np.eye(d))
+    S = np.diag(np.ones(len(k) - 1), -1) - np.diag(np.ones(len(k) - 1), 1)
+    H = H - 1j * tau * np.kron(S, C1)
+    values, vectors = sla.eig(H)
+    weights = np.abs(vectors.reshape(len(k), d, -1)) ** 2
+    weights = weights.sum(axis=1)
+    centroid = (k[:, None] * weights).sum(axis=0) / weights.sum(axis=0)
+    order = np.argsort(np.abs(centroid), kind="stable")[:d]
+    gamma = _fold(values[order])
+    return gamma[np.lexsort((gamma.imag, -gamma.real))]
+
+
+def _distance(a: np.ndarray, b: np.ndarray) -> float:
+    """Largest distance from a point of ``a`` to the nearest of ``b``, modulo i."""
+    diff = a[:, None] - b[None, :]
+    diff = diff.real + 1j * (diff.imag - np.round(diff.imag))
+    return float(np.max(np.min(np.abs(diff), axis=1)))
+
+
+def floquet_exponents(system: HillSystem, tau: float, *, tol: float = 1e-10,
+                      n_temporal: int | None = None) -> Exponents:
+    """Characteristic exponents gamma of the model at forcing amplitude ``tau``.
+
+    Notes
+    -----
+    Hill's method on the companion form (module docstring); thesis (2.3)-(2.5) for the Mathieu
+    equation. With ``n_temporal=None`` the truncation grows until the exponents change by less
+    than ``tol``.
+
+    Raises
+    ------
+    ConvergenceError : not converged by N = 200.
+    NotImplementedError : the model's D(s) is not a matrix polynomial.
+    """
+    start = int(np.ceil(system.n_resonant + 2 * abs(tau) * np.sqrt(abs(system.forcing).max()))) + 8
+    if n_temporal is not None:
+        n_prev = max(1, n_temporal - max(2, n_temporal // 4))
+        gamma = _exponents_at(system, tau, n_temporal)
+        return Exponents(gamma=gamma, n_temporal=n_temporal,
+                         error_estimate=_distance(gamma, _exponents_at(system, tau, n_prev)))
+    n = start
+    previous = _exponents_at(system, tau, n)
+    while n < N_MAX:
+        n = min(n + max(6, n // 2), N_MAX)
+        gamma = _exponents_at(system, tau, n)
+        change = _distance(gamma, previous)
+        if change < tol:
+            return Exponents(gamma=gamma, n_temporal=n,
+                             error_estimate=max(change, 8 * np.finfo(float).eps))
+        previous = gamma
+    raise ConvergenceError(f"Floquet exponents did not converge to tol={tol:g} by n_temporal={N_MAX} "
+                           f"(last change {change:.3g}); relax --tol")
