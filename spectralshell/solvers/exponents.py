@@ -9,7 +9,8 @@ y = (u, u', ..., u^{(p-1)}) (companion form). Inserting y = exp(gamma t) sum_k y
 
 Its eigenvalues are gamma + i l for every integer l; the representative of each exponent is the
 eigenvalue whose eigenvector is centred at k = 0 (smallest |Fourier centroid|), which is also the
-best-resolved copy. Exponents are returned with Im gamma folded into (-1/2, 1/2] and sorted by
+best-resolved copy; a candidate that differs from one already chosen by a non-zero multiple of i
+is skipped (two copies of one exponent can tie in centroid when Im gamma = 1/2). Exponents are returned with Im gamma folded into (-1/2, 1/2] and sorted by
 decreasing Re gamma (the growth rate per unit time); multipliers are exp(2 pi gamma).
 """
 
@@ -75,8 +76,16 @@ def _exponents_at(system: HillSystem, tau: float, n: int) -> np.ndarray:
     weights = np.abs(vectors.reshape(len(k), d, -1)) ** 2
     weights = weights.sum(axis=1)
     centroid = (k[:, None] * weights).sum(axis=0) / weights.sum(axis=0)
-    order = np.argsort(np.abs(centroid), kind="stable")[:d]
-    gamma = _fold(values[order])
+    chosen: list[complex] = []
+    for i in np.argsort(np.abs(centroid), kind="stable"):
+        g = values[i]
+        shift = [c.imag - g.imag for c in chosen if abs(c.real - g.real) <= 1e-8 * max(1, abs(g))]
+        if any(abs(x - round(x)) <= 1e-8 and round(x) != 0 for x in shift):
+            continue  # a copy gamma + i l of an exponent already chosen
+        chosen.append(g)
+        if len(chosen) == d:
+            break
+    gamma = _fold(np.array(chosen))
     return gamma[np.lexsort((gamma.imag, -gamma.real))]
 
 

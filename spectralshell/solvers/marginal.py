@@ -234,7 +234,7 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         tau, method, spread = solve_truncation(system, kind, n_temporal)
         prev = solve_truncation(system, kind, n_prev)[0]
         return _result(kind, tau, prev, n_temporal, n_prev, tol, method, spread)
-    n_prev = min(_start(system), n_max)
+    n_prev = min(_start(system), _previous(n_max))
     prev = solve_truncation(system, kind, n_prev)[0]
     while True:
         n = min(_next(n_prev), n_max)

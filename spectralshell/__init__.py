@@ -1,0 +1,18 @@
+"""spectralshell: Floquet stability, natural modes and spectral time stepping of immersed elastic
+membranes with periodically pumped stiffness K(t) = kappa (1 + 2 tau sin t).
+
+Public API::
+
+    import spectralshell as ss
+    ss.floquet("mathieu", kappa=0.25, nu=0.1)           # marginal tau, harmonic + subharmonic
+    ss.tongues("mathieu", kappa="0:3:301", nu=0.1)      # Ince-Strutt diagram + finger tips
+    ss.exponents("mathieu", kappa=1, nu=0.1, tau=0.3)   # Floquet exponents gamma
+    ss.run_scene("scene.toml")                          # a planned scene
+"""
+
+from ._version import __version__
+from .api import exponents, floquet, run_scene, tongues
+from .errors import BackendUnavailable, ConvergenceError, ParameterError, SpectralShellError
+
+__all__ = ["__version__", "floquet", "tongues", "exponents", "run_scene", "SpectralShellError",
+           "ParameterError", "ConvergenceError", "BackendUnavailable"]

@@ -1,0 +1,145 @@
+"""The Python API facade: validate, plan, dispatch to the solvers, return result objects.
+
+Conventions (see README "Conventions"): K(t) = kappa (1 + 2 tau sin t), forcing period 2 pi,
+harmonic gamma = 0, subharmonic gamma = i/2.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ._validate import require_int_in_range, require_positive, require_real
+from .discretise.fourier import expand_kind
+from .errors import ParameterError
+from .models.base import HillSystem
+from .models.registry import hill_system
+from .params.grid import parse_range
+from .params.registry import check_model, make_params
+from .params.scene import Plan, plan
+from .results.floquet import (ExponentsResult, FloquetResult, TonguesResult, provenance,
+                              tau_warnings)
+from .solvers.exponents import floquet_exponents
+from .solvers.marginal import N_MAX, marginal_tau
+from .solvers.tongues import find_tips, sweep
+
+
+def _solver_options(tol: float, n_temporal: int | None) -> dict[str, Any]:
+    tol = require_positive("tol", tol)
+    if n_temporal is not None:
+        n_temporal = require_int_in_range("n_temporal", n_temporal, 1, N_MAX)
+    return {"tol": tol, "n_temporal": n_temporal}
+
+
+def _system(model: str, params: Mapping[str, Any]) -> tuple[Any, HillSystem]:
+    p = make_params(model, dict(params))
+    return p, hill_system(p)
+
+
+def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: int | None = None,
+            **params: Any) -> FloquetResult:
+    """Marginal forcing amplitudes tau (Floquet boundaries) of a model.
+
+    Parameters
+    ----------
+    model : 'mathieu'.
+    kind : 'both', 'harmonic' (gamma = 0) or 'subharmonic' (gamma = i/2); only those are computed.
+    tol : absolute tolerance on tau_min; the truncation grows until it is met.
+    n_temporal : fix the truncation N instead (the error estimate compares with a smaller N).
+    **params : the model's parameters, e.g. ``kappa``, ``nu`` for 'mathieu'.
+
+    Notes
+    -----
+    Solves the Hill system (thesis (2.6) with reality conditions (2.7)/(2.8)) of the model.
+
+    Raises
+    ------
+    ParameterError : a parameter, kind or option out of range.
+    ConvergenceError : tau_min did not converge to ``tol``.
+    """
+    model = check_model(model)
+    kinds = expand_kind(kind)
+    options = _solver_options(tol, n_temporal)
+    p, system = _system(model, params)
+    res = {k: marginal_tau(system, k, **options) for k in kinds}
+    warnings = tau_warnings(t for m in res.values() for t in m.tau)
+    return FloquetResult(model=model, params=dataclasses.asdict(p), harmonic=res.get("harmonic"),
+                         subharmonic=res.get("subharmonic"),
+                         provenance=provenance({"kind": kind, **options}), warnings=tuple(warnings))
+
+
+def _factory(model: str, params: dict[str, Any], kappa: float) -> HillSystem:
+    return _system(model, {**params, "kappa": kappa})[1]
+
+
+def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
+            n_temporal: int | None = None, tips: bool = True, workers: int | None = None,
+            progress: bool = False, **params: Any) -> TonguesResult:
+    """Ince-Strutt diagram: marginal tau of each kind over a kappa grid, and the finger tips.
+
+    Parameters
+    ----------
+    kappa : the grid (array-like, or 'start:stop:num').
+    tips : locate the minimum (kappa, tau) of every finger that shows as a local minimum of
+        tau_min on the grid (to ~1e-12 in kappa; see ``solvers.tongues.refine_tip``).
+    workers : processes (None: all cores for large grids; 1: serial). progress : show a bar.
+    Other parameters as in :func:`floquet`; ``params`` must not contain ``kappa``.
+    """
+    model = check_model(model)
+    kinds = expand_kind(kind)
+    options = _solver_options(tol, n_temporal)
+    grid = parse_range("kappa", kappa) if isinstance(kappa, str) else \
+        np.array([require_real("kappa", k) for k in np.atleast_1d(kappa)])
+    if not grid.size:
+        raise ParameterError("kappa = [] is invalid: must be a non-empty grid")
+    for k in (grid.min(), grid.max()):
+        make_params(model, {**params, "kappa": k})
+    factory = functools.partial(_factory, model, dict(params))
+    rows = sweep(factory, grid, kinds, workers=workers, progress=progress, **options)
+    found, failures = find_tips(factory, grid, rows, kinds, tol=options["tol"]) if tips else ([], [])
+    warnings = tau_warnings(t for r in rows for m in r.values() for t in m.tau) + failures
+    p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
+    p.pop("kappa")
+    return TonguesResult(model=model, params=p, kappa=grid, kinds=kinds, rows=tuple(rows),
+                         tips=tuple(found), warnings=tuple(warnings),
+                         provenance=provenance({"kind": kind, "tips": tips, **options}))
+
+
+def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,
+              **params: Any) -> ExponentsResult:
+    """Floquet characteristic exponents gamma at forcing amplitude ``tau``.
+
+    Re gamma is the growth rate per unit time; Im gamma is folded into (-1/2, 1/2]. Verified
+    against the monodromy matrix of ``scipy.integrate.solve_ivp`` in the tests.
+    """
+    model = check_model(model)
+    tau = require_real("tau", tau)
+    options = _solver_options(tol, n_temporal)
+    p, system = _system(model, params)
+    result = floquet_exponents(system, tau, **options)
+    return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
+                                 exponents=result, options=options)
+
+
+def run_scene(scene: str | Path | Mapping | Plan, *, progress: bool = False,
+              workers: int | None = None) -> dict[str, Any]:
+    """Plan a scene, then compute only what it asks; returns {task name: result}."""
+    the_plan = scene if isinstance(scene, Plan) else plan(scene)
+    out: dict[str, Any] = {}
+    for task in the_plan.tasks:
+        opts = dict(task.options)
+        kind = "both" if len(task.kinds) == 2 else (task.kinds[0] if task.kinds else None)
+        if task.name == "floquet":
+            out["floquet"] = floquet(the_plan.model, kind=kind, **opts, **the_plan.params)
+        elif task.name == "tongues":
+            params = {k: v for k, v in the_plan.params.items() if k != "kappa"}
+            out["tongues"] = tongues(the_plan.model, kind=kind, progress=progress,
+                                     workers=workers, **opts, **params)
+        elif task.name == "exponents":
+            out["exponents"] = exponents(the_plan.model, **opts, **the_plan.params)
+    return out

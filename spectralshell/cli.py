@@ -1,0 +1,321 @@
+"""Command-line interface: argparse over :mod:`spectralshell.api`; parses, prints, writes files.
+
+Every error the user can cause prints one line to stderr and exits with status 2; a computation
+that cannot reach its accuracy exits with status 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, NoReturn
+
+from . import api
+from ._version import __version__
+from .errors import ConvergenceError, ParameterError, SpectralShellError
+from .params.registry import PARAMS, param_names
+from .params.scene import default_scene, plan
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> NoReturn:  # one line, status 2
+        raise ParameterError(message)
+
+
+
+def _model_flags(p: argparse.ArgumentParser, *, skip: Sequence[str] = ()) -> None:
+    names = sorted({n for m in PARAMS for n in param_names(m)} - set(skip))
+    for name in names:
+        p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X",
+                       help=f"model parameter {name}")
+
+
+def _solver_flags(p: argparse.ArgumentParser) -> None:
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--tol", type=str, default="1e-10", help="absolute tolerance on tau_min (default 1e-10)")
+    g.add_argument("--n-temporal", dest="n_temporal", metavar="N",
+                   help="fix the temporal truncation N instead of converging to --tol")
+
+
+def _params(args: argparse.Namespace, model: str, *, skip: Sequence[str] = ()) -> dict[str, Any]:
+    given = {n: getattr(args, n) for m in PARAMS for n in param_names(m)
+             if n not in skip and getattr(args, n, None) is not None}
+    allowed = set(param_names(model))
+    for name in given:
+        if name not in allowed:
+            raise ParameterError(f"--{name.replace('_', '-')} is not a parameter of model {model!r}")
+    return {n: _number(n, v) for n, v in given.items()}
+
+
+def _number(name: str, text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise ParameterError(f"{name} = {text!r} is invalid: must be a finite real number") from None
+
+
+def _solver(args: argparse.Namespace) -> dict[str, Any]:
+    out: dict[str, Any] = {"tol": _number("tol", args.tol)}
+    if args.n_temporal is not None:
+        try:
+            out["n_temporal"] = int(args.n_temporal)
+        except ValueError:
+            raise ParameterError(f"n_temporal = {args.n_temporal!r} is invalid: must be an integer "
+                                 "in [1, 400]") from None
+    return out
+
+
+def _check_writable(path: str | None) -> None:
+    if path is None:
+        return
+    parent = Path(path).resolve().parent
+    if not parent.is_dir() or not os.access(parent, os.W_OK):
+        raise ParameterError(f"output {path!r} is not writable: directory {str(parent)!r} "
+                             "does not exist or is read-only")
+
+
+def _atomic_write(path: str | Path, writer: Callable[[Path], Any]) -> None:
+    """Write via a temporary file in the same directory, so no partial file is ever left."""
+    path = Path(path)
+    suffix = "".join(path.suffixes) or ".tmp"
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".partial-", suffix=suffix)
+    os.close(fd)
+    try:
+        writer(Path(tmp))
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def _emit_json(obj: dict) -> None:
+    sys.stdout.write(json.dumps(obj) + "\n")
+
+
+def _warn(warnings: Sequence[str]) -> None:
+    for w in warnings:
+        print(f"warning: {w}", file=sys.stderr)
+
+
+def _fmt_params(params: dict) -> str:
+    return "  ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in params.items())
+
+
+def _floquet_text(res) -> str:
+    lines = [f"{res.model}: {_fmt_params(res.params)}   (K(t) = kappa (1 + 2 tau sin t))"]
+    for kind in ("harmonic", "subharmonic"):
+        m = getattr(res, kind)
+        if m is None:
+            continue
+        if m.tau_min is None:
+            lines.append(f"  {kind:<12} no marginal tau (N = {m.n_temporal})")
+            continue
+        taus = ", ".join(f"{t:.10g}" for t in m.tau[:6]) + (" ..." if m.tau.size > 6 else "")
+        lines.append(f"  {kind:<12} tau_min = {m.tau_min:.12g}   error <= {m.error_estimate:.1e}   "
+                     f"N = {m.n_temporal}   all tau: {taus}")
+    return "\n".join(lines)
+
+
+def cmd_floquet(args) -> int:
+    res = api.floquet(args.model, kind=args.kind, **_solver(args), **_params(args, args.model))
+    _warn(res.warnings)
+    _emit_json(res.to_dict()) if args.json else print(_floquet_text(res))
+    return 0
+
+
+def _tongues_text(res) -> str:
+    lines = [f"{res.model} Ince-Strutt diagram: {_fmt_params(res.params)}, kappa in "
+             f"[{res.kappa.min():g}, {res.kappa.max():g}] ({res.kappa.size} points)"]
+    for t in res.tips:
+        lines.append(f"  {t.kind:<12} finger tip: kappa = {t.kappa:.12g} (+-{t.kappa_error:.0e})  "
+                     f"tau = {t.tau:.12g} (+-{t.tau_error:.0e})")
+    return "\n".join(lines)
+
+
+def _write_tongues(res, *, png=None, csv=None, npz=None, json_path=None) -> list[str]:
+    written = []
+    if png:
+        from .plots import ince_strutt
+        _atomic_write(png, lambda p: ince_strutt.save([res], p))
+        written.append(png)
+    if csv:
+        _atomic_write(csv, res.write_csv)
+        written.append(csv)
+    if npz:
+        _atomic_write(npz, lambda p: res.write_npz(open(p, "wb")))
+        written.append(npz)
+    if json_path:
+        _atomic_write(json_path, lambda p: p.write_text(json.dumps(res.to_dict())))
+        written.append(json_path)
+    return written
+
+
+def cmd_tongues(args) -> int:
+    for path in (args.png, args.csv, args.npz):
+        _check_writable(path)
+    if args.kappa is None:
+        raise ParameterError("--kappa is required: a range START:STOP:NUM, e.g. 0:3:301")
+    res = api.tongues(args.model, kappa=args.kappa, kind=args.kind, tips=not args.no_tips,
+                      workers=args.workers, progress=sys.stderr.isatty() and not args.json,
+                      **_solver(args), **_params(args, args.model, skip=("kappa",)))
+    _warn(res.warnings)
+    written = _write_tongues(res, png=args.png, csv=args.csv, npz=args.npz)
+    if args.json:
+        _emit_json(res.to_dict())
+    else:
+        print(_tongues_text(res))
+        for w in written:
+            print(f"wrote {w}")
+    return 0
+
+
+def cmd_exponents(args) -> int:
+    if args.tau is None:
+        raise ParameterError("--tau is required: the forcing amplitude")
+    res = api.exponents(args.model, tau=_number("tau", args.tau), **_solver(args),
+                        **_params(args, args.model))
+    _warn(res.warnings)
+    if args.json:
+        _emit_json(res.to_dict())
+    else:
+        print(f"{res.model}: {_fmt_params(res.params)}  tau = {res.tau:g}   (N = {res.n_temporal}, "
+              f"error <= {res.error_estimate:.1e})")
+        for g, q in zip(res.gamma, res.multipliers):
+            print(f"  gamma = {g.real:+.12f} {g.imag:+.12f}i   multiplier = {q.real:+.10f} {q.imag:+.10f}i")
+    return 0
+
+
+def cmd_figure(args) -> int:
+    from .reports.figures import FIGURES, make_figure
+
+    if args.name not in FIGURES:
+        raise ParameterError(f"figure = {args.name!r} is invalid: must be one of {', '.join(FIGURES)}")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    _check_writable(str(out / "x"))
+    for path in make_figure(args.name, out, progress=sys.stderr.isatty(), workers=args.workers):
+        print(f"wrote {path}")
+    return 0
+
+
+def _summary(results: dict[str, Any]) -> str:
+    parts = []
+    if "floquet" in results:
+        parts.append(_floquet_text(results["floquet"]))
+    if "exponents" in results:
+        e = results["exponents"]
+        g = e.gamma[0]
+        state = "unstable" if g.real > 0 else "stable"
+        parts.append(f"  exponents at tau = {e.tau:g}: largest growth rate Re gamma = {g.real:+.10f} "
+                     f"({state}), Im gamma = {g.imag:+.6f}")
+    if "tongues" in results:
+        parts.append(_tongues_text(results["tongues"]))
+    return "\n".join(parts)
+
+
+def _run(scene, out_dir: str | None, as_json: bool, name: str) -> int:
+    the_plan = plan(scene)
+    out = Path(out_dir or the_plan.output_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    _check_writable(str(out / "x"))
+    results = api.run_scene(the_plan, progress=sys.stderr.isatty() and not as_json)
+    for r in results.values():
+        _warn(r.warnings)
+    data = {k: r.to_dict() for k, r in results.items()}
+    written = []
+    if "tongues" in results:
+        written += _write_tongues(results["tongues"], png=str(out / "ince_strutt.png"))
+    json_path = out / f"{name}.json"
+    _atomic_write(json_path, lambda p: p.write_text(json.dumps(data, indent=1)))
+    written.append(str(json_path))
+    if as_json:
+        _emit_json(data)
+    else:
+        print(_summary(results))
+        for w in written:
+            print(f"wrote {w}")
+    return 0
+
+
+def cmd_demo(args) -> int:
+    return _run(default_scene(), args.out, args.json, "demo")
+
+
+def cmd_run(args) -> int:
+    return _run(args.scene, args.out, args.json, Path(args.scene).stem)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    models = tuple(PARAMS)
+    parser = _Parser(prog="spectralshell", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"spectralshell {__version__}")
+    sub = parser.add_subparsers(dest="command", parser_class=_Parser, required=True)
+
+    p = sub.add_parser("floquet", help="marginal forcing amplitudes tau (harmonic/subharmonic)")
+    p.add_argument("model", choices=models)
+    p.add_argument("--kind", default="both", choices=("both", "harmonic", "subharmonic"))
+    _model_flags(p)
+    _solver_flags(p)
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    p.set_defaults(func=cmd_floquet)
+
+    p = sub.add_parser("tongues", help="Ince-Strutt diagram over a kappa range")
+    p.add_argument("model", choices=models)
+    p.add_argument("--kappa", help="range START:STOP:NUM, e.g. 0:3:301")
+    p.add_argument("--kind", default="both", choices=("both", "harmonic", "subharmonic"))
+    _model_flags(p, skip=("kappa",))
+    _solver_flags(p)
+    p.add_argument("--png", help="write the diagram as PNG")
+    p.add_argument("--csv", help="write points kind,kappa,tau as CSV")
+    p.add_argument("--npz", help="write arrays as NPZ")
+    p.add_argument("--no-tips", action="store_true", help="do not locate finger tips")
+    p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    p.set_defaults(func=cmd_tongues)
+
+    p = sub.add_parser("exponents", help="Floquet exponents gamma at a forcing amplitude tau")
+    p.add_argument("model", choices=models)
+    p.add_argument("--tau", help="forcing amplitude")
+    _model_flags(p)
+    _solver_flags(p)
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    p.set_defaults(func=cmd_exponents)
+
+    p = sub.add_parser("figure", help="reproduce a thesis figure (PNG + JSON data)")
+    p.add_argument("name", help="e.g. fig-2.2, fig-2.3")
+    p.add_argument("--out", default=".", help="output directory")
+    p.add_argument("--workers", type=int, default=None)
+    p.set_defaults(func=cmd_figure)
+
+    p = sub.add_parser("demo", help="run the embedded default scene")
+    p.add_argument("--out", default="demo-output", help="output directory (default demo-output)")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_demo)
+
+    p = sub.add_parser("run", help="run a scene TOML file")
+    p.add_argument("scene")
+    p.add_argument("--out", default=None, help="output directory (default: the scene's)")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``spectralshell`` and ``python -m spectralshell``."""
+    try:
+        args = build_parser().parse_args(argv)
+        return args.func(args)
+    except ConvergenceError as exc:
+        print(f"spectralshell: not converged: {exc}", file=sys.stderr)
+        return 1
+    except (ParameterError, SpectralShellError) as exc:
+        print(f"spectralshell: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("spectralshell: interrupted", file=sys.stderr)
+        return 130

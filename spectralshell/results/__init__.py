@@ -1,0 +1,1 @@
+"""Stage 5: immutable results with provenance, and their JSON/CSV/NPZ forms."""

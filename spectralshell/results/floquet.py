@@ -1,0 +1,145 @@
+"""Result objects of the Floquet computations (frozen, with provenance) and their file forms."""
+
+from __future__ import annotations
+
+import csv
+import json
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._version import __version__
+from ..solvers.exponents import Exponents
+from ..solvers.marginal import MarginalTau
+from ..solvers.tongues import Tip
+
+NEGATIVE_STIFFNESS = "tau > 1/2: the stiffness kappa (1 + 2 tau sin t) becomes negative during the cycle"
+
+
+def provenance(options: dict[str, Any]) -> dict[str, Any]:
+    """Package version and the solver options that produced a result."""
+    return {"package": "spectralshell", "version": __version__, "options": dict(options)}
+
+
+def _float(x) -> float | None:
+    return None if x is None else float(x)
+
+
+def marginal_dict(m: MarginalTau) -> dict[str, Any]:
+    """JSON form of one kind: tau (list), tau_min, n_temporal, error_estimate (+ method)."""
+    return {"tau": [float(t) for t in m.tau], "tau_min": _float(m.tau_min),
+            "n_temporal": m.n_temporal, "error_estimate": _float(m.error_estimate),
+            "method": m.method}
+
+
+def tau_warnings(values) -> list[str]:
+    """The negative-stiffness flag if any tau exceeds 1/2."""
+    return [NEGATIVE_STIFFNESS] if any(t > 0.5 for t in values) else []
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class FloquetResult:
+    """Marginal amplitudes of each requested Floquet kind (None for a kind not asked)."""
+
+    model: str
+    params: dict[str, Any]
+    harmonic: MarginalTau | None
+    subharmonic: MarginalTau | None
+    provenance: dict[str, Any]
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        out = {"model": self.model, "params": dict(self.params)}
+        for kind in ("harmonic", "subharmonic"):
+            m = getattr(self, kind)
+            out[kind] = None if m is None else marginal_dict(m)
+        out["warnings"] = list(self.warnings)
+        out["provenance"] = self.provenance
+        return out
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class ExponentsResult:
+    """Floquet exponents gamma (growth rate Re gamma per unit time) at one tau."""
+
+    model: str
+    params: dict[str, Any]
+    tau: float
+    gamma: np.ndarray
+    n_temporal: int
+    error_estimate: float
+    provenance: dict[str, Any]
+    warnings: tuple[str, ...] = ()
+
+    @classmethod
+    def build(cls, *, model, params, tau, exponents: Exponents, options) -> "ExponentsResult":
+        return cls(model=model, params=params, tau=tau, gamma=exponents.gamma,
+                   n_temporal=exponents.n_temporal, error_estimate=exponents.error_estimate,
+                   provenance=provenance(options), warnings=tuple(tau_warnings([abs(tau)])))
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        """Floquet multipliers exp(2 pi gamma) over one forcing period."""
+        return np.exp(2 * np.pi * self.gamma)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"model": self.model, "params": dict(self.params), "tau": self.tau,
+                "exponents": [{"re": float(g.real), "im": float(g.imag)} for g in self.gamma],
+                "n_temporal": self.n_temporal, "error_estimate": self.error_estimate,
+                "warnings": list(self.warnings), "provenance": self.provenance}
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class TonguesResult:
+    """An Ince-Strutt diagram: marginal tau of each kind at every kappa, and the finger tips."""
+
+    model: str
+    params: dict[str, Any]
+    kappa: np.ndarray
+    kinds: tuple[str, ...]
+    rows: tuple[dict[str, MarginalTau], ...]
+    tips: tuple[Tip, ...]
+    provenance: dict[str, Any]
+    warnings: tuple[str, ...] = field(default=())
+
+    def points(self, kind: str) -> tuple[np.ndarray, np.ndarray]:
+        """All (kappa, tau) points of one kind, flattened (for plotting and CSV)."""
+        ks = [np.full(r[kind].tau.size, k) for k, r in zip(self.kappa, self.rows)]
+        ts = [r[kind].tau for r in self.rows]
+        return (np.concatenate(ks) if ks else np.empty(0)), (np.concatenate(ts) if ts else np.empty(0))
+
+    def to_dict(self) -> dict[str, Any]:
+        out = {"model": self.model, "params": dict(self.params),
+               "kappa": [float(k) for k in self.kappa]}
+        for kind in self.kinds:
+            out[kind] = {key: [marginal_dict(r[kind])[key] for r in self.rows]
+                         for key in ("tau", "tau_min", "n_temporal", "error_estimate")}
+        out["tips"] = [{k: (float(v) if k != "kind" else v) for k, v in asdict(t).items()}
+                       for t in self.tips]
+        out["warnings"] = list(self.warnings)
+        out["provenance"] = self.provenance
+        return out
+
+    def write_csv(self, path: str | Path) -> None:
+        """Rows kind,kappa,tau (one per marginal point)."""
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["kind", "kappa", "tau"])
+            for kind in self.kinds:
+                for k, t in zip(*self.points(kind)):
+                    w.writerow([kind, repr(float(k)), repr(float(t))])
+
+    def write_npz(self, path: str | Path) -> None:
+        """Arrays kappa, <kind>_kappa / <kind>_tau (points), <kind>_tau_min with
+        <kind>_has_tau_min (False where there is none), tips, and the JSON metadata."""
+        arrays: dict[str, Any] = {"kappa": self.kappa}
+        for kind in self.kinds:
+            arrays[f"{kind}_kappa"], arrays[f"{kind}_tau"] = self.points(kind)
+            tmin = [r[kind].tau_min for r in self.rows]
+            arrays[f"{kind}_has_tau_min"] = np.array([t is not None for t in tmin])
+            arrays[f"{kind}_tau_min"] = np.array([t if t is not None else 0.0 for t in tmin])
+        arrays["metadata"] = np.array(json.dumps({k: v for k, v in self.to_dict().items()
+                                                  if k in ("model", "params", "tips", "provenance")}))
+        np.savez(path, **arrays)

@@ -1,0 +1,138 @@
+"""The API and CLI contracts of the foundation issue: JSON shapes, errors, exit codes, files."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import spectralshell as ss
+from spectralshell.cli import main
+
+
+def run_cli(capsys, *args):
+    code = main(list(args))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_floquet_json_has_exact_shape(capsys):
+    code, out, err = run_cli(capsys, "floquet", "mathieu", "--kappa", "0.25", "--nu", "0.1", "--json")
+    assert code == 0
+    data = json.loads(out)  # exactly one JSON object on stdout
+    assert data["model"] == "mathieu" and data["params"] == {"kappa": 0.25, "nu": 0.1}
+    for kind in ("harmonic", "subharmonic"):
+        assert {"tau", "tau_min", "n_temporal", "error_estimate"} <= set(data[kind])
+    assert data["subharmonic"]["tau_min"] == pytest.approx(ss.floquet(
+        "mathieu", kappa=0.25, nu=0.1).subharmonic.tau_min, abs=0)
+
+
+def test_fixed_truncation_and_kind_flags(capsys):
+    code, out, _ = run_cli(capsys, "floquet", "mathieu", "--kappa", "1", "--nu", "0.1",
+                           "--kind", "harmonic", "--n-temporal", "12", "--json")
+    data = json.loads(out)
+    assert code == 0 and data["subharmonic"] is None and data["harmonic"]["n_temporal"] == 12
+
+
+def test_exponents_json(capsys):
+    code, out, _ = run_cli(capsys, "exponents", "mathieu", "--kappa", "1", "--nu", "0.1",
+                           "--tau", "0.3", "--json")
+    data = json.loads(out)
+    assert code == 0 and len(data["exponents"]) == 2
+    assert set(data["exponents"][0]) == {"re", "im"}
+
+
+def test_tongues_writes_png_csv_npz_and_json(capsys, tmp_path):
+    png, csv, npz = tmp_path / "d.png", tmp_path / "d.csv", tmp_path / "d.npz"
+    code, out, _ = run_cli(capsys, "tongues", "mathieu", "--nu", "0.1", "--kappa", "0:3:31",
+                           "--png", str(png), "--csv", str(csv), "--npz", str(npz), "--json")
+    assert code == 0
+    data = json.loads(out)
+    assert len(data["kappa"]) == 31 and len(data["tips"]) == 3
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert csv.read_text().splitlines()[0] == "kind,kappa,tau"
+    arrays = np.load(npz)
+    assert arrays["subharmonic_tau"].size == arrays["subharmonic_kappa"].size > 0
+    assert not list(tmp_path.glob(".partial-*"))
+
+
+@pytest.mark.parametrize("args", [
+    ["floquet", "mathieu", "--kappa", "-1"],
+    ["floquet", "mathieu", "--kappa", "abc"],
+    ["floquet", "mathieu", "--kappa", "nan"],
+    ["floquet", "mathieu", "--kappa", "1", "--nu", "-0.1"],
+    ["floquet", "fibreglass", "--kappa", "1"],
+    ["floquet", "mathieu", "--kappa", "1", "--kind", "both-ways"],
+    ["floquet", "mathieu", "--kappa", "1", "--n-temporal", "x"],
+    ["floquet", "mathieu", "--kappa", "1", "--tol", "-1"],
+    ["floquet", "mathieu"],
+    ["floquet", "mathieu", "--kappa", "1", "--bogus", "2"],
+    ["tongues", "mathieu", "--kappa", "3:0:10"],
+    ["tongues", "mathieu", "--kappa", "0:3:0"],
+    ["tongues", "mathieu", "--kappa", "0:3"],
+    ["tongues", "mathieu", "--kappa", "0:1:5", "--png", "/nonexistent-dir/x.png"],
+    ["exponents", "mathieu", "--kappa", "1"],
+    ["figure", "fig-99.9"],
+    [],
+])
+def test_bad_input_is_one_line_and_exit_2(capsys, args):
+    code, out, err = run_cli(capsys, *args)
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1 and err.startswith("spectralshell: error:")
+
+
+def test_api_errors_name_parameter_value_and_range():
+    with pytest.raises(ss.ParameterError, match=r"nu = -1.0 is invalid: must be a finite real number >= 0"):
+        ss.floquet("mathieu", kappa=1.0, nu=-1.0)
+    with pytest.raises(ValueError, match=r"kind = 'x' is invalid: must be one of"):
+        ss.floquet("mathieu", kind="x", kappa=1.0)
+    with pytest.raises(ss.ParameterError, match=r"model = 'sphere2' is invalid"):
+        ss.floquet("sphere2", kappa=1.0)
+    with pytest.raises(ss.ParameterError, match=r"n_temporal = 0 is invalid: must be an integer in \[1, 400\]"):
+        ss.floquet("mathieu", kappa=1.0, n_temporal=0)
+
+
+def test_negative_stiffness_is_computed_but_flagged(capsys):
+    res = ss.exponents("mathieu", kappa=1.0, nu=0.1, tau=0.7)
+    assert res.gamma.size == 2 and any("stiffness" in w and "negative" in w for w in res.warnings)
+    code, out, err = run_cli(capsys, "exponents", "mathieu", "--kappa", "1", "--tau", "0.7")
+    assert code == 0 and "negative" in err
+
+
+def test_results_are_reproducible_and_carry_provenance():
+    a = ss.floquet("mathieu", kappa=0.7, nu=0.02)
+    b = ss.floquet("mathieu", kappa=0.7, nu=0.02)
+    assert a.to_dict() == b.to_dict()
+    assert a.provenance["version"] == ss.__version__ and a.provenance["options"]["tol"] == 1e-10
+
+
+def test_tongues_serial_and_parallel_agree():
+    serial = ss.tongues("mathieu", kappa="0.1:2:12", nu=0.05, workers=1, tips=False)
+    parallel = ss.tongues("mathieu", kappa="0.1:2:12", nu=0.05, workers=2, tips=False)
+    assert serial.to_dict()["subharmonic"] == parallel.to_dict()["subharmonic"]
+
+
+def test_version_and_module_entry_point():
+    out = subprocess.run([sys.executable, "-m", "spectralshell", "--version"], capture_output=True,
+                         text=True, check=True).stdout
+    assert out.strip() == f"spectralshell {ss.__version__}"
+
+
+def test_demo_writes_summary_png_and_json(capsys, tmp_path):
+    code, out, err = run_cli(capsys, "demo", "--out", str(tmp_path))
+    assert code == 0
+    assert "tau_min" in out and "finger tip" in out
+    assert (tmp_path / "ince_strutt.png").stat().st_size > 10_000
+    data = json.loads((tmp_path / "demo.json").read_text())
+    assert set(data) == {"floquet", "tongues", "exponents"}
+
+
+@pytest.mark.parametrize("name", ["fig-2.2", "fig-2.3"])
+def test_figures_reproduce(capsys, tmp_path, name):
+    code, out, _ = run_cli(capsys, "figure", name, "--out", str(tmp_path), "--workers", "1")
+    assert code == 0 and (tmp_path / f"{name}.png").exists()
+    data = json.loads((tmp_path / f"{name}.json").read_text())
+    if name == "fig-2.2":  # undamped: fingers touch the axis at sqrt(kappa) = k/2, k = 1..3
+        tips = sorted(t["kappa"] for t in data[0]["tips"])
+        np.testing.assert_allclose(tips, [0.25, 1.0, 2.25], atol=1e-11)
