@@ -1,0 +1,16 @@
+"""The sympy derivations behind the formulas still hold (each script exits 0 when they do)."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+DERIVATIONS = Path(__file__).resolve().parents[1] / "derivations"
+
+
+@pytest.mark.parametrize("script", ["mathieu_mapping.py"])
+def test_derivation_script_passes(script):
+    done = subprocess.run([sys.executable, str(DERIVATIONS / script)], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0, done.stdout + done.stderr
