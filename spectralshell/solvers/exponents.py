@@ -61,7 +61,9 @@ def companion(system: HillSystem) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _fold(gamma: np.ndarray) -> np.ndarray:
+    """Im gamma into (-1/2, 1/2]; within 1e-12 of -1/2 counts as +1/2 (a subharmonic exponent)."""
     imag = gamma.imag - np.ceil(gamma.imag - 0.5)
+    imag = np.where(np.abs(imag + 0.5) <= 1e-12, 0.5, imag)
     return gamma.real + 1j * imag
 
 
