@@ -7,6 +7,7 @@ that cannot reach its accuracy exits with status 1.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import sys
@@ -49,7 +50,8 @@ def _params(args: argparse.Namespace, model: str, *, skip: Sequence[str] = ()) -
     for name in given:
         if name not in allowed:
             raise ParameterError(f"--{name.replace('_', '-')} is not a parameter of model {model!r}")
-    return {n: _number(n, v) for n, v in given.items()}
+    text_fields = {f.name for f in dataclasses.fields(PARAMS[model]) if f.type in (str, "str")}
+    return {n: (v if n in text_fields else _number(n, v)) for n, v in given.items()}
 
 
 def _number(name: str, text: str) -> float:

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 from ..params.mathieu import MathieuParams
-from . import mathieu
+from ..params.sphere import SphereParams
+from . import mathieu, sphere
 from .base import HillSystem
 
 
@@ -11,4 +12,7 @@ def hill_system(params) -> HillSystem:
     """The Hill-system physics of a validated parameter object."""
     if isinstance(params, MathieuParams):
         return mathieu.hill_system(kappa=params.kappa, nu=params.nu)
+    if isinstance(params, SphereParams):
+        return sphere.hill_system(m=params.m, kappa=params.kappa, nu=params.nu,
+                                  component=params.component)
     raise TypeError(f"no Hill system for parameters of type {type(params).__name__}")

@@ -8,8 +8,9 @@ from typing import Any
 from .._validate import require_choice
 from ..errors import ParameterError
 from .mathieu import MathieuParams
+from .sphere import SphereParams
 
-PARAMS = {"mathieu": MathieuParams}
+PARAMS = {"mathieu": MathieuParams, "sphere": SphereParams}
 
 
 def check_model(model: str) -> str:

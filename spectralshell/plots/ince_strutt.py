@@ -30,10 +30,12 @@ def draw(ax, result: TonguesResult, *, tau_max: float = 1.0, title: str | None =
                label="τ = 1/2 (stiffness reaches 0)")
     ax.set_xlim(result.kappa.min(), result.kappa.max())
     ax.set_ylim(0, tau_max)
-    ax.set_xlabel("κ, stiffness (dimensionless: natural/forcing frequency squared)")
+    ax.set_xlabel("κ, stiffness (dimensionless)")
     ax.set_ylabel("τ, forcing amplitude (dimensionless)")
-    nu = result.params.get("nu")
-    ax.set_title(title or f"{result.model}: ν = {nu:g}")
+    names = {"nu": "ν", "m": "m"}
+    label = ", ".join(f"{names.get(k, k)} = {v:g}" if isinstance(v, (int, float)) else f"{v}"
+                      for k, v in result.params.items())
+    ax.set_title(title or f"{result.model}: {label}")
     ax.legend(loc="upper right", fontsize=7)
 
 

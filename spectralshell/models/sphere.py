@@ -1,0 +1,88 @@
+"""Immersed spherical membrane, one degree m: Hill-system physics (thesis chapter 6, 7.1).
+
+Derived in ``derivations/sphere_linear.py`` (results in ``derivations/sphere_linear_result.md``),
+independently of the printed algebra. With beta = sqrt(s/nu) (principal branch),
+q = kappa (m-1)(m+2), P = beta i_{m+1}(beta)/i_m(beta), Q = beta k_{m-1}(beta)/k_m(beta):
+
+    D_YY     = s^2 ((2m+1)/(m(m+1)) + m/((m+1) Q) + (m+1)/(m P)) + q
+    D_YPsi   = s^2 (m/Q - (m+1)/P),      D_PsiY = D_YPsi / (m(m+1))
+    D_PsiPsi = s^2 (1/Q + 1/P) + q,      G = q I        (poloidal X^Y, X^Psi)
+    D_Phi    = nu s (2m+1 + P + Q) + q,  G_Phi = q      (toroidal X^Phi, decoupled, (6.29))
+
+in D(s_n) X_n = i tau G (X_{n-1} - X_{n+1}). The linear membrane load is -K(t)(m-1)(m+2) X in
+every component once the prestress term of (6.16) is kept. Agrees with (6.27)-(6.33) and
+(7.8)-(7.12); the derivation confirms the ERRATA items: entry (1,4) of the 4x4 block after (6.34)
+is -Im B_n (printed -Im A_n); the kinematic X^Psi expression uses j only; the harmonic n = 0 block
+needs A_0 = I (here D(0) = q I, the s -> 0 limit, since the fluid load H(s) = D(s) - q I -> 0);
+(B.5) swaps the Psi/Phi labels. It also finds that the beta = 0 steady fields of 6.3 lack a
+factor 1/2 (see the result file).
+
+Inviscid limit nu -> 0 (P, Q ~ beta -> infinity): the Y row becomes the Mathieu equation
+X'' + lambda0^2 (1 + 2 tau sin t) X = 0 with lambda0^2 = kappa m(m+1)(m-1)(m+2)/(2m+1) ((6.23),
+(7.4)) and the Psi row forces X^Psi = 0; ``nu = 0`` therefore reuses the Mathieu model.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..special.spherical import ratio_i, ratio_k
+from . import mathieu
+from .base import HillSystem
+
+
+def lambda0_squared(m: int, kappa: float) -> float:
+    """Inviscid natural frequency squared, lambda0^2 = kappa m(m+1)(m-1)(m+2)/(2m+1) (6.23)."""
+    return kappa * m * (m + 1) * (m - 1) * (m + 2) / (2 * m + 1)
+
+
+def _p_q(m: int, s: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
+    beta = np.sqrt(s / nu)
+    return beta * ratio_i(m, beta), beta / ratio_k(m - 1, beta)
+
+
+def poloidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:
+    """D(s) of the poloidal pair (X^Y, X^Psi), shape (len(s), 2, 2); D(0) = q I (limit)."""
+    s = np.asarray(s, dtype=complex).ravel()
+    q = kappa * (m - 1) * (m + 2)
+    out = np.zeros((s.size, 2, 2), dtype=complex)
+    out[:, 0, 0] = out[:, 1, 1] = q
+    live = s != 0
+    if live.any():
+        sl = s[live]
+        P, Q = _p_q(m, sl, nu)
+        s2 = sl * sl
+        out[live, 0, 0] += s2 * ((2 * m + 1) / (m * (m + 1)) + m / ((m + 1) * Q) + (m + 1) / (m * P))
+        out[live, 0, 1] = s2 * (m / Q - (m + 1) / P)
+        out[live, 1, 0] = out[live, 0, 1] / (m * (m + 1))
+        out[live, 1, 1] += s2 * (1 / Q + 1 / P)
+    return out
+
+
+def toroidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:
+    """D(s) of the toroidal component X^Phi, shape (len(s), 1, 1); D(0) = q."""
+    s = np.asarray(s, dtype=complex).ravel()
+    q = kappa * (m - 1) * (m + 2)
+    out = np.full(s.size, q, dtype=complex)
+    live = s != 0
+    if live.any():
+        P, Q = _p_q(m, s[live], nu)
+        out[live] += nu * s[live] * (2 * m + 1 + P + Q)
+    return out.reshape(-1, 1, 1)
+
+
+def hill_system(*, m: int, kappa: float, nu: float, component: str = "poloidal") -> HillSystem:
+    """Hill-system physics of degree m of the spherical membrane (see the module docstring)."""
+    q = kappa * (m - 1) * (m + 2)
+    lam2 = lambda0_squared(m, kappa)
+    if nu == 0.0:
+        if component == "toroidal":  # no fluid stress: X^Phi = 0, nothing oscillates
+            return HillSystem(name="sphere", block_size=1, forcing=np.zeros((1, 1)),
+                              unforced=lambda s: np.full((np.size(s), 1, 1), q, dtype=complex))
+        return mathieu.hill_system(kappa=lam2, nu=0.0)
+    if component == "toroidal":
+        return HillSystem(name="sphere", block_size=1, forcing=np.array([[q]]),
+                          unforced=lambda s: toroidal_unforced(s, m=m, kappa=kappa, nu=nu))
+    return HillSystem(name="sphere", block_size=2, forcing=q * np.eye(2),
+                      unforced=lambda s: poloidal_unforced(s, m=m, kappa=kappa, nu=nu),
+                      n_resonant=float(np.sqrt(lam2)))
