@@ -7,12 +7,13 @@ Public API::
     ss.floquet("mathieu", kappa=0.25, nu=0.1)           # marginal tau, harmonic + subharmonic
     ss.tongues("mathieu", kappa="0:3:301", nu=0.1)      # Ince-Strutt diagram + finger tips
     ss.exponents("mathieu", kappa=1, nu=0.1, tau=0.3)   # Floquet exponents gamma
+    ss.stability("sphere", tau=0.45, m="2:6", kappa=0.02, nu=0.006)  # which degrees resonate
     ss.run_scene("scene.toml")                          # a planned scene
 """
 
 from ._version import __version__
-from .api import exponents, floquet, run_scene, tongues
+from .api import exponents, floquet, run_scene, stability, tongues
 from .errors import BackendUnavailable, ConvergenceError, ParameterError, SpectralShellError
 
-__all__ = ["__version__", "floquet", "tongues", "exponents", "run_scene", "SpectralShellError",
+__all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "run_scene", "SpectralShellError",
            "ParameterError", "ConvergenceError", "BackendUnavailable"]

@@ -19,11 +19,11 @@ from .discretise.fourier import expand_kind
 from .errors import ParameterError
 from .models.base import HillSystem
 from .models.registry import hill_system
-from .params.grid import parse_range
+from .params.grid import parse_int_range, parse_range
 from .params.registry import check_model, make_params
 from .params.scene import Plan, plan
-from .results.floquet import (ExponentsResult, FloquetResult, TonguesResult, provenance,
-                              tau_warnings)
+from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
+                              provenance, tau_warnings)
 from .solvers.exponents import floquet_exponents
 from .solvers.marginal import N_MAX, marginal_tau
 from .solvers.tongues import find_tips, sweep
@@ -124,6 +124,42 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
     result = floquet_exponents(system, tau, **options)
     return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
                                  exponents=result, options=options)
+
+
+def stability(model: str, *, tau: float, m, kind: str = "both", tol: float = 1e-10,
+              n_temporal: int | None = None, **params: Any) -> StabilityResult:
+    """Is each degree m unstable at forcing amplitude ``tau``, and with which kind?
+
+    Notes
+    -----
+    Every marginal tau of a kind is a Floquet multiplier crossing +1 (harmonic) or -1
+    (subharmonic); for one oscillatory degree of freedom, successive crossings of the same kind
+    alternately enter and leave the instability finger (thesis 2.2, Fig 2.2), so a kind is unstable
+    at ``tau`` when an odd number of its marginal amplitudes lie below ``tau``. Where both kinds are
+    unstable, ``kind`` names the one with the lower threshold. The rule is checked against the Floquet
+    exponents in the tests.
+    """
+    model = check_model(model)
+    tau = require_real("tau", tau)
+    degrees = parse_int_range("m", m)
+    options = _solver_options(tol, n_temporal)
+    modes = []
+    for degree in degrees:
+        res = floquet(model, kind=kind, m=degree, **options, **params)
+        entry: dict[str, Any] = {"m": degree, "unstable": False, "kind": None}
+        thresholds = {}
+        for k in expand_kind(kind):
+            below = [float(t) for t in getattr(res, k).tau if t < tau]
+            entry[f"tau_{k}"] = below
+            if len(below) % 2 == 1:
+                thresholds[k] = below[0]
+        if thresholds:
+            entry["unstable"], entry["kind"] = True, min(thresholds, key=thresholds.get)
+        modes.append(entry)
+    p = {k: v for k, v in res.params.items() if k != "m"}
+    return StabilityResult(model=model, tau=tau, params=p, modes=tuple(modes),
+                           warnings=tuple(tau_warnings([abs(tau)])),
+                           provenance=provenance({"kind": kind, **options}))
 
 
 def run_scene(scene: str | Path | Mapping | Plan, *, progress: bool = False,

@@ -192,6 +192,24 @@ def cmd_exponents(args) -> int:
     return 0
 
 
+def cmd_stability(args) -> int:
+    if args.tau is None or args.m is None:
+        raise ParameterError("--tau and --m are required, e.g. --tau 0.45 --m 2:6")
+    res = api.stability(args.model, tau=_number("tau", args.tau), m=args.m, kind=args.kind,
+                        **_solver(args), **_params(args, args.model, skip=("m",)))
+    _warn(res.warnings)
+    if args.json:
+        _emit_json(res.to_dict())
+        return 0
+    print(f"{res.model} at tau = {res.tau:g}: {_fmt_params(res.params)}")
+    for mode in res.modes:
+        state = f"UNSTABLE ({mode['kind']})" if mode["unstable"] else "stable"
+        below = "; ".join(f"{k[4:]} tau below: {', '.join(f'{t:.6g}' for t in v) or 'none'}"
+                          for k, v in mode.items() if k.startswith("tau_"))
+        print(f"  m = {mode['m']:<3} {state:<24} {below}")
+    return 0
+
+
 def cmd_figure(args) -> int:
     from .reports.figures import FIGURES, make_figure
 
@@ -287,6 +305,15 @@ def build_parser() -> argparse.ArgumentParser:
     _solver_flags(p)
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
     p.set_defaults(func=cmd_exponents)
+
+    p = sub.add_parser("stability", help="which degrees m are unstable at a forcing amplitude tau")
+    p.add_argument("model", choices=tuple(m for m in models if "m" in param_names(m)))
+    p.add_argument("--tau", help="forcing amplitude")
+    p.add_argument("--kind", default="both", choices=("both", "harmonic", "subharmonic"))
+    _model_flags(p)
+    _solver_flags(p)
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    p.set_defaults(func=cmd_stability)
 
     p = sub.add_parser("figure", help="reproduce a thesis figure (PNG + JSON data)")
     p.add_argument("name", help="e.g. fig-2.2, fig-2.3")

@@ -39,3 +39,27 @@ def parse_range(name: str, spec: object) -> np.ndarray:
     if num > 1 and stop == start:
         raise ParameterError(f"{name} = {spec!r} is invalid: a range of {num} points needs stop > start")
     return np.linspace(start, stop, num)
+
+
+def parse_int_range(name: str, spec: object) -> list[int]:
+    """Integers from ``"lo:hi"`` (inclusive), a single integer, or a list of integers.
+
+    Raises
+    ------
+    ParameterError : malformed, non-integer or reversed range.
+    """
+    from .._validate import require_int_in_range
+
+    if isinstance(spec, str) and ":" in spec:
+        parts = spec.split(":")
+        if len(parts) != 2:
+            raise ParameterError(f"{name} = {spec!r} is invalid: must be LO:HI, e.g. 2:6")
+        lo, hi = (require_int_in_range(name, p, 0) for p in parts)
+        if hi < lo:
+            raise ParameterError(f"{name} = {spec!r} is invalid: HI must be >= LO (empty range)")
+        return list(range(lo, hi + 1))
+    if isinstance(spec, (list, tuple)):
+        if not spec:
+            raise ParameterError(f"{name} = [] is invalid: must be a non-empty list of integers")
+        return [require_int_in_range(name, v, 0) for v in spec]
+    return [require_int_in_range(name, spec, 0)]

@@ -143,3 +143,24 @@ class TonguesResult:
         arrays["metadata"] = np.array(json.dumps({k: v for k, v in self.to_dict().items()
                                                   if k in ("model", "params", "tips", "provenance")}))
         np.savez(path, **arrays)
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class StabilityResult:
+    """Stability of each degree m at one forcing amplitude tau.
+
+    ``modes`` holds, per m: ``unstable``, ``kind`` (the kind whose instability has the lower
+    threshold, None if stable), and the marginal tau of each kind below the given tau.
+    """
+
+    model: str
+    tau: float
+    params: dict[str, Any]
+    modes: tuple[dict[str, Any], ...]
+    provenance: dict[str, Any]
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"model": self.model, "tau": self.tau, "params": dict(self.params),
+                "modes": [dict(m) for m in self.modes], "warnings": list(self.warnings),
+                "provenance": self.provenance}
