@@ -99,6 +99,17 @@ def _emit_json(obj: dict) -> None:
     sys.stdout.write(json.dumps(obj) + "\n")
 
 
+def _report(as_json: bool, data: dict, text: Callable[[], str], written: Sequence[str] = ()) -> int:
+    """Print exactly one JSON object, or the human summary and the files written; exit status 0."""
+    if as_json:
+        _emit_json(data)
+    else:
+        print(text())
+        for path in written:
+            print(f"wrote {path}")
+    return 0
+
+
 def _warn(warnings: Sequence[str]) -> None:
     for w in warnings:
         print(f"warning: {w}", file=sys.stderr)
@@ -167,13 +178,7 @@ def cmd_tongues(args) -> int:
                       **_solver(args), **_params(args, args.model, skip=("kappa",)))
     _warn(res.warnings)
     written = _write_tongues(res, png=args.png, csv=args.csv, npz=args.npz)
-    if args.json:
-        _emit_json(res.to_dict())
-    else:
-        print(_tongues_text(res))
-        for w in written:
-            print(f"wrote {w}")
-    return 0
+    return _report(args.json, res.to_dict(), lambda: _tongues_text(res), written)
 
 
 def cmd_exponents(args) -> int:
@@ -253,13 +258,7 @@ def _run(scene, out_dir: str | None, as_json: bool, name: str) -> int:
     json_path = out / f"{name}.json"
     _atomic_write(json_path, lambda p: p.write_text(json.dumps(data, indent=1)))
     written.append(str(json_path))
-    if as_json:
-        _emit_json(data)
-    else:
-        print(_summary(results))
-        for w in written:
-            print(f"wrote {w}")
-    return 0
+    return _report(as_json, data, lambda: _summary(results), written)
 
 
 def cmd_demo(args) -> int:
