@@ -3,8 +3,8 @@
 Structured fast path
 --------------------
 A is block diagonal, so T = A^{-1} B costs O(N b^3) and its eigenvalues are mu = 1/tau. When B
-couples only Fourier indices of opposite parity (``HillMatrices.parity``), T = [[0, X], [Y, 0]] in
-an even/odd ordering and mu^2 are the eigenvalues of the half-size product W = X Y. Real tau
+couples only Fourier indices of opposite parity (``HillMatrices.bipartite``: no self-coupling),
+T = [[0, X], [Y, 0]] in an even/odd ordering and mu^2 are the eigenvalues of the half-size product W = X Y. Real tau
 correspond to real positive mu^2 (tau and -tau, a time shift by pi, always come together).
 
 * harmonic: the real form is bipartite, so W is real and a real tau is an exactly real
@@ -15,14 +15,13 @@ correspond to real positive mu^2 (tau and -tau, a time shift by pi, always come 
 
 Infinite tau (mu = 0: B is singular, and the harmonic Im u_0 slot is a zero row) are removed as
 mu^2 <= 64 eps ||W_bal||_F, W_bal the diagonally balanced W that the eigen-solver works on: such
-eigenvalues are indistinguishable from zero. Spurious, truncation-
-made eigenvalues are removed by requiring each reported tau to reappear at the previous truncation.
+eigenvalues are indistinguishable from zero. Spurious, truncation-made eigenvalues are removed by
+requiring each reported tau to reappear at the previous truncation.
 
 If a diagonal block of A is singular or ill conditioned, in itself (1-norm condition > 1e8) or
 against the coupling (||A_k^{-1}|| ||B_k|| > 1e8: some tau ~< 1e-8, e.g. undamped Mathieu at
 sqrt(kappa) = k/2, where tau = 0 is an eigenvalue), squaring would lose the small tau and the
-solver falls back to QZ
-on the real form (``method = "qz"``), which handles singular A and B. A singular A makes tau = 0
+solver falls back to QZ on the real form (``method = "qz"``), which handles singular A and B. A singular A makes tau = 0
 an exact eigenvalue, often defective (two fingers leave the axis together), which rounding
 spreads by ~eps^(1/2); such a cluster within ZERO_CLUSTER = 1e-6 of 0 is reported as one tau = 0
 whose uncertainty is its largest magnitude (:func:`qz_taus`).
