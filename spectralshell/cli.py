@@ -137,8 +137,7 @@ def _floquet_text(res) -> str:
 def cmd_floquet(args) -> int:
     res = api.floquet(args.model, kind=args.kind, **_solver(args), **_params(args, args.model))
     _warn(res.warnings)
-    _emit_json(res.to_dict()) if args.json else print(_floquet_text(res))
-    return 0
+    return _report(args.json, res.to_dict(), lambda: _floquet_text(res))
 
 
 def _tongues_text(res) -> str:
@@ -150,7 +149,7 @@ def _tongues_text(res) -> str:
     return "\n".join(lines)
 
 
-def _write_tongues(res, *, png=None, csv=None, npz=None, json_path=None) -> list[str]:
+def _write_tongues(res, *, png=None, csv=None, npz=None) -> list[str]:
     written = []
     if png:
         from .plots import ince_strutt
@@ -162,9 +161,6 @@ def _write_tongues(res, *, png=None, csv=None, npz=None, json_path=None) -> list
     if npz:
         _atomic_write(npz, lambda p: res.write_npz(open(p, "wb")))
         written.append(npz)
-    if json_path:
-        _atomic_write(json_path, lambda p: p.write_text(json.dumps(res.to_dict())))
-        written.append(json_path)
     return written
 
 
@@ -187,14 +183,16 @@ def cmd_exponents(args) -> int:
     res = api.exponents(args.model, tau=_number("tau", args.tau), **_solver(args),
                         **_params(args, args.model))
     _warn(res.warnings)
-    if args.json:
-        _emit_json(res.to_dict())
-    else:
-        print(f"{res.model}: {_fmt_params(res.params)}  tau = {res.tau:g}   (N = {res.n_temporal}, "
-              f"error <= {res.error_estimate:.1e})")
-        for g, q in zip(res.gamma, res.multipliers):
-            print(f"  gamma = {g.real:+.12f} {g.imag:+.12f}i   multiplier = {q.real:+.10f} {q.imag:+.10f}i")
-    return 0
+    return _report(args.json, res.to_dict(), lambda: _exponents_text(res))
+
+
+def _exponents_text(res) -> str:
+    lines = [f"{res.model}: {_fmt_params(res.params)}  tau = {res.tau:g}   (N = {res.n_temporal}, "
+             f"error <= {res.error_estimate:.1e})"]
+    for g, q in zip(res.gamma, res.multipliers):
+        lines.append(f"  gamma = {g.real:+.12f} {g.imag:+.12f}i   multiplier = {q.real:+.10f} "
+                     f"{q.imag:+.10f}i")
+    return "\n".join(lines)
 
 
 def cmd_stability(args) -> int:
@@ -203,16 +201,17 @@ def cmd_stability(args) -> int:
     res = api.stability(args.model, tau=_number("tau", args.tau), m=args.m, kind=args.kind,
                         **_solver(args), **_params(args, args.model, skip=("m",)))
     _warn(res.warnings)
-    if args.json:
-        _emit_json(res.to_dict())
-        return 0
-    print(f"{res.model} at tau = {res.tau:g}: {_fmt_params(res.params)}")
+    return _report(args.json, res.to_dict(), lambda: _stability_text(res))
+
+
+def _stability_text(res) -> str:
+    lines = [f"{res.model} at tau = {res.tau:g}: {_fmt_params(res.params)}"]
     for mode in res.modes:
         state = f"UNSTABLE ({mode['kind']})" if mode["unstable"] else "stable"
         below = "; ".join(f"{k[4:]} tau below: {', '.join(f'{t:.6g}' for t in v) or 'none'}"
                           for k, v in mode.items() if k.startswith("tau_"))
-        print(f"  m = {mode['m']:<3} {state:<24} {below}")
-    return 0
+        lines.append(f"  m = {mode['m']:<3} {state:<24} {below}")
+    return "\n".join(lines)
 
 
 def cmd_figure(args) -> int:
@@ -269,50 +268,45 @@ def cmd_run(args) -> int:
     return _run(args.scene, args.out, args.json, Path(args.scene).stem)
 
 
+def _computation(sub, name: str, help: str, func, models: Sequence[str], *, kind: bool = True,
+                 skip: Sequence[str] = ()) -> argparse.ArgumentParser:
+    """A computation subcommand: MODEL, [--kind], the model's flags, solver flags, --json."""
+    p = sub.add_parser(name, help=help)
+    p.add_argument("model", choices=tuple(models))
+    if kind:
+        p.add_argument("--kind", default="both", choices=("both", "harmonic", "subharmonic"))
+    _model_flags(p, skip=skip)
+    _solver_flags(p)
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    p.set_defaults(func=func)
+    return p
+
+
 def build_parser() -> argparse.ArgumentParser:
     models = tuple(PARAMS)
     parser = _Parser(prog="spectralshell", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"spectralshell {__version__}")
     sub = parser.add_subparsers(dest="command", parser_class=_Parser, required=True)
 
-    p = sub.add_parser("floquet", help="marginal forcing amplitudes tau (harmonic/subharmonic)")
-    p.add_argument("model", choices=models)
-    p.add_argument("--kind", default="both", choices=("both", "harmonic", "subharmonic"))
-    _model_flags(p)
-    _solver_flags(p)
-    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
-    p.set_defaults(func=cmd_floquet)
+    _computation(sub, "floquet", "marginal forcing amplitudes tau (harmonic/subharmonic)",
+                 cmd_floquet, models)
 
-    p = sub.add_parser("tongues", help="Ince-Strutt diagram over a kappa range")
-    p.add_argument("model", choices=models)
+    p = _computation(sub, "tongues", "Ince-Strutt diagram over a kappa range", cmd_tongues, models,
+                     skip=("kappa",))
     p.add_argument("--kappa", help="range START:STOP:NUM, e.g. 0:3:301")
-    p.add_argument("--kind", default="both", choices=("both", "harmonic", "subharmonic"))
-    _model_flags(p, skip=("kappa",))
-    _solver_flags(p)
     p.add_argument("--png", help="write the diagram as PNG")
     p.add_argument("--csv", help="write points kind,kappa,tau as CSV")
     p.add_argument("--npz", help="write arrays as NPZ")
     p.add_argument("--no-tips", action="store_true", help="do not locate finger tips")
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
-    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
-    p.set_defaults(func=cmd_tongues)
 
-    p = sub.add_parser("exponents", help="Floquet exponents gamma at a forcing amplitude tau")
-    p.add_argument("model", choices=models)
+    p = _computation(sub, "exponents", "Floquet exponents gamma at a forcing amplitude tau",
+                     cmd_exponents, models, kind=False)
     p.add_argument("--tau", help="forcing amplitude")
-    _model_flags(p)
-    _solver_flags(p)
-    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
-    p.set_defaults(func=cmd_exponents)
 
-    p = sub.add_parser("stability", help="which degrees m are unstable at a forcing amplitude tau")
-    p.add_argument("model", choices=tuple(m for m in models if "m" in param_names(m)))
+    p = _computation(sub, "stability", "which degrees m are unstable at a forcing amplitude tau",
+                     cmd_stability, [m for m in models if "m" in param_names(m)])
     p.add_argument("--tau", help="forcing amplitude")
-    p.add_argument("--kind", default="both", choices=("both", "harmonic", "subharmonic"))
-    _model_flags(p)
-    _solver_flags(p)
-    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
-    p.set_defaults(func=cmd_stability)
 
     p = sub.add_parser("figure", help="reproduce a thesis figure (PNG + JSON data)")
     p.add_argument("name", help="e.g. fig-2.2, fig-2.3")
