@@ -152,14 +152,21 @@ def refine_tip(factory: SystemFactory, kind: str, lo: float, hi: float, tau_gues
     xtol, rtol = 1e-14, 4 * np.finfo(float).eps
     kappa = lo if g_lo == 0.0 else hi if g_hi == 0.0 else brentq(slope, lo, hi, xtol=xtol, rtol=rtol)
     kappa_error = 2 * (xtol + rtol * abs(kappa))
-    if tracked(kappa) == 0.0:  # a multiple zero, merged by the QZ path: bisect its extent
+    plateau = tracked(kappa) == 0.0
+    if plateau:  # a multiple zero, merged by the QZ path: bisect its extent
         left = _bisect(lambda k: tracked(k) == 0.0, lo, kappa)
         right = _bisect(lambda k: tracked(k) != 0.0, kappa, hi)
         kappa, kappa_error = 0.5 * (left + right), max(kappa_error, 0.5 * (right - left))
     res = marginal_tau(factory(kappa), kind, tol=tol)
     tau = float(res.tau[np.argmin(np.abs(res.tau - tracked(kappa)))])
+    # On a plateau the tip's tau is the merged zero; its error covers the converged solver's
+    # nearest tau. Elsewhere tau inherits the kappa error through the finger's slope (one-sided
+    # at a corner tip).
+    spread = abs(tau) if plateau else max(abs(g_lo), abs(g_hi)) * kappa_error
+    tau = 0.0 if plateau else tau
+    tau_error = max(float(res.error_estimate or 0.0), 8 * np.finfo(float).eps * max(tau, 1.0), spread)
     return Tip(kind=kind, kappa=float(kappa), tau=tau, kappa_error=float(kappa_error),
-               tau_error=max(float(res.error_estimate or 0.0), 8 * np.finfo(float).eps * max(tau, 1.0)))
+               tau_error=tau_error)
 
 
 def find_tips(factory: SystemFactory, kappas: np.ndarray, rows: list[dict[str, MarginalTau]],
