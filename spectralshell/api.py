@@ -20,8 +20,10 @@ from .errors import ParameterError
 from .models.base import HillSystem
 from .models.registry import hill_system
 from .params.grid import parse_int_range, parse_range
+from .params.physical import PhysicalSphere, bpm_to_rad_per_s
 from .params.registry import check_model, make_params
 from .params.scene import Plan, plan
+from .results.maps import TauMapResult
 from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
                               provenance, tau_warnings)
 from .solvers.exponents import floquet_exponents
@@ -29,11 +31,14 @@ from .solvers.marginal import N_MAX, marginal_tau
 from .solvers.tongues import find_tips, sweep
 
 
-def _solver_options(tol: float, n_temporal: int | None) -> dict[str, Any]:
+def _solver_options(tol: float, n_temporal: int | None, tau_max: float | None = None) -> dict[str, Any]:
     tol = require_positive("tol", tol)
     if n_temporal is not None:
         n_temporal = require_int_in_range("n_temporal", n_temporal, 1, N_MAX)
-    return {"tol": tol, "n_temporal": n_temporal}
+    options = {"tol": tol, "n_temporal": n_temporal}
+    if tau_max is not None:
+        options["tau_max"] = require_positive("tau_max", tau_max)
+    return options
 
 
 def _system(model: str, params: Mapping[str, Any]) -> tuple[Any, HillSystem]:
@@ -42,15 +47,17 @@ def _system(model: str, params: Mapping[str, Any]) -> tuple[Any, HillSystem]:
 
 
 def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: int | None = None,
-            **params: Any) -> FloquetResult:
+            tau_max: float | None = None, **params: Any) -> FloquetResult:
     """Marginal forcing amplitudes tau (Floquet boundaries) of a model.
 
     Parameters
     ----------
-    model : 'mathieu'.
+    model : a name from ``spectralshell.params.registry.PARAMS`` ('mathieu', 'sphere', ...).
     kind : 'both', 'harmonic' (gamma = 0) or 'subharmonic' (gamma = i/2); only those are computed.
     tol : absolute tolerance on tau_min; the truncation grows until it is met.
     n_temporal : fix the truncation N instead (the error estimate compares with a smaller N).
+    tau_max : compute only the marginal tau <= tau_max (e.g. 0.5, the physical range); the
+        truncation then grows only as far as those need, and tau_min is None when there is none.
     **params : the model's parameters, e.g. ``kappa``, ``nu`` for 'mathieu'.
 
     Notes
@@ -64,7 +71,7 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     """
     model = check_model(model)
     kinds = expand_kind(kind)
-    options = _solver_options(tol, n_temporal)
+    options = _solver_options(tol, n_temporal, tau_max)
     p, system = _system(model, params)
     res = {k: marginal_tau(system, k, **options) for k in kinds}
     warnings = tau_warnings(t for m in res.values() for t in m.tau)
@@ -110,6 +117,90 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
                          provenance=provenance({"kind": kind, "tips": tips, **options}))
 
 
+PHYSICAL_AXES = {"sigma": "dyn/cm", "omega": "rad/s", "bpm": "beats/min", "radius": "cm",
+                 "mu": "g/(cm s)", "rho": "g/cm^3"}
+
+
+def _point_params(model: str, params: dict[str, Any], physical: dict[str, float] | None,
+                  names: tuple[str, str], point: tuple[float, float, int]) -> dict[str, Any]:
+    x, y, degree = point
+    values = {**params, names[0]: float(x), names[1]: float(y), "m": int(degree)}
+    if physical is None:
+        return values
+    phys = {**physical, **{k: values.pop(k) for k in list(values) if k in PHYSICAL_AXES}}
+    if "bpm" in phys:
+        phys["omega"] = bpm_to_rad_per_s(phys.pop("bpm"))
+    return {**values, **PhysicalSphere(**phys).forced()}
+
+
+def _map_system(model: str, params: dict[str, Any], physical: dict[str, float] | None,
+                names: tuple[str, str], point: tuple[float, float, int]) -> HillSystem:
+    return _system(model, _point_params(model, params, physical, names, point))[1]
+
+
+def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str = "both",
+            tau_max: float = 0.5, tol: float = 1e-8, physical: Mapping[str, float] | None = None,
+            workers: int | None = None, progress: bool = False, **params: Any) -> TauMapResult:
+    """Map of the smallest marginal tau <= tau_max over degrees ``m`` and kinds on an x-y grid.
+
+    Parameters
+    ----------
+    x, y : (parameter name, grid), the grid as array-like or 'start:stop:num'. Names are model
+        parameters (e.g. 'kappa', 'nu') or, with ``physical``, the cgs quantities 'sigma'
+        (dyn/cm), 'omega' (rad/s), 'bpm' (beats/min), 'radius', 'mu', 'rho'.
+    m : degrees, e.g. '2:6'. tau_max : only instabilities below it count (1/2: stiffness > 0).
+    physical : fixed cgs values (e.g. rho, mu, radius) for the conversion (6.4)-(6.5) of
+        :class:`spectralshell.params.physical.PhysicalSphere`.
+    tol : absolute tolerance on each tau_min (1e-8 is ample for a picture).
+
+    Notes
+    -----
+    Every point solves only the marginal tau <= tau_max (``marginal_tau(tau_max=...)``), in
+    parallel over all cores with a progress bar; the value is the minimum over m and kind, and
+    ``degree``/``kind`` record which one attains it (thesis Fig 6.13 labels 'm H/S').
+    """
+    model = check_model(model)
+    kinds = expand_kind(kind)
+    options = _solver_options(tol, None, tau_max)
+    degrees = parse_int_range("m", m)
+    names = (str(x[0]), str(y[0]))
+    grids = [parse_range(n, g) if isinstance(g, str) else
+             np.array([require_real(n, v) for v in np.atleast_1d(g)]) for n, g in (x, y)]
+    if any(not g.size for g in grids):
+        raise ParameterError("x/y grid = [] is invalid: must be a non-empty grid")
+    phys = None if physical is None else {k: float(v) for k, v in physical.items()}
+    for name in names:
+        if name in PHYSICAL_AXES and phys is None:
+            raise ParameterError(f"axis {name} = physical quantity is invalid without physical=")
+    factory = functools.partial(_map_system, model, dict(params), phys, names)
+    corners = [(gx, gy, d) for gx in (grids[0][0], grids[0][-1]) for gy in (grids[1][0], grids[1][-1])
+               for d in (degrees[0],)]
+    for c in corners:  # validate the extremes before the sweep
+        _point_params(model, dict(params), phys, names, c)
+    points = [(gx, gy, d) for gy in grids[1] for gx in grids[0] for d in degrees]
+    rows = sweep(factory, points, kinds, workers=workers, progress=progress, desc="tau map",
+                 **options)
+    shape = (grids[1].size, grids[0].size, len(degrees))
+    best = np.full(shape[:2], float(tau_max))
+    has = np.zeros(shape[:2], dtype=bool)
+    degree = np.zeros(shape[:2], dtype=int)
+    which = np.full(shape[:2], "", dtype="<U1")
+    err = np.zeros(shape[:2])
+    for idx, row in zip(np.ndindex(*shape), rows):
+        for k in kinds:
+            t = row[k].tau_min
+            if t is not None and t <= best[idx[:2]] and (not has[idx[:2]] or t < best[idx[:2]]):
+                best[idx[:2]], has[idx[:2]] = t, True
+                degree[idx[:2]], which[idx[:2]] = degrees[idx[2]], k[0].upper()
+                err[idx[:2]] = row[k].error_estimate or 0.0
+    units = {n: PHYSICAL_AXES.get(n, "dimensionless") for n in names}
+    p = dict(params) if phys is None else {**params, **phys}
+    return TauMapResult(model=model, params=p, x_name=names[0], y_name=names[1], units=units,
+                        x=grids[0], y=grids[1], degrees=tuple(degrees), tau_max=float(tau_max),
+                        tau_min=best, has_tau=has, degree=degree, kind=which, error_estimate=err,
+                        provenance=provenance({"kind": kind, **options}))
+
+
 def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,
               **params: Any) -> ExponentsResult:
     """Floquet characteristic exponents gamma at forcing amplitude ``tau``.
@@ -144,8 +235,8 @@ def stability(model: str, *, tau: float, m, kind: str = "both", tol: float = 1e-
     degrees = parse_int_range("m", m)
     options = _solver_options(tol, n_temporal)
     modes = []
-    for degree in degrees:
-        res = floquet(model, kind=kind, m=degree, **options, **params)
+    for degree in degrees:  # only the marginal tau below the asked tau are needed
+        res = floquet(model, kind=kind, m=degree, tau_max=abs(tau) or None, **options, **params)
         entry: dict[str, Any] = {"m": degree, "unstable": False, "kind": None}
         thresholds = {}
         for k in expand_kind(kind):

@@ -7,7 +7,7 @@ import pytest
 import spectralshell as ss
 from spectralshell.discretise.hill import assemble
 from spectralshell.models.sphere import hill_system, lambda0_squared, poloidal_unforced
-from spectralshell.solvers.marginal import dense_taus, solve_truncation
+from spectralshell.solvers.marginal import dense_taus, marginal_tau, solve_truncation
 
 
 def mp_poloidal(s, m, kappa, nu):
@@ -108,3 +108,18 @@ def test_cli_sphere_floquet_json(capsys):
     assert data["model"] == "sphere" and data["params"]["m"] == 3
     api = ss.floquet("sphere", m=3, kappa=0.02, nu=0.006)  # the CLI is plumbing over the API
     assert data["subharmonic"]["tau_min"] == api.subharmonic.tau_min
+
+
+def test_tau_max_skips_truncation_the_answer_does_not_use():
+    """Asking only for tau <= 1/2 keeps the same physical values but stops the truncation early:
+    near tau = 1/2 the Psi row (stiffness q (1 + 2 tau sin t), barely damped at small nu) makes
+    the large-tau marginal values converge slowly (thesis 6.3: the tau > 1/2 subharmonic curve)."""
+    system = hill_system(m=6, kappa=1.4, nu=2.4e-4)
+    full = marginal_tau(system, "subharmonic", tol=1e-10)
+    capped = marginal_tau(system, "subharmonic", tol=1e-10, tau_max=0.5)
+    assert full.tau_min > 0.5 and capped.tau_min is None
+    assert capped.n_temporal < full.n_temporal / 3
+    harmonic_full = marginal_tau(system, "harmonic", tol=1e-10)
+    harmonic = marginal_tau(system, "harmonic", tol=1e-10, tau_max=0.5)
+    assert harmonic.tau_min == pytest.approx(harmonic_full.tau_min, abs=1e-10)
+    np.testing.assert_allclose(harmonic.tau, harmonic_full.tau[harmonic_full.tau <= 0.5], atol=1e-9)

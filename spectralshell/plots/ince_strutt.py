@@ -1,4 +1,4 @@
-"""Ince-Strutt diagrams (thesis Figs 2.2, 2.3): tau against kappa, harmonic '+', subharmonic 'o'."""
+"""Ince-Strutt diagrams (thesis Figs 2.2, 2.3, 6.2, 6.3, 6.12): tau against kappa, harmonic '+', subharmonic 'o'."""
 
 from __future__ import annotations
 
@@ -16,34 +16,40 @@ STYLE = {"harmonic": dict(marker="+", color="tab:blue", label="harmonic (γ = 0)
          "subharmonic": dict(marker="o", mfc="none", color="tab:red", label="subharmonic (γ = i/2)")}
 
 
-def draw(ax, result: TonguesResult, *, tau_max: float = 1.0, title: str | None = None) -> None:
-    """Draw one diagram on ``ax``: marginal points, finger tips, the tau = 1/2 line."""
+def draw(ax, result: TonguesResult, *, tau_max: float = 1.0, title: str | None = None,
+         x_scale: float = 1.0, x_label: str = "κ, stiffness (dimensionless)") -> None:
+    """Draw one diagram on ``ax``: marginal points, finger tips, the tau = 1/2 line.
+
+    The abscissa is ``x_scale * kappa`` (e.g. sigma = rho R^3 omega^2 kappa, in dyn/cm)."""
     for kind in result.kinds:
         k, t = result.points(kind)
         keep = t <= tau_max
-        ax.plot(k[keep], t[keep], linestyle="none", markersize=3, **STYLE[kind])
+        ax.plot(x_scale * k[keep], t[keep], linestyle="none", markersize=3, **STYLE[kind])
     tips = [tip for tip in result.tips if tip.tau <= tau_max]
     if tips:
-        ax.plot([t.kappa for t in tips], [t.tau for t in tips], "k*", markersize=9,
+        ax.plot([x_scale * t.kappa for t in tips], [t.tau for t in tips], "k*", markersize=9,
                 label="finger tips")
     ax.axhline(0.5, color="0.4", linestyle="--", linewidth=1,
                label="τ = 1/2 (stiffness reaches 0)")
-    ax.set_xlim(result.kappa.min(), result.kappa.max())
+    ax.set_xlim(x_scale * result.kappa.min(), x_scale * result.kappa.max())
     ax.set_ylim(0, tau_max)
-    ax.set_xlabel("κ, stiffness (dimensionless)")
+    ax.set_xlabel(x_label)
     ax.set_ylabel("τ, forcing amplitude (dimensionless)")
     names = {"nu": "ν", "m": "m"}
     label = ", ".join(f"{names.get(k, k)} = {v:g}" if isinstance(v, (int, float)) else f"{v}"
                       for k, v in result.params.items())
-    ax.set_title(title or f"{result.model}: {label}")
+    ax.set_title(title or f"{result.model}: {label}", fontsize=9)
     ax.legend(loc="upper right", fontsize=7)
 
 
-def save(results: Sequence[TonguesResult], path: str | Path, *, tau_max: float = 1.0) -> Path:
-    """Write one PNG with a panel per result (side by side)."""
-    fig, axes = plt.subplots(1, len(results), figsize=(6.4 * len(results), 4.8), squeeze=False)
-    for ax, res in zip(axes[0], results):
-        draw(ax, res, tau_max=tau_max)
+def save(results: Sequence[TonguesResult], path: str | Path, *, tau_max: float = 1.0,
+         columns: int | None = None, **draw_options) -> Path:
+    """Write one PNG with a panel per result (row-major, ``columns`` per row; default one row)."""
+    columns = columns or len(results)
+    rows = -(-len(results) // columns)
+    fig, axes = plt.subplots(rows, columns, figsize=(6.4 * columns, 4.2 * rows), squeeze=False)
+    for ax, res in zip(axes.flat, results):
+        draw(ax, res, tau_max=tau_max, **draw_options)
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=120)

@@ -212,8 +212,13 @@ def _result(kind, tau, prev, n, n_prev, tol, method, spread) -> MarginalTau:
                        n_temporal=n, n_previous=n_prev, error_estimate=err, method=method)
 
 
+def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
+    return tau[tau <= tau_max]
+
+
 def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
-                 n_temporal: int | None = None, n_max: int = N_MAX) -> MarginalTau:
+                 n_temporal: int | None = None, n_max: int = N_MAX,
+                 tau_max: float = np.inf) -> MarginalTau:
     """Marginal amplitudes tau of one Floquet kind, converged in the truncation N.
 
     Parameters
@@ -223,6 +228,11 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
     tol : with ``n_temporal=None``, N is raised (N -> N + max(6, N // 2), starting above the
         model's resonant index) until tau_min changes by less than ``tol`` (absolute).
     n_temporal : fixed truncation N instead; the error estimate then compares with a smaller N.
+    tau_max : only tau <= tau_max are wanted (e.g. 1/2, where the stiffness stays positive, or
+        the amplitude a stability question asks about): larger ones are dropped at every
+        truncation before the convergence test, so the truncation is raised only as far as the
+        wanted values need. ``tau_min`` is None when no tau <= tau_max exists at two successive
+        truncations.
 
     Raises
     ------
@@ -231,13 +241,14 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
     if n_temporal is not None:
         n_prev = _previous(n_temporal)
         tau, method, spread = solve_truncation(system, kind, n_temporal)
-        prev = solve_truncation(system, kind, n_prev)[0]
-        return _result(kind, tau, prev, n_temporal, n_prev, tol, method, spread)
+        prev = _capped(solve_truncation(system, kind, n_prev)[0], tau_max)
+        return _result(kind, _capped(tau, tau_max), prev, n_temporal, n_prev, tol, method, spread)
     n_prev = min(_start(system), _previous(n_max))
-    prev = solve_truncation(system, kind, n_prev)[0]
+    prev = _capped(solve_truncation(system, kind, n_prev)[0], tau_max)
     while True:
         n = min(_next(n_prev), n_max)
         tau, method, spread = solve_truncation(system, kind, n)
+        tau = _capped(tau, tau_max)
         both_empty = not tau.size and not prev.size
         if both_empty or (tau.size and prev.size and abs(tau[0] - prev[0]) < tol):
             return _result(kind, tau, prev, n, n_prev, tol, method, spread)

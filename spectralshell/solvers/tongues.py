@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
+from typing import Any
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
@@ -39,37 +40,37 @@ class Tip:
     tau_error: float
 
 
-def _solve_chunk(factory: SystemFactory, kappas: Sequence[float], kinds: tuple[str, ...],
-                 tol: float, n_temporal: int | None) -> list[dict[str, MarginalTau]]:
-    out = []
-    for kappa in kappas:
-        system = factory(float(kappa))
-        out.append({k: marginal_tau(system, k, tol=tol, n_temporal=n_temporal) for k in kinds})
-    return out
+def _solve_chunk(factory: Callable[[Any], HillSystem], points: Sequence[Any],
+                 kinds: tuple[str, ...], options: dict[str, Any]) -> list[dict[str, MarginalTau]]:
+    return [{k: marginal_tau(system, k, **options) for k in kinds}
+            for system in map(factory, points)]
 
 
-def sweep(factory: SystemFactory, kappas: np.ndarray, kinds: tuple[str, ...], *, tol: float,
-          n_temporal: int | None = None, workers: int | None = None,
-          progress: bool = False) -> list[dict[str, MarginalTau]]:
-    """Marginal tau of each kind at every kappa, on all cores for large grids.
+def sweep(factory: Callable[[Any], HillSystem], points: Sequence[Any], kinds: tuple[str, ...], *,
+          workers: int | None = None, progress: bool = False, desc: str = "tongues",
+          **options: Any) -> list[dict[str, MarginalTau]]:
+    """Marginal tau of each kind at every point (``factory(point)`` is its Hill system), on all
+    cores for large grids; ``options`` go to :func:`marginal_tau` (tol, n_temporal, tau_max).
 
     ``workers=None`` uses every core when the grid has at least PARALLEL_MIN_POINTS points;
     ``workers=1`` runs serially. Results are identical either way (same per-point computation).
     """
-    kappas = np.asarray(kappas, dtype=float)
+    points = list(points)
     if workers is None:
-        workers = (os.cpu_count() or 1) if len(kappas) >= PARALLEL_MIN_POINTS else 1
-    chunks = np.array_split(kappas, max(1, min(len(kappas), 4 * workers)))
-    bar = tqdm(total=len(kappas), desc="tongues", unit="pt", disable=not progress, leave=False)
+        workers = (os.cpu_count() or 1) if len(points) >= PARALLEL_MIN_POINTS else 1
+    n_chunks = max(1, min(len(points), 4 * workers))
+    bounds = np.linspace(0, len(points), n_chunks + 1).astype(int)
+    chunks = [points[a:b] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
+    bar = tqdm(total=len(points), desc=desc, unit="pt", disable=not progress, leave=False)
     results: list[dict[str, MarginalTau]] = []
     try:
         if workers == 1:
             for chunk in chunks:
-                results.extend(_solve_chunk(factory, chunk, kinds, tol, n_temporal))
+                results.extend(_solve_chunk(factory, chunk, kinds, options))
                 bar.update(len(chunk))
         else:
             with ProcessPoolExecutor(max_workers=workers) as pool:
-                futures = [pool.submit(_solve_chunk, factory, c, kinds, tol, n_temporal) for c in chunks]
+                futures = [pool.submit(_solve_chunk, factory, c, kinds, options) for c in chunks]
                 for fut, chunk in zip(futures, chunks):
                     results.extend(fut.result())
                     bar.update(len(chunk))

@@ -1,0 +1,113 @@
+"""Physical units (cgs) <-> dimensionless sphere parameters, and the thesis's named parameter sets.
+
+Units: density rho in g/cm^3, dynamic viscosity mu in g/(cm s) (poise), radius R in cm, membrane
+stiffness sigma in dyn/cm = g/s^2, forcing frequency omega in rad/s (an angular frequency: a beat
+rate of b beats per minute is omega = 2 pi b / 60 rad/s, ERRATA chapter 6).
+
+Forced problem (time unit 1/omega, thesis 6.1.1):
+
+    nu = mu / (rho R^2 omega)             (6.4)
+    kappa = sigma / (rho R^3 omega^2)     (6.5)
+
+Unforced problem (natural modes, thesis 7.2; time unit T = sqrt(rho R^3 / sigma), so kappa = 1):
+
+    zeta = nu / sqrt(kappa) = mu / sqrt(rho R sigma),   gamma_physical = gamma / T  (s^-1)
+
+and the inviscid natural angular frequency (Lamb, (6.24)/(7.5))
+omega_0^2 = sigma m(m+1)(m-1)(m+2) / (rho R^3 (2m+1)).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .._validate import require_positive
+from ..errors import ParameterError
+
+
+def bpm_to_rad_per_s(bpm: float) -> float:
+    """Angular frequency in rad/s of a rate given in beats (cycles) per minute."""
+    return 2.0 * math.pi * require_positive("bpm", bpm) / 60.0
+
+
+@dataclass(frozen=True, kw_only=True)
+class PhysicalSphere:
+    """A spherical membrane in a fluid, in cgs units (see the module docstring).
+
+    rho : fluid density, g/cm^3. mu : dynamic viscosity, g/(cm s). radius : cm.
+    sigma : membrane stiffness, dyn/cm. omega : forcing angular frequency, rad/s (None when
+    the membrane is unforced).
+    """
+
+    rho: float
+    mu: float
+    radius: float
+    sigma: float
+    omega: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("rho", "radius", "sigma"):
+            object.__setattr__(self, name, require_positive(name, getattr(self, name)))
+        if not (isinstance(self.mu, (int, float)) and math.isfinite(self.mu) and self.mu >= 0):
+            raise ParameterError(f"mu = {self.mu!r} is invalid: must be a finite number >= 0 (g/(cm s))")
+        object.__setattr__(self, "mu", float(self.mu))
+        if self.omega is not None:
+            object.__setattr__(self, "omega", require_positive("omega", self.omega))
+
+    def forced(self) -> dict[str, float]:
+        """Dimensionless ``{"nu", "kappa"}`` of the forced problem, (6.4) and (6.5)."""
+        if self.omega is None:
+            raise ParameterError("omega = None is invalid: the forced problem needs a forcing "
+                                 "frequency omega > 0 (rad/s)")
+        return {"nu": self.mu / (self.rho * self.radius**2 * self.omega),
+                "kappa": self.sigma / (self.rho * self.radius**3 * self.omega**2)}
+
+    @property
+    def time_scale(self) -> float:
+        """T = sqrt(rho R^3 / sigma) in s: the time unit of the unforced problem (kappa = 1)."""
+        return math.sqrt(self.rho * self.radius**3 / self.sigma)
+
+    @property
+    def zeta(self) -> float:
+        """zeta = mu / sqrt(rho R sigma) = nu / sqrt(kappa), the only parameter of the natural modes."""
+        return self.mu / math.sqrt(self.rho * self.radius * self.sigma)
+
+    def lamb_frequency(self, m: int) -> float:
+        """Inviscid natural angular frequency omega_0 (rad/s) of degree m, (6.24)/(7.5)."""
+        return math.sqrt(self.sigma * m * (m + 1) * (m - 1) * (m + 2)
+                         / (self.rho * self.radius**3 * (2 * m + 1)))
+
+
+def young_laplace_sigma(pressure: float, radius: float) -> float:
+    """Effective stiffness sigma = [[p]] R / 2 (dyn/cm) from the Young-Laplace law (7.23)."""
+    return require_positive("pressure", pressure) * require_positive("radius", radius) / 2.0
+
+
+#: Table 6.1 (simulation cases 1-4): physical values; the printed (nu, kappa) are the check.
+TABLE_6_1 = {
+    1: PhysicalSphere(rho=1.0, mu=0.006, radius=1.0, sigma=0.02, omega=1.0),
+    2: PhysicalSphere(rho=1.0, mu=0.01, radius=0.5, sigma=3.0, omega=20.0),
+    3: PhysicalSphere(rho=1.0, mu=0.005, radius=0.5, sigma=0.375, omega=20.0),
+    4: PhysicalSphere(rho=1.0, mu=0.02, radius=10.0, sigma=0.625, omega=0.05),
+}
+
+#: Thesis 6.5, an atrium: R = 2 cm, blood rho = 1 g/cm^3, mu = 0.04 g/(cm s); stiffness measured
+#: between 1e3 and 2e4 dyn/cm; beat rates 60-100 bpm (healthy) and 100-600 bpm (SVT, 400 typical).
+CARDIAC = {"rho": 1.0, "mu": 0.04, "radius": 2.0, "sigma_range": (1e3, 2e4),
+           "bpm_healthy": (60.0, 100.0), "bpm_svt": (300.0, 600.0), "bpm_typical_svt": 400.0}
+
+#: Table 7.2 (water balloons in a pool, water rho = 1, mu = 0.01): type, radius R (cm) and the
+#: measured pressure difference (dyn/cm^2); sigma follows from (7.23).
+BALLOONS = (("A", 6.0, 30990.0), ("A", 9.0, 21900.0), ("A", 12.0, 25900.0),
+            ("B", 9.0, 25300.0), ("B", 12.0, 21720.0), ("B", 15.0, 20500.0),
+            ("C", 15.0, 19850.0), ("C", 20.0, 14970.0), ("C", 25.0, 12530.0))
+
+
+def balloon(kind: str, radius: float) -> PhysicalSphere:
+    """The Table 7.2 balloon of type ``kind`` inflated to ``radius`` cm, in water."""
+    for k, r, pressure in BALLOONS:
+        if k == kind and r == radius:
+            return PhysicalSphere(rho=1.0, mu=0.01, radius=r, sigma=young_laplace_sigma(pressure, r))
+    known = ", ".join(f"{k} {r:g}" for k, r, _ in BALLOONS)
+    raise ParameterError(f"balloon = {kind} {radius:g} is invalid: must be one of {known}")

@@ -1,0 +1,64 @@
+"""Sphere figures and minimum-tau maps against the thesis's stated outcomes (6.2, 6.4.2, 6.5)."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from spectralshell.api import tau_map
+from spectralshell.cli import main
+from spectralshell.models.sphere import lambda0_squared
+from spectralshell.params.physical import TABLE_6_1
+
+
+def test_map_in_physical_units_finds_case_2_mode():
+    """Table 6.1 case 2 in cgs (sigma = 3 dyn/cm, omega = 20 rad/s, R = 0.5 cm, mu = 0.01): the
+    simulations of 6.4.2 see m = 2 grow subharmonically at tau = 0.45; the map point agrees."""
+    case = TABLE_6_1[2]
+    bpm = case.omega * 60 / (2 * math.pi)
+    res = tau_map("sphere", x=("sigma", [case.sigma]), y=("bpm", [bpm]), m="2:6", workers=1,
+                  physical={"rho": case.rho, "mu": case.mu, "radius": case.radius})
+    assert res.has_tau[0, 0] and res.tau_min[0, 0] < 0.45
+    assert (res.degree[0, 0], res.kind[0, 0]) == (2, "S")
+    assert res.error_estimate[0, 0] < 1e-8
+    assert res.units == {"sigma": "dyn/cm", "bpm": "beats/min"}
+
+
+def test_map_is_blank_without_instability_below_tau_max():
+    """Large viscosity lifts every finger above tau = 1/2 (thesis 6.3): no point of the map
+    is unstable, and the map says so instead of returning a value."""
+    res = tau_map("sphere", x=("kappa", [0.02, 0.05]), y=("nu", [0.5]), m="2:3", workers=1)
+    assert not res.has_tau.any() and np.all(np.isfinite(res.tau_min))
+    assert json.loads(json.dumps(res.to_dict()))["tau_min"] == [[None, None]]
+
+
+def test_fig_6_6_marks_the_simulated_modes(tmp_path, capsys):
+    """Fig 6.6: at tau = 0.45 the unstable degrees are those the thesis's simulations showed."""
+    assert main(["figure", "fig-6.6", "--out", str(tmp_path), "--workers", "1"]) == 0
+    assert (tmp_path / "fig-6.6.png").stat().st_size > 10_000
+    data = json.loads((tmp_path / "fig-6.6.json").read_text())
+    unstable = {d["case"]: [(m["m"], m["kind"]) for m in d["stability"]["modes"] if m["unstable"]]
+                for d in data}
+    assert unstable == {1: [(3, "subharmonic")], 2: [(2, "subharmonic")],
+                        3: [(4, "subharmonic")], 4: [(2, "harmonic")]}
+
+
+@pytest.mark.slow
+def test_fig_6_2_tips_at_lamb_resonances(tmp_path):
+    """Fig 6.2 (inviscid): fingers touch tau = 0 where lambda0 = k/2 (6.24), lambda0^2 from (6.23)."""
+    assert main(["figure", "fig-6.2", "--out", str(tmp_path), "--workers", "1"]) == 0
+    data = json.loads((tmp_path / "fig-6.2.json").read_text())
+    for panel in data:
+        m = panel["params"]["m"]
+        unit = lambda0_squared(m, 1.0)
+        expected = [(k / 2) ** 2 / unit for k in range(1, 20) if 0.002 < (k / 2) ** 2 / unit < 0.4]
+        got = sorted(t["kappa"] for t in panel["tips"])
+        np.testing.assert_allclose(got, expected, rtol=1e-9)
+
+
+def test_tau_map_rejects_physical_axis_without_physical_values():
+    with pytest.raises(ValueError, match="physical"):
+        tau_map("sphere", x=("sigma", [1.0]), y=("nu", [0.1]), m=2)
+    with pytest.raises(ValueError, match="m"):
+        tau_map("sphere", x=("kappa", [1.0]), y=("nu", [0.1]), m="1:3")
