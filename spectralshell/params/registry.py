@@ -7,10 +7,11 @@ from typing import Any
 
 from .._validate import require_choice
 from ..errors import ParameterError
+from .fibre import FibreParams
 from .mathieu import MathieuParams
 from .sphere import SphereParams
 
-PARAMS = {"mathieu": MathieuParams, "sphere": SphereParams}
+PARAMS = {"mathieu": MathieuParams, "sphere": SphereParams, "fibre": FibreParams}
 
 
 def check_model(model: str) -> str:
