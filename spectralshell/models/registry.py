@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+from ..params.fibre import FibreParams
 from ..params.mathieu import MathieuParams
 from ..params.sphere import SphereParams
-from . import mathieu, sphere
+from . import fibre, mathieu, sphere
 from .base import HillSystem
 
 
@@ -15,4 +16,8 @@ def hill_system(params) -> HillSystem:
     if isinstance(params, SphereParams):
         return sphere.hill_system(m=params.m, kappa=params.kappa, nu=params.nu,
                                   component=params.component)
+    if isinstance(params, FibreParams):
+        return fibre.hill_system(m=params.m, kappa=params.kappa, nu=params.nu,
+                                 forcing=params.forcing)
     raise TypeError(f"no Hill system for parameters of type {type(params).__name__}")
+
