@@ -8,12 +8,15 @@ Public API::
     ss.tongues("mathieu", kappa="0:3:301", nu=0.1)      # Ince-Strutt diagram + finger tips
     ss.exponents("mathieu", kappa=1, nu=0.1, tau=0.3)   # Floquet exponents gamma
     ss.stability("sphere", tau=0.45, m="2:6", kappa=0.02, nu=0.006)  # which degrees resonate
+    ss.natural_modes("sphere", m=2, kappa=1, nu=0.01)   # decay rates and frequencies (tau = 0)
+    ss.tau_map("sphere", x=("kappa", "0.01:0.3:50"), y=("nu", "1e-4:1e-2:50"), m="2:6")
     ss.run_scene("scene.toml")                          # a planned scene
 """
 
 from ._version import __version__
-from .api import exponents, floquet, run_scene, stability, tongues
+from .api import exponents, floquet, natural_modes, run_scene, stability, tau_map, tongues
 from .errors import BackendUnavailable, ConvergenceError, ParameterError, SpectralShellError
 
-__all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "run_scene", "SpectralShellError",
+__all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "natural_modes", "tau_map",
+           "run_scene", "SpectralShellError",
            "ParameterError", "ConvergenceError", "BackendUnavailable"]

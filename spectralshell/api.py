@@ -12,22 +12,26 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+import mpmath
 import numpy as np
 
-from ._validate import require_int_in_range, require_positive, require_real
+from ._validate import require_int_in_range, require_nonnegative, require_positive, require_real
 from .discretise.fourier import expand_kind
 from .errors import ParameterError
 from .models.base import HillSystem
-from .models.registry import hill_system
+from .models.registry import hill_system, modal_system
+from .models.sphere import lambda0_squared
 from .params.grid import parse_int_range, parse_range
 from .params.physical import PhysicalSphere, bpm_to_rad_per_s
 from .params.registry import check_model, make_params
 from .params.scene import Plan, plan
 from .results.maps import TauMapResult
+from .results.modes import NaturalModesResult
 from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
                               provenance, tau_warnings)
 from .solvers.exponents import floquet_exponents
 from .solvers.marginal import N_MAX, marginal_tau
+from .solvers.modes import find_modes
 from .solvers.tongues import find_tips, sweep
 
 
@@ -199,6 +203,77 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str 
                         x=grids[0], y=grids[1], degrees=tuple(degrees), tau_max=float(tau_max),
                         tau_min=best, has_tau=has, degree=degree, kind=which, error_estimate=err,
                         provenance=provenance({"kind": kind, **options}))
+
+
+def natural_modes(model: str, *, count: int | None = None, precision: int | None = None,
+                  zeta: float | None = None, physical: Mapping[str, float] | None = None,
+                  **params: Any) -> NaturalModesResult:
+    """Least-damped natural modes gamma (tau = 0: X ~ exp(gamma t)) of a model, one per
+    conjugate pair (Im gamma >= 0), least damped first, each with an error estimate.
+
+    Parameters
+    ----------
+    count : number of modes (default: every mode the dispersion relation has).
+    precision : digits (e.g. 30) of an mpmath polish of every root (reference values).
+    zeta : shorthand for kappa = 1, nu = zeta (the modes depend on zeta = nu/sqrt(kappa) only).
+    physical : cgs values {rho, mu, radius, sigma} instead of kappa, nu: the modes are then
+        returned in s^-1 (gamma / T, T = sqrt(rho R^3/sigma); ``params['units']``).
+    **params : the model's parameters (sphere: m, kappa, nu, component).
+
+    Notes
+    -----
+    Roots of det D(gamma) = 0 (thesis (7.14)), solved in beta = sqrt(gamma/nu) by Newton's method
+    from asymptotic seeds (:mod:`spectralshell.models.sphere_modes`, :func:`solvers.modes.find_modes`).
+    nu = 0 has the closed form gamma = i lambda0 ((7.4), Lamb/Rayleigh) and no toroidal mode.
+    """
+    model = check_model(model)
+    if model != "sphere":
+        raise ParameterError(f"model = {model!r} is invalid for natural modes: must be 'sphere'")
+    scale = 1.0
+    if zeta is not None or physical is not None:
+        if {"kappa", "nu"} & set(params) or (zeta is not None and physical is not None):
+            raise ParameterError("zeta/physical = given with kappa or nu is invalid: give one of "
+                                 "(kappa, nu), zeta, or physical (rho, mu, radius, sigma)")
+        if physical is not None:
+            phys = PhysicalSphere(**{k: float(v) for k, v in physical.items()})
+            zeta, scale = phys.zeta, 1.0 / phys.time_scale
+        params = {**params, "kappa": 1.0, "nu": require_nonnegative("zeta", zeta)}
+    p = make_params(model, dict(params))
+    options = {"count": count, "precision": precision}
+    if p.nu == 0.0:
+        result = _inviscid_modes(p, count, precision, options)
+    else:
+        roots = find_modes(modal_system(p), count=count, precision=precision)
+        result = NaturalModesResult.build(model=model, params=dataclasses.asdict(p), roots=roots,
+                                          options=options)
+    if physical is None:
+        return result
+    digits = None if result.gamma_digits is None else tuple(
+        tuple(mpmath.nstr(mpmath.mpf(d) * scale, len(d)) for d in pair) for pair in result.gamma_digits)
+    return dataclasses.replace(result, gamma=result.gamma * scale,
+                               error_estimate=result.error_estimate * scale, gamma_digits=digits,
+                               params={**result.params, **physical, "units": "s^-1"})
+
+
+def _inviscid_modes(p, count, precision, options) -> NaturalModesResult:
+    """nu = 0: the exact modes gamma = +-i lambda0 ((7.4)); the toroidal part has none."""
+    if p.component == "toroidal":
+        raise ParameterError("nu = 0 is invalid for toroidal modes: without viscosity the "
+                             "toroidal component carries no mode")
+    if count is not None:
+        require_int_in_range("count", count, 1, 1)
+    lam = np.sqrt(lambda0_squared(p.m, p.kappa))
+    digits = None
+    if precision is not None:
+        with mpmath.workdps(require_int_in_range("precision", precision, 16, 1000)):
+            exact = mpmath.sqrt(mpmath.mpf(p.kappa) * p.m * (p.m + 1) * (p.m - 1) * (p.m + 2)
+                                / (2 * p.m + 1))
+            digits = (("0", mpmath.nstr(exact, precision)),)
+    return NaturalModesResult(model="sphere", params=dataclasses.asdict(p), gamma=np.array([1j * lam]),
+                              error_estimate=np.array([4 * np.finfo(float).eps * lam]),
+                              principal_sheet=np.array([True]), on_cut=np.array([False]),
+                              precision=precision, gamma_digits=digits,
+                              provenance=provenance({**options, "method": "closed form (7.4)"}))
 
 
 def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,

@@ -214,6 +214,46 @@ def _stability_text(res) -> str:
     return "\n".join(lines)
 
 
+PHYSICAL_FLAGS = ("radius", "sigma", "rho", "mu")
+
+
+def cmd_modes(args) -> int:
+    physical = {k: _number(k, getattr(args, k)) for k in PHYSICAL_FLAGS if getattr(args, k) is not None}
+    if physical and len(physical) < len(PHYSICAL_FLAGS):
+        missing = [f"--{k}" for k in PHYSICAL_FLAGS if k not in physical]
+        raise ParameterError(f"physical input needs all of --radius --sigma --rho --mu: missing "
+                             f"{' '.join(missing)}")
+    count = None
+    if args.count is not None:
+        try:
+            count = int(args.count)
+        except ValueError:
+            raise ParameterError(f"count = {args.count!r} is invalid: must be an integer >= 1") from None
+    precision = None
+    if args.precision is not None:
+        try:
+            precision = int(args.precision)
+        except ValueError:
+            raise ParameterError(f"precision = {args.precision!r} is invalid: must be an integer "
+                                 "number of digits") from None
+    res = api.natural_modes(args.model, count=count, precision=precision,
+                            zeta=None if args.zeta is None else _number("zeta", args.zeta),
+                            physical=physical or None, **_params(args, args.model))
+    _warn(res.warnings)
+    return _report(args.json, res.to_dict(), lambda: _modes_text(res))
+
+
+def _modes_text(res) -> str:
+    unit = res.params.get("units", "dimensionless, time unit 1/omega")
+    lines = [f"{res.model} natural modes: {_fmt_params(res.params)}   (X ~ exp(gamma t), {unit})"]
+    digits = res.gamma_digits or [None] * len(res.gamma)
+    for g, e, d in zip(res.gamma, res.error_estimate, digits):
+        kind = "oscillatory" if g.imag > e else "overdamped"
+        value = f"{d[0]} {'' if d[1].startswith('-') else '+'}{d[1]}i" if d else f"{g.real:+.12g} {g.imag:+.12g}i"
+        lines.append(f"  gamma = {value}   error <= {e:.1e}   ({kind})")
+    return "\n".join(lines)
+
+
 def cmd_figure(args) -> int:
     from .reports.figures import FIGURES, make_figure
 
@@ -307,6 +347,17 @@ def build_parser() -> argparse.ArgumentParser:
     p = _computation(sub, "stability", "which degrees m are unstable at a forcing amplitude tau",
                      cmd_stability, [m for m in models if "m" in param_names(m)])
     p.add_argument("--tau", help="forcing amplitude")
+
+    p = sub.add_parser("modes", help="natural modes gamma (decay rate, frequency) at tau = 0")
+    p.add_argument("model", choices=("sphere",))
+    _model_flags(p)
+    p.add_argument("--count", help="number of least-damped modes (default: all)")
+    p.add_argument("--precision", help="digits of an mpmath polish, e.g. 30")
+    p.add_argument("--zeta", help="shorthand for --kappa 1 --nu ZETA")
+    for name, unit in zip(PHYSICAL_FLAGS, ("cm", "dyn/cm", "g/cm^3", "g/(cm s)")):
+        p.add_argument(f"--{name}", help=f"physical input ({unit}); with all four, rates in s^-1")
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    p.set_defaults(func=cmd_modes)
 
     p = sub.add_parser("figure", help="reproduce a thesis figure (PNG + JSON data)")
     p.add_argument("name", help="e.g. fig-2.2, fig-2.3")

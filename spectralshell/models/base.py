@@ -20,8 +20,9 @@ i kappa gives exactly the printed (2.6) -i((s^2 + nu s)/kappa + 1) u_n = tau (u_
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -49,3 +50,44 @@ class HillSystem:
     forcing: np.ndarray
     polynomial: tuple[np.ndarray, ...] | None = None
     n_resonant: float = 0.0
+
+
+def _conjugate(x):
+    return x.conjugate()
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class ModalSystem:
+    """Natural modes of one model in the form f(x) = 0: a dispersion relation in a variable x.
+
+    The unforced system (tau = 0 in (1)) has solutions u = u_0 exp(gamma t) exactly when
+    det D(gamma) = 0 (thesis (7.14) for the sphere). A model states that relation in a variable x
+    in which it is analytic near the roots (for the sphere x = beta = sqrt(gamma/nu), where the
+    branch cut of D on the negative real gamma axis opens into the imaginary beta axis), and
+    supplies good starting points. A root finder needs nothing else; it never sees the physics.
+
+    Attributes
+    ----------
+    name : model name, for provenance only.
+    residual : x -> (f, fp), complex in double precision. f(x) = 0 exactly at the modes, and
+        f / fp is the Newton step of an analytic function with the same roots (``fp`` may be the
+        derivative of a pole-free multiple g f divided by g; the step is then that of g f).
+    residual_mp : the same pair in mpmath at the current ``mpmath.mp.dps``.
+    seeds : () -> iterable of complex starting points, best first; it may be lazy, and a root
+        finder stops drawing from it once it has found ``n_modes`` distinct modes.
+    to_gamma : x -> gamma; must accept complex and mpmath numbers.
+    sheet_margin : x -> real number, > 0 on the physical sheet (the mode decays and its fields
+        are bounded), < 0 on an unphysical one, 0 on the branch cut between them.
+    conjugate : x -> the x of the root with conjugate gamma (real problems: roots pair up).
+    n_modes : number of distinct roots on the physical sheet with Im gamma >= 0 (the whole
+        natural-mode spectrum, counting one of each conjugate pair).
+    """
+
+    name: str
+    residual: Callable[[complex], tuple[complex, complex]]
+    residual_mp: Callable[[Any], tuple[Any, Any]]
+    seeds: Callable[[], Iterable[complex]]
+    to_gamma: Callable[[Any], Any]
+    sheet_margin: Callable[[Any], Any]
+    n_modes: int
+    conjugate: Callable[[Any], Any] = _conjugate

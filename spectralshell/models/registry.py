@@ -5,8 +5,8 @@ from __future__ import annotations
 from ..params.fibre import FibreParams
 from ..params.mathieu import MathieuParams
 from ..params.sphere import SphereParams
-from . import fibre, mathieu, sphere
-from .base import HillSystem
+from . import fibre, mathieu, sphere, sphere_modes
+from .base import HillSystem, ModalSystem
 
 
 def hill_system(params) -> HillSystem:
@@ -21,3 +21,10 @@ def hill_system(params) -> HillSystem:
                                  forcing=params.forcing)
     raise TypeError(f"no Hill system for parameters of type {type(params).__name__}")
 
+
+def modal_system(params) -> ModalSystem:
+    """The natural-mode dispersion relation of a validated parameter object."""
+    if isinstance(params, SphereParams):
+        return sphere_modes.modal_system(m=params.m, kappa=params.kappa, nu=params.nu,
+                                         component=params.component)
+    raise TypeError(f"no natural-mode relation for parameters of type {type(params).__name__}")

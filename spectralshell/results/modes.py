@@ -1,0 +1,90 @@
+"""Natural modes (tau = 0) of a model: a frozen result with provenance, and its JSON form."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..solvers.modes import ModeRoots
+from .floquet import provenance
+
+ON_CUT = ("mode(s) {} lie on the branch cut to within their error (|Re beta| <= error): the sheet is "
+          "not resolved at this precision; to working accuracy they decay as real exponentials "
+          "(raise `precision` to resolve the sheet where the Basset-type part of the load is not "
+          "exponentially small)")
+UNPHYSICAL = ("mode(s) {} lie on the unphysical sheet (Re beta < 0): roots of the dispersion relation "
+              "whose exterior field grows at infinity, not decaying modes")
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class NaturalModesResult:
+    """Least damped natural modes gamma (X ~ exp(gamma t)) of one model, least damped first.
+
+    Attributes
+    ----------
+    gamma : complex rates, Im gamma >= 0 (one of each conjugate pair), sorted by decreasing
+        Re gamma. Re gamma is the decay rate (< 0: decaying), Im gamma the angular frequency
+        (thesis Fig. 7.1).
+    error_estimate : absolute error bound of each gamma.
+    principal_sheet : Re beta > error: a resolved, genuine decaying mode (thesis (7.9)).
+    on_cut : |Re beta| <= error: the mode lies on the branch cut gamma <= 0 to within its error.
+    precision : digits of the mpmath polish, or None (double precision).
+    gamma_digits : with precision, (Re, Im) of each gamma as decimal strings.
+    """
+
+    model: str
+    params: dict[str, Any]
+    gamma: np.ndarray
+    error_estimate: np.ndarray
+    principal_sheet: np.ndarray
+    on_cut: np.ndarray
+    precision: int | None
+    provenance: dict[str, Any]
+    gamma_digits: tuple[tuple[str, str], ...] | None = None
+    warnings: tuple[str, ...] = ()
+
+    @classmethod
+    def build(cls, *, model: str, params: dict[str, Any], roots: ModeRoots,
+              options: dict[str, Any]) -> "NaturalModesResult":
+        """The result of a root finder run, with provenance (solver options and statistics)."""
+        prov = provenance(options)
+        prov["solver"] = {"method": "newton", "evaluations": roots.evaluations,
+                          "seeds_tried": roots.seeds_tried}
+        if roots.double_error is not None:
+            prov["solver"]["double_error"] = [float(e) for e in roots.double_error]
+        warnings = []
+        cut = [i for i, c in enumerate(roots.on_cut) if c]
+        if cut:
+            warnings.append(ON_CUT.format(", ".join(str(i) for i in cut)))
+        bad = [i for i, (p, c) in enumerate(zip(roots.principal_sheet, roots.on_cut)) if not p and not c]
+        if bad:
+            warnings.append(UNPHYSICAL.format(", ".join(str(i) for i in bad)))
+        return cls(model=model, params=dict(params), gamma=roots.gamma,
+                   error_estimate=roots.error_estimate, principal_sheet=roots.principal_sheet,
+                   on_cut=roots.on_cut, precision=roots.precision, provenance=prov,
+                   gamma_digits=roots.gamma_digits, warnings=tuple(warnings))
+
+    @property
+    def decay_rate(self) -> np.ndarray:
+        """Re gamma (negative for a decaying mode), the top panel of thesis Fig. 7.1."""
+        return self.gamma.real
+
+    @property
+    def frequency(self) -> np.ndarray:
+        """Im gamma (angular frequency, >= 0), the bottom panel of thesis Fig. 7.1."""
+        return self.gamma.imag
+
+    def to_dict(self) -> dict[str, Any]:
+        modes = []
+        for i, g in enumerate(self.gamma):
+            mode = {"gamma_re": float(g.real), "gamma_im": float(g.imag),
+                    "error_estimate": float(self.error_estimate[i]),
+                    "principal_sheet": bool(self.principal_sheet[i]), "on_cut": bool(self.on_cut[i])}
+            if self.gamma_digits is not None:
+                mode["gamma_re_digits"], mode["gamma_im_digits"] = self.gamma_digits[i]
+            modes.append(mode)
+        return {"model": self.model, "params": dict(self.params), "modes": modes,
+                "precision": self.precision, "warnings": list(self.warnings),
+                "provenance": self.provenance}
