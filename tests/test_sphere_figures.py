@@ -62,3 +62,15 @@ def test_tau_map_rejects_physical_axis_without_physical_values():
         tau_map("sphere", x=("sigma", [1.0]), y=("nu", [0.1]), m=2)
     with pytest.raises(ValueError, match="m"):
         tau_map("sphere", x=("kappa", [1.0]), y=("nu", [0.1]), m="1:3")
+
+
+def test_fig_7_1_limits(tmp_path):
+    """Fig 7.1: at small zeta the frequency approaches the inviscid lambda0 (7.4) from below;
+    at zeta = 10 the least-damped mode no longer oscillates and decays slowly (Stokes limit)."""
+    assert main(["figure", "fig-7.1", "--out", str(tmp_path)]) == 0
+    data = json.loads((tmp_path / "fig-7.1.json").read_text())
+    for m, modes in data["modes"].items():
+        lam = math.sqrt(lambda0_squared(int(m), 1.0))
+        first, last = modes[0][0], modes[-1][0]
+        assert 0.95 * lam < first["gamma_im"] < lam and first["gamma_re"] < 0
+        assert last["gamma_im"] < 1e-3 * abs(last["gamma_re"]) and -0.1 < last["gamma_re"] < 0

@@ -9,9 +9,12 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
+
 from .. import api
 from ..params.physical import CARDIAC, TABLE_6_1, PhysicalSphere, bpm_to_rad_per_s
-from ..plots import degree_stability, ince_strutt, tau_map
+from ..models.sphere import lambda0_squared
+from ..plots import degree_stability, ince_strutt, natural_modes, tau_map
 
 
 def _write_json(path: Path, data) -> Path:
@@ -77,6 +80,17 @@ def _cardiac_map(out: Path, *, progress: bool, workers: int | None, size: int = 
     return [png, _write_json(out / "fig-6.13.json", res.to_dict()), out / "fig-6.13.npz"]
 
 
+def _natural_modes_against_zeta(out: Path, *, progress: bool, workers: int | None) -> list[Path]:
+    """Fig 7.1: least-damped mode (decay rate, frequency) of m = 2, 3, 4 for zeta in [1e-3, 10]."""
+    zeta = np.logspace(-3, 1, 161)
+    by_degree = {m: [api.natural_modes("sphere", m=m, zeta=z) for z in zeta] for m in (2, 3, 4)}
+    inviscid = {m: float(np.sqrt(lambda0_squared(m, 1.0))) for m in by_degree}
+    png = natural_modes.save(zeta, by_degree, inviscid, out / "fig-7.1.png")
+    data = {"zeta": zeta.tolist(), "modes": {m: [r.to_dict()["modes"] for r in rs]
+                                             for m, rs in by_degree.items()}}
+    return [png, _write_json(out / "fig-7.1.json", data)]
+
+
 FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
     "fig-2.2": ("Ince-Strutt diagram of the undamped Mathieu equation (nu = 0)",
                 lambda out, **kw: _diagrams("fig-2.2", out, [{"nu": 0.0}], kappa="0:3:301",
@@ -94,6 +108,8 @@ FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
                  _cardiac_fingers),
     "fig-6.13": ("sphere, cardiac: minimum tau over m = 2..6 against stiffness and beat rate",
                  _cardiac_map),
+    "fig-7.1": ("sphere: decay rate and frequency of the least-damped natural mode against zeta",
+                _natural_modes_against_zeta),
 }
 
 
