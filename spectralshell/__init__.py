@@ -11,12 +11,14 @@ Public API::
     ss.natural_modes("sphere", m=2, kappa=1, nu=0.01)   # decay rates and frequencies (tau = 0)
     ss.tau_map("sphere", x=("kappa", "0.01:0.3:50"), y=("nu", "1e-4:1e-2:50"), m="2:6")
     ss.run_scene("scene.toml")                          # a planned scene
+    ss.sweep("map.toml", out="map.zarr")                # a parameter sweep -> xarray.Dataset
 """
 
 from ._version import __version__
-from .api import exponents, floquet, natural_modes, run_scene, stability, tau_map, tongues
+from .api import (exponents, floquet, natural_modes, open_sweep, run_scene, stability, sweep, tau_map,
+                  tongues)
 from .errors import BackendUnavailable, ConvergenceError, ParameterError, SpectralShellError
 
 __all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "natural_modes", "tau_map",
-           "run_scene", "SpectralShellError",
+           "run_scene", "sweep", "open_sweep", "SpectralShellError",
            "ParameterError", "ConvergenceError", "BackendUnavailable"]

@@ -32,7 +32,8 @@ from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, T
 from .solvers.exponents import floquet_exponents
 from .solvers.marginal import N_MAX, marginal_tau
 from .solvers.modes import find_modes
-from .solvers.tongues import find_tips, sweep
+from .solvers.tongues import find_tips
+from .solvers.tongues import sweep as point_sweep
 
 
 def _solver_options(tol: float, n_temporal: int | None, tau_max: float | None = None) -> dict[str, Any]:
@@ -89,8 +90,8 @@ def _factory(model: str, params: dict[str, Any], kappa: float) -> HillSystem:
 
 
 def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
-            n_temporal: int | None = None, tips: bool = True, workers: int | None = None,
-            progress: bool = False, **params: Any) -> TonguesResult:
+            n_temporal: int | None = None, tau_max: float | None = None, tips: bool = True,
+            workers: int | None = None, progress: bool = False, **params: Any) -> TonguesResult:
     """Ince-Strutt diagram: marginal tau of each kind over a kappa grid, and the finger tips.
 
     Parameters
@@ -99,11 +100,12 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
     tips : locate the minimum (kappa, tau) of every finger that shows as a local minimum of
         tau_min on the grid (to ~1e-12 in kappa; see ``solvers.tongues.refine_tip``).
     workers : processes (None: all cores for large grids; 1: serial). progress : show a bar.
+    tau_max : only the marginal tau <= tau_max are computed (as in :func:`floquet`).
     Other parameters as in :func:`floquet`; ``params`` must not contain ``kappa``.
     """
     model = check_model(model)
     kinds = expand_kind(kind)
-    options = _solver_options(tol, n_temporal)
+    options = _solver_options(tol, n_temporal, tau_max)
     grid = parse_range("kappa", kappa) if isinstance(kappa, str) else \
         np.array([require_real("kappa", k) for k in np.atleast_1d(kappa)])
     if not grid.size:
@@ -111,7 +113,7 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
     for k in (grid.min(), grid.max()):
         make_params(model, {**params, "kappa": k})
     factory = functools.partial(_factory, model, dict(params))
-    rows = sweep(factory, grid, kinds, workers=workers, progress=progress, **options)
+    rows = point_sweep(factory, grid, kinds, workers=workers, progress=progress, **options)
     found, failures = find_tips(factory, grid, rows, kinds, tol=options["tol"]) if tips else ([], [])
     warnings = tau_warnings(t for r in rows for m in r.values() for t in m.tau) + failures
     p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
@@ -182,8 +184,8 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str 
     for c in corners:  # validate the extremes before the sweep
         _point_params(model, dict(params), phys, names, c)
     points = [(gx, gy, d) for gy in grids[1] for gx in grids[0] for d in degrees]
-    rows = sweep(factory, points, kinds, workers=workers, progress=progress, desc="tau map",
-                 **options)
+    rows = point_sweep(factory, points, kinds, workers=workers, progress=progress, desc="tau map",
+                       **options)
     shape = (grids[1].size, grids[0].size, len(degrees))
     best = np.full(shape[:2], float(tau_max))
     has = np.zeros(shape[:2], dtype=bool)
@@ -345,3 +347,43 @@ def run_scene(scene: str | Path | Mapping | Plan, *, progress: bool = False,
         elif task.name == "exponents":
             out["exponents"] = exponents(the_plan.model, **opts, **the_plan.params)
     return out
+
+
+def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: int | None = None,
+          scheduler: str | None = None, out: str | Path | None = None, progress: bool = False):
+    """Parameter sweep of a scene with a [grid] -> labelled ``xarray.Dataset``.
+
+    Parameters
+    ----------
+    scene : path, TOML string or dict: model, ask = ["tau_min"], [params], [grid] (value lists,
+        {start, stop, num} or {start, stop, num, spacing = "log"}; 'm' integers; 'kind'),
+        optional [tau_min] (tol, n_temporal, tau_max = 0.5, continuation) and [sweep] (chunk).
+    executor : 'serial', 'processes' (all cores, or ``workers``) or 'dask' (``scheduler`` =
+        'local' for a LocalCluster, or 'tcp://HOST:PORT').
+    out : '*.zarr' written chunk by chunk (a rerun resumes, a different scene is refused) or
+        '*.nc' written at the end; None keeps the result in memory.
+
+    Notes
+    -----
+    Variables tau_min (= tau_max where has_tau is false: NaN-free), has_tau, error_estimate,
+    n_temporal, computed over the grid axes (units in attrs); provenance in attrs. Every
+    executor gives the same numbers. See :mod:`spectralshell.runner`.
+    """
+    from .runner import sweep as run  # lazy: xarray costs ~0.35 s to import
+
+    return run(scene, executor=executor, workers=workers, scheduler=scheduler, out=out,
+               progress=progress)
+
+
+def sweep_summary(scene: str | Path | Mapping, **kwargs: Any) -> dict[str, Any]:
+    """Run :func:`sweep` and return ``{"points", "computed", "skipped", "out", "seconds"}``."""
+    from .runner import sweep_summary as run
+
+    return run(scene, **kwargs)
+
+
+def open_sweep(path: str | Path):
+    """Load a stored sweep (.zarr or .nc) as an ``xarray.Dataset``."""
+    from .runner import open_sweep as load
+
+    return load(path)

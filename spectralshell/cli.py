@@ -308,6 +308,30 @@ def cmd_run(args) -> int:
     return _run(args.scene, args.out, args.json, Path(args.scene).stem)
 
 
+def _sweep_text(summary: dict) -> str:
+    where = f" -> {summary['out']}" if summary["out"] else ""
+    return (f"sweep: {summary['points']} points ({summary['computed']} computed, "
+            f"{summary['skipped']} already in the store) in {summary['seconds']:.1f} s{where}")
+
+
+def cmd_sweep(args) -> int:
+    executor = args.executor or ("dask" if args.scheduler else "processes")
+    summary = api.sweep_summary(args.scene, executor=executor, workers=args.workers,
+                                scheduler=args.scheduler, out=args.out,
+                                progress=sys.stderr.isatty() and not args.json)
+    return _report(args.json, summary, lambda: _sweep_text(summary))
+
+
+def cmd_plot(args) -> int:
+    _check_writable(args.png)
+    from .plots import sweep_plot
+
+    ds = api.open_sweep(args.store)
+    _atomic_write(args.png, lambda p: sweep_plot.save(ds, p))
+    print(f"wrote {args.png}")
+    return 0
+
+
 def _computation(sub, name: str, help: str, func, models: Sequence[str], *, kind: bool = True,
                  skip: Sequence[str] = ()) -> argparse.ArgumentParser:
     """A computation subcommand: MODEL, [--kind], the model's flags, solver flags, --json."""
@@ -375,6 +399,24 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default=None, help="output directory (default: the scene's)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("sweep", help="parameter sweep of a scene with a [grid] (resumable .zarr / .nc)")
+    p.add_argument("scene", help="scene TOML with model, ask, [params] and [grid]")
+    p.add_argument("--out", required=True, help="PATH.zarr (chunk by chunk, resumable) or PATH.nc")
+    p.add_argument("--executor", choices=("serial", "processes", "dask"), default=None,
+                   help="default: processes, or dask when --scheduler is given")
+    p.add_argument("--workers", type=int, default=None,
+                   help="processes or LocalCluster workers (default: all cores)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS|local",
+                   help="Dask scheduler tcp://HOST:PORT, or 'local' for a LocalCluster")
+    p.add_argument("--json", action="store_true",
+                   help='print exactly one object {"points", "computed", "skipped", "out", "seconds"}')
+    p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("plot", help="draw a stored sweep (.zarr or .nc) as PNG")
+    p.add_argument("store", help="a sweep written by `spectralshell sweep --out`")
+    p.add_argument("--png", required=True, help="output PNG")
+    p.set_defaults(func=cmd_plot)
     return parser
 
 

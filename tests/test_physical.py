@@ -5,7 +5,8 @@ import math
 import pytest
 
 from spectralshell.errors import ParameterError
-from spectralshell.params.physical import (BALLOONS, CARDIAC, TABLE_6_1, PhysicalSphere, balloon,
+from spectralshell.params.physical import (BALLOONS, CARDIAC, TABLE_4_1, TABLE_6_1, PhysicalSphere,
+                                           balloon, fibre_forced,
                                            bpm_to_rad_per_s)
 
 # Table 6.1, printed dimensionless columns (nu, kappa)
@@ -65,3 +66,9 @@ def test_unknown_balloon_and_unforced_conversion():
         balloon("D", 6.0)
     with pytest.raises(ParameterError, match="omega"):
         PhysicalSphere(rho=1.0, mu=0.01, radius=1.0, sigma=1.0).forced()
+
+
+@pytest.mark.parametrize("case,printed", [(1, (2e-4, 0.02)), (2, (2e-4, 0.08))])
+def test_table_4_1_dimensionless_columns(case, printed):
+    got = fibre_forced(**TABLE_4_1[case])
+    assert (got["nu"], got["kappa"]) == pytest.approx(printed, rel=1e-12)

@@ -111,3 +111,18 @@ def balloon(kind: str, radius: float) -> PhysicalSphere:
             return PhysicalSphere(rho=1.0, mu=0.01, radius=r, sigma=young_laplace_sigma(pressure, r))
     known = ", ".join(f"{k} {r:g}" for k, r, _ in BALLOONS)
     raise ParameterError(f"balloon = {kind} {radius:g} is invalid: must be one of {known}")
+
+
+def fibre_forced(*, rho: float, mu: float, radius: float, sigma: float, omega: float) -> dict[str, float]:
+    """Dimensionless {nu, kappa} of the 2D fibre: nu = mu/(rho R^2 omega) (4.5) and
+    kappa = sigma/(rho R^2 omega^2) (4.6), sigma in g cm/s^2 (a force: the 2D stiffness)."""
+    for name, value in (("rho", rho), ("radius", radius), ("sigma", sigma), ("omega", omega)):
+        require_positive(name, value)
+    if not (math.isfinite(mu) and mu >= 0):
+        raise ParameterError(f"mu = {mu!r} is invalid: must be a finite number >= 0 (g/(cm s))")
+    return {"nu": mu / (rho * radius**2 * omega), "kappa": sigma / (rho * radius**2 * omega**2)}
+
+
+#: Table 4.1 (2D simulations, tau = 0.45): physical values; the printed (nu, kappa) are the check.
+TABLE_4_1 = {1: {"rho": 1.0, "mu": 0.02, "radius": 0.2, "sigma": 5e3, "omega": 2500.0},
+             2: {"rho": 1.0, "mu": 0.02, "radius": 0.2, "sigma": 2e4, "omega": 2500.0}}

@@ -24,8 +24,8 @@ def _write_json(path: Path, data) -> Path:
 
 def _diagrams(name: str, out: Path, cases: list[dict], *, kappa: str, columns: int,
               model: str = "mathieu", progress: bool, workers: int | None, **draw) -> list[Path]:
-    results = [api.tongues(model, kappa=kappa, progress=progress, workers=workers, **case)
-               for case in cases]
+    results = [api.tongues(model, kappa=kappa, progress=progress, workers=workers, tau_max=1.0,
+                           **case) for case in cases]  # the panels show tau <= 1
     png = ince_strutt.save(results, out / f"{name}.png", columns=columns, **draw)
     return [png, _write_json(out / f"{name}.json", [r.to_dict() for r in results])]
 
@@ -91,6 +91,18 @@ def _natural_modes_against_zeta(out: Path, *, progress: bool, workers: int | Non
     return [png, _write_json(out / "fig-7.1.json", data)]
 
 
+def _fibre_grid(out: Path, **kw) -> list[Path]:
+    """Fig 4.1: fibre diagrams, rows m = 2, 3, 4, columns nu = 2e-4 and 1e-3."""
+    cases = [{"m": m, "nu": nu} for m in (2, 3, 4) for nu in (2e-4, 1e-3)]
+    return _diagrams("fig-4.1", out, cases, kappa="0.002:0.3:150", columns=2, model="fibre", **kw)
+
+
+def _fibre_forcing_split(out: Path, **kw) -> list[Path]:
+    """Fig 4.2: m = 3, nu = 2e-4, pumping both jumps, only the pressure jump, only the tangential."""
+    cases = [{"m": 3, "nu": 2e-4, "forcing": f} for f in ("both", "pressure", "tangential")]
+    return _diagrams("fig-4.2", out, cases, kappa="0.005:0.1:150", columns=3, model="fibre", **kw)
+
+
 FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
     "fig-2.2": ("Ince-Strutt diagram of the undamped Mathieu equation (nu = 0)",
                 lambda out, **kw: _diagrams("fig-2.2", out, [{"nu": 0.0}], kappa="0:3:301",
@@ -98,6 +110,9 @@ FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
     "fig-2.3": ("Ince-Strutt diagrams of the damped Mathieu equation, nu = 0.01 and 0.1",
                 lambda out, **kw: _diagrams("fig-2.3", out, [{"nu": 0.01}, {"nu": 0.1}],
                                             kappa="0:3:301", columns=2, **kw)),
+    "fig-4.1": ("fibre: Ince-Strutt diagrams for m = 2, 3, 4 at nu = 2e-4 and 1e-3", _fibre_grid),
+    "fig-4.2": ("fibre, m = 3, nu = 2e-4: stiffness pumped in both jumps, pressure only, tangential only",
+                _fibre_forcing_split),
     "fig-6.2": ("sphere, inviscid: Ince-Strutt diagrams for m = 2, 3, 4",
                 lambda out, **kw: _sphere_grid("fig-6.2", (0.0,), out, **kw)),
     "fig-6.3": ("sphere, viscous: Ince-Strutt diagrams for m = 2, 3, 4 at nu = 1e-3 and 6e-3",

@@ -1,0 +1,405 @@
+"""Sweep scenes: a scene with a [grid] table -> a validated, hashable SweepSpec (no computing).
+
+A sweep scene::
+
+    model = "sphere"
+    ask = ["tau_min"]
+    [params]                       # fixed parameters of the model
+    nu = 2.39e-4
+    [grid]                         # swept parameters; the axes keep this order
+    kappa = {start = 0.001, stop = 0.2, num = 200}   # linear (or spacing = "log"), or "a:b:n"
+    m = [2, 3, 4, 5, 6]                              # integer parameters: a list or "lo:hi"
+    kind = ["harmonic", "subharmonic"]               # default: both kinds
+    [tau_min]                      # solver options of the ask (all optional)
+    tol = 1e-10                    # absolute tolerance on tau_min (or n_temporal = 40)
+    tau_max = 0.5                  # only marginal tau <= tau_max (0.5: the stiffness stays > 0)
+    continuation = true            # start each point from its neighbour's truncation
+    [sweep]
+    chunk = 256                    # points per task along the line axis (the default)
+
+Any value list (``[0.1, 0.2, 0.4]``) works for a real parameter too. With model 'sphere' the
+physical cgs quantities rho (g/cm^3), mu (g/(cm s)), radius (cm), sigma (dyn/cm) and omega
+(rad/s) or bpm (beats/min) may be fixed or swept instead of kappa and nu, which then follow from
+(6.4)-(6.5) (:class:`~spectralshell.params.physical.PhysicalSphere`).
+
+The *line axis* is the last real-valued axis of the grid (else the last axis other than kind):
+points are solved along it in order, so each can start from its neighbour (continuation), and a
+task (a chunk) is a run of at most ``chunk`` consecutive points of one line.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._validate import require_choice, require_int_in_range, require_positive, require_real
+from ..errors import ParameterError
+from .grid import parse_int_range, parse_range
+from .physical import PhysicalSphere, bpm_to_rad_per_s
+from .registry import PARAMS, check_model, make_params, param_names
+from .scene import load_scene
+
+ASKS = ("tau_min",)
+KINDS = ("harmonic", "subharmonic")
+SCENE_KEYS = ("model", "ask", "params", "grid", "tau_min", "sweep")
+OPTION_KEYS = ("tol", "n_temporal", "tau_max", "continuation")
+SWEEP_KEYS = ("chunk",)
+N_TEMPORAL_MAX = 400  # = solvers.marginal.N_MAX (a later stage: not importable here)
+#: Points per task along the line axis (lines longer than this are cut into equal pieces).
+#: Measured in validation/bench_sweep.py with the cheapest points (Mathieu, ~1.5 ms per grid
+#: point on a loaded 2-core machine): per-task overhead (dispatch + the chunk's Zarr write) is
+#: ~1 % of a 256-point chunk's compute on serial/processes and ~2-3 % on a Dask LocalCluster
+#: (a 128-point chunk: 3 % and 5-8 %); dearer models are far below.
+DEFAULT_CHUNK = 256
+PHYSICAL_MODELS = ("sphere",)
+PHYSICAL = ("rho", "mu", "radius", "sigma", "omega", "bpm")
+UNITS = {"kappa": "1", "nu": "1", "m": "1", "component": "", "kind": "",
+         "rho": "g/cm^3", "mu": "g/(cm s)", "radius": "cm", "sigma": "dyn/cm", "omega": "rad/s",
+         "bpm": "beats/min"}
+LONG_NAMES = {"kappa": "stiffness kappa", "nu": "viscosity nu", "m": "degree m",
+              "component": "component", "kind": "Floquet kind", "rho": "fluid density",
+              "mu": "dynamic viscosity", "radius": "radius", "sigma": "membrane stiffness",
+              "omega": "forcing angular frequency", "bpm": "beat rate"}
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One swept parameter: ``name``, its ``values`` (a tuple of float, int or str), ``units``
+    and ``spacing`` ('linear', 'log' or 'list', how the values were given)."""
+
+    name: str
+    values: tuple
+    units: str
+    spacing: str
+
+    @property
+    def is_real(self) -> bool:
+        """True for a real-valued (float) axis."""
+        return bool(self.values) and isinstance(self.values[0], float)
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Options of the ask 'tau_min' (see :func:`spectralshell.solvers.marginal.marginal_tau`)."""
+
+    tol: float = 1e-10
+    n_temporal: int | None = None
+    tau_max: float = 0.5
+    continuation: bool = True
+
+    def marginal_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of ``marginal_tau``."""
+        return {"tol": self.tol, "n_temporal": self.n_temporal, "tau_max": self.tau_max}
+
+
+@dataclass(frozen=True, kw_only=True)
+class SweepSpec:
+    """A validated sweep: model, fixed parameters, axes (grid order, 'kind' always present),
+    ask, solver options, chunk length, the scene's stable hash ``digest`` (of
+    :meth:`canonical`) and ``source``, the scene as given (JSON; provenance only, not hashed)."""
+
+    model: str
+    fixed: tuple[tuple[str, Any], ...]
+    axes: tuple[Axis, ...]
+    ask: tuple[str, ...]
+    options: SolverOptions
+    chunk: int
+    physical: bool
+    digest: str = ""
+    source: str = ""
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        """Axis names in order (the dimensions of the result)."""
+        return tuple(a.name for a in self.axes)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Number of values of each axis."""
+        return tuple(len(a.values) for a in self.axes)
+
+    @property
+    def size(self) -> int:
+        """Number of grid points (every axis, kind included)."""
+        return math.prod(self.shape)
+
+    @property
+    def kinds(self) -> tuple[str, ...]:
+        """The Floquet kinds swept."""
+        return self.axis("kind").values
+
+    @property
+    def point_axes(self) -> tuple[int, ...]:
+        """Positions of the axes other than 'kind' (one solve of each kind per combination)."""
+        return tuple(i for i, a in enumerate(self.axes) if a.name != "kind")
+
+    @property
+    def line_axis(self) -> int | None:
+        """Position of the line (continuation) axis: the last real axis, else the last
+        non-kind axis; None when only 'kind' is swept."""
+        points = self.point_axes
+        real = [i for i in points if self.axes[i].is_real]
+        return real[-1] if real else (points[-1] if points else None)
+
+    def axis(self, name: str) -> Axis:
+        """The axis called ``name``."""
+        return next(a for a in self.axes if a.name == name)
+
+    def params_at(self, values: Mapping[str, Any]) -> dict[str, Any]:
+        """Model parameters at a grid point (``values``: the non-kind axis values), with the
+        physical quantities converted to kappa and nu."""
+        merged = {**dict(self.fixed), **values}
+        if not self.physical:
+            return merged
+        phys = {k: merged.pop(k) for k in PHYSICAL if k in merged}
+        if "bpm" in phys:
+            phys["omega"] = bpm_to_rad_per_s(phys.pop("bpm"))
+        return {**merged, **PhysicalSphere(**phys).forced()}
+
+    def canonical(self) -> dict[str, Any]:
+        """JSON-able form of everything that determines the numbers (hashed into ``digest``)."""
+        return {"model": self.model, "ask": list(self.ask), "params": dict(self.fixed),
+                "grid": [[a.name, list(a.values), a.spacing] for a in self.axes],
+                "options": dataclasses.asdict(self.options), "chunk": self.chunk}
+
+
+def scene_digest(canonical: Mapping[str, Any]) -> str:
+    """Stable hash (sha256, 16 hex digits) of a canonical scene: the same numbers, the same hash,
+    in every process and Python version (no dict order or hash seed enters)."""
+    text = json.dumps(canonical, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _field_types(model: str) -> dict[str, str]:
+    """'int', 'str' or 'float' for each parameter of ``model`` (from the dataclass annotations)."""
+    out = {}
+    for f in dataclasses.fields(PARAMS[model]):
+        t = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", "float")
+        out[f.name] = t if t in ("int", "str") else "float"
+    return out
+
+
+def _value_type(model: str, name: str) -> str:
+    if name == "kind":
+        return "str"
+    return _field_types(model).get(name, "float")
+
+
+def allowed_grid_names(model: str) -> tuple[str, ...]:
+    """Parameters a sweep of ``model`` may put in its grid."""
+    extra = PHYSICAL if model in PHYSICAL_MODELS else ()
+    return param_names(model) + extra + ("kind",)
+
+
+def _distinct(name: str, values: list) -> None:
+    if len(set(values)) != len(values):
+        dup = next(v for v in values if values.count(v) > 1)
+        raise ParameterError(f"grid {name} = {values!r} is invalid: value {dup!r} appears twice "
+                             "(each grid value must be distinct)")
+
+
+def _real_axis(name: str, spec: object) -> tuple[tuple[float, ...], str]:
+    if isinstance(spec, Mapping):
+        keys = set(spec)
+        if not {"start", "stop", "num"} <= keys or keys - {"start", "stop", "num", "spacing"}:
+            raise ParameterError(f"grid {name} = {dict(spec)!r} is invalid: must be a table with "
+                                 "keys start, stop, num (and optionally spacing)")
+        spacing = require_choice(f"grid {name}.spacing", spec.get("spacing", "linear"),
+                                 ("linear", "log"))
+        values = parse_range(f"grid {name}", {k: spec[k] for k in ("start", "stop", "num")})
+        if spacing == "log":
+            if values[0] <= 0:
+                raise ParameterError(f"grid {name}.start = {spec['start']!r} is invalid: must be "
+                                     "> 0 with spacing = 'log'")
+            values = np.geomspace(values[0], values[-1], values.size)
+        return tuple(float(v) for v in values), spacing
+    if isinstance(spec, str):
+        return tuple(float(v) for v in parse_range(f"grid {name}", spec)), "linear"
+    if isinstance(spec, (list, tuple)):
+        if not spec:
+            raise ParameterError(f"grid {name} = [] is invalid: must be a non-empty list of "
+                                 "numbers")
+        values = [require_real(f"grid {name}", v) for v in spec]
+        _distinct(name, values)
+        return tuple(values), "list"
+    raise ParameterError(f"grid {name} = {spec!r} is invalid: must be a list of values, a table "
+                         "{start, stop, num[, spacing]} or 'start:stop:num'")
+
+
+def _int_axis(name: str, spec: object) -> tuple[tuple[int, ...], str]:
+    if not isinstance(spec, (list, tuple, str)) or isinstance(spec, str) and ":" not in spec:
+        raise ParameterError(f"grid {name} = {spec!r} is invalid: must be a list of integers or "
+                             "'lo:hi'")
+    values = parse_int_range(f"grid {name}", spec)
+    _distinct(name, values)
+    return tuple(values), "list"
+
+
+def _str_axis(name: str, spec: object) -> tuple[tuple[str, ...], str]:
+    if name == "kind" and spec == "both":
+        spec = list(KINDS)
+    if not isinstance(spec, (list, tuple)) or not spec or not all(isinstance(v, str) for v in spec):
+        raise ParameterError(f"grid {name} = {spec!r} is invalid: must be a non-empty list of "
+                             "names")
+    if name == "kind":
+        for v in spec:
+            require_choice("grid kind", v, KINDS)
+    _distinct(name, list(spec))
+    return tuple(spec), "list"
+
+
+def parse_axis(model: str, name: str, spec: object) -> Axis:
+    """One [grid] entry -> an Axis, typed by the model's parameter (int, str or float).
+
+    Raises
+    ------
+    ParameterError : malformed, empty, reversed or duplicated values.
+    """
+    kind = _value_type(model, name)
+    parse = {"float": _real_axis, "int": _int_axis, "str": _str_axis}[kind]
+    values, spacing = parse(name, spec)
+    return Axis(name=name, values=values, units=UNITS.get(name, "1"), spacing=spacing)
+
+
+def _check_physical(model: str, names: set[str]) -> bool:
+    """Whether the sweep uses physical quantities; refuses an incomplete or mixed set."""
+    used = names & set(PHYSICAL)
+    if not used:
+        return False
+    if model not in PHYSICAL_MODELS:
+        name = sorted(used)[0]
+        raise ParameterError(f"{name} is not a parameter of model {model!r}: physical quantities "
+                             f"need model {' or '.join(repr(m) for m in PHYSICAL_MODELS)}")
+    for derived in ("kappa", "nu"):
+        if derived in names:
+            raise ParameterError(f"{derived} is given together with physical quantities "
+                                 f"({', '.join(sorted(used))}): it follows from them by "
+                                 "(6.4)-(6.5); remove one of the two")
+    for name in ("rho", "mu", "radius", "sigma"):
+        if name not in names:
+            raise ParameterError(f"{name} is missing: physical sweeps need rho, mu, radius, sigma "
+                                 "and omega or bpm")
+    if len(names & {"omega", "bpm"}) != 1:
+        raise ParameterError("omega/bpm is invalid: give exactly one of omega (rad/s) or bpm "
+                             "(beats/min)")
+    return True
+
+
+def _checked_table(name: str, table: object, keys: tuple[str, ...]) -> Mapping:
+    """``table`` if it is a TOML table holding only ``keys``."""
+    if not isinstance(table, Mapping):
+        raise ParameterError(f"{name} = {table!r} is invalid: must be a table")
+    extra = sorted(set(table) - set(keys))
+    if extra:
+        raise ParameterError(f"{name}.{extra[0]} is unknown: expected {', '.join(keys)}")
+    return table
+
+
+def _options(table: object) -> SolverOptions:
+    table = _checked_table("tau_min", table, OPTION_KEYS)
+    out: dict[str, Any] = {}
+    if "tol" in table:
+        out["tol"] = require_positive("tau_min.tol", table["tol"])
+    if "n_temporal" in table:
+        out["n_temporal"] = require_int_in_range("tau_min.n_temporal", table["n_temporal"], 1,
+                                                 N_TEMPORAL_MAX)
+    if "tau_max" in table:
+        out["tau_max"] = require_positive("tau_min.tau_max", table["tau_max"])
+    if "continuation" in table:
+        if not isinstance(table["continuation"], bool):
+            raise ParameterError(f"tau_min.continuation = {table['continuation']!r} is invalid: "
+                                 "must be true or false")
+        out["continuation"] = table["continuation"]
+    return SolverOptions(**out)
+
+
+def _chunk(table: object) -> int:
+    table = _checked_table("sweep", table, SWEEP_KEYS)
+    return require_int_in_range("sweep.chunk", table.get("chunk", DEFAULT_CHUNK), 1)
+
+
+def _normalised(model: str, name: str, value: Any) -> Any:
+    """Fixed values as the hash sees them: reals as float, so 1 and 1.0 hash alike."""
+    if _value_type(model, name) == "float" and not isinstance(value, (bool, str)):
+        try:
+            return require_real(name, value)
+        except ParameterError:
+            return value  # make_params reports it
+    return value
+
+
+def _validate_points(spec: SweepSpec) -> None:
+    """Every value of every axis, with the other axes at their first value, gives valid
+    parameters (each parameter is range-checked on its own, so this covers the grid)."""
+    first = {spec.axes[i].name: spec.axes[i].values[0] for i in spec.point_axes}
+    for i in spec.point_axes:
+        axis = spec.axes[i]
+        for v in axis.values:
+            make_params(spec.model, spec.params_at({**first, axis.name: v}))
+
+
+def is_sweep_scene(scene: Mapping[str, Any]) -> bool:
+    """True for a scene with a [grid] table (a sweep), False for a planner scene."""
+    return "grid" in scene
+
+
+def sweep_spec(scene: str | Path | Mapping) -> SweepSpec:
+    """Validate a sweep scene (path, TOML string or dict) and return its SweepSpec.
+
+    Raises
+    ------
+    ParameterError : unknown scene key, model, ask or grid parameter; empty, reversed or
+        duplicated grid values; a parameter both fixed in [params] and swept in [grid]; a value
+        out of range; bad solver options. Each with a one-line message.
+    """
+    data = load_scene(scene)
+    unknown = sorted(set(data) - set(SCENE_KEYS))
+    if unknown:
+        raise ParameterError(f"scene key {unknown[0]!r} is unknown in a sweep: expected "
+                             f"{', '.join(SCENE_KEYS)}")
+    if "model" not in data:
+        raise ParameterError("scene is invalid: it has no 'model'")
+    model = check_model(data["model"])
+    ask = data.get("ask", ["tau_min"])
+    ask = [ask] if isinstance(ask, str) else ask
+    if not isinstance(ask, list) or not ask:
+        raise ParameterError(f"ask = {ask!r} is invalid: must be a non-empty list of "
+                             f"{', '.join(ASKS)}")
+    ask = tuple(require_choice("ask", a, ASKS) for a in dict.fromkeys(ask))
+    fixed = data.get("params", {})
+    grid = data.get("grid")
+    for name, table in (("params", fixed), ("grid", grid)):
+        if not isinstance(table, Mapping):
+            raise ParameterError(f"{name} = {table!r} is invalid: must be a table")
+    if not grid:
+        raise ParameterError("grid = {} is invalid: a sweep needs at least one swept parameter")
+    allowed = allowed_grid_names(model)
+    for name in grid:
+        if name not in allowed:
+            raise ParameterError(f"grid parameter {name!r} is unknown for model {model!r}: "
+                                 f"expected one of {', '.join(allowed)}")
+        if name in fixed:
+            raise ParameterError(f"{name} is both fixed in [params] ({fixed[name]!r}) and swept "
+                                 "in [grid]: remove one of the two")
+    if "kind" in fixed:
+        raise ParameterError("kind is invalid in [params]: sweep kinds in [grid], e.g. "
+                             "kind = ['harmonic']")
+    physical = _check_physical(model, set(fixed) | set(grid))
+    axes = [parse_axis(model, name, spec) for name, spec in grid.items()]
+    if "kind" not in grid:
+        axes.append(Axis(name="kind", values=KINDS, units="", spacing="list"))
+    spec = SweepSpec(model=model,
+                     fixed=tuple((k, _normalised(model, k, v)) for k, v in fixed.items()),
+                     axes=tuple(axes), ask=ask, options=_options(data.get("tau_min", {})),
+                     chunk=_chunk(data.get("sweep", {})), physical=physical)
+    _validate_points(spec)
+    return dataclasses.replace(spec, digest=scene_digest(spec.canonical()),
+                               source=json.dumps(data, default=str))

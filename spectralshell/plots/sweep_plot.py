@@ -1,0 +1,185 @@
+"""Pictures of a stored sweep Dataset: tau_min along one axis, or a minimum-tau map over two.
+
+The real-valued axes with more than one value are the picture's axes; the others (m, kind,
+component, ...) are categories: one curve each in 1-D; in 2-D the colour is the smallest tau_min
+over them and each band is labelled by the category attaining it, e.g. '3S' = m 3,
+subharmonic (as thesis Fig 6.13). Points without a marginal tau <= tau_max (or not yet computed)
+are left white.
+"""
+
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+from scipy import ndimage  # noqa: E402
+
+from ..errors import ParameterError  # noqa: E402
+
+SYMBOLS = {"kappa": "κ", "nu": "ν", "sigma": "σ", "omega": "ω", "mu": "μ", "rho": "ρ",
+           "radius": "R", "bpm": "beat rate"}
+
+
+def axis_label(coord: xr.DataArray) -> str:
+    """'long name symbol (units)', e.g. 'membrane stiffness σ (dyn/cm)'."""
+    name = str(coord.name)
+    units = coord.attrs.get("units", "")
+    units = "dimensionless" if units in ("1", "") else units
+    long_name = coord.attrs.get("long_name", name)
+    symbol = SYMBOLS.get(name, name)
+    if symbol in long_name:
+        text = long_name
+    elif name in long_name.split():
+        text = " ".join(symbol if w == name else w for w in long_name.split())
+    else:
+        text = f"{long_name} {symbol}"
+    return f"{text} ({units})"
+
+
+def _picture_axes(ds: xr.Dataset) -> tuple[list[str], list[str]]:
+    """(real axes with > 1 value, category dims) of ``tau_min``."""
+    dims = list(ds["tau_min"].dims)
+    real = [d for d in dims if ds[d].dtype.kind == "f" and ds.sizes[d] > 1]
+    return real, [d for d in dims if d not in real]
+
+
+def _category_label(ds: xr.Dataset, cats: list[str], index: tuple[int, ...]) -> str:
+    parts = []
+    for d, i in zip(cats, index):
+        if ds.sizes[d] == 1 and d != "kind":
+            continue
+        v = ds[d].values[i]
+        parts.append(str(v)[0].upper() if d == "kind" else str(v))
+    return "".join(parts)
+
+
+def _title(ds: xr.Dataset, fixed: dict) -> str:
+    done = ds["computed"].values
+    extra = "" if done.all() else f" — incomplete: {int(done.sum())} of {done.size} points"
+    shown = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
+                      for k, v in fixed.items())
+    return f"{ds.attrs.get('model', 'sweep')}: {shown}{extra}".strip()
+
+
+def _fixed(ds: xr.Dataset, drop: list[str]) -> dict:
+    import json
+
+    out = dict(json.loads(ds.attrs.get("params", "{}")))
+    for d in ds["tau_min"].dims:
+        if d not in drop and ds.sizes[d] == 1:
+            v = ds[d].values[0]
+            out[d] = v.item() if hasattr(v, "item") else v
+    return out
+
+
+def _valid(ds: xr.Dataset) -> np.ndarray:
+    return ds["has_tau"].values & ds["computed"].values
+
+
+def _scale(ax, ds: xr.Dataset, name: str, which: str) -> None:
+    if ds[name].attrs.get("spacing") == "log":
+        getattr(ax, f"set_{which}scale")("log")
+
+
+def _line(ds: xr.Dataset, axis: str, cats: list[str]):
+    fig, ax = plt.subplots(figsize=(7.0, 4.5))
+    tau = ds["tau_min"].transpose(axis, *cats).values
+    ok = _valid(ds.transpose(axis, *cats))
+    x = ds[axis].values
+    order = np.argsort(x)
+    styles = {"harmonic": "-", "subharmonic": "--"}
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    non_kind = [d for d in cats if d != "kind"]
+    for index in itertools.product(*(range(ds.sizes[d]) for d in cats)):
+        y = np.where(ok[(slice(None),) + index], tau[(slice(None),) + index], np.nan)
+        kind = str(ds["kind"].values[index[cats.index("kind")]]) if "kind" in cats else ""
+        group = tuple(i for d, i in zip(cats, index) if d != "kind")
+        colour = colours[(np.ravel_multi_index(group, [ds.sizes[d] for d in non_kind])
+                          if group else 0) % len(colours)]
+        label = _category_label(ds, cats, index) or None
+        ax.plot(x[order], y[order], styles.get(kind, "-"), color=colour, label=label, lw=1.4)
+    tau_max = float(ds.attrs.get("tau_max", np.nanmax(tau)))
+    ax.set_ylim(0.0, tau_max)
+    ax.set_xlabel(axis_label(ds[axis]))
+    ax.set_ylabel(f"τ_min, smallest marginal τ ≤ {tau_max:g}")
+    _scale(ax, ds, axis, "x")
+    if cats:
+        ax.legend(fontsize=7, ncol=2, title="m, H/S" if "m" in cats else "H/S",
+                  title_fontsize=7)
+    ax.set_title(_title(ds, _fixed(ds, [axis] + [d for d in cats if ds.sizes[d] > 1])),
+                 fontsize=9)
+    return fig
+
+
+def _band_labels(ax, x: np.ndarray, y: np.ndarray, code: np.ndarray, labels: list[str],
+                 min_cells: int) -> None:
+    for value in np.unique(code[code >= 0]):
+        regions, count = ndimage.label(code == value)
+        for r in range(1, count + 1):
+            iy, ix = np.nonzero(regions == r)
+            if iy.size >= min_cells and labels[value]:
+                ax.text(x[int(round(ix.mean()))], y[int(round(iy.mean()))], labels[value],
+                        ha="center", va="center", fontsize=7)
+
+
+def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int):
+    ds = ds.sortby([xname, yname])
+    order = [yname, xname, *cats]
+    tau = ds["tau_min"].transpose(*order).values
+    ok = _valid(ds.transpose(*order))
+    tau_max = float(ds.attrs.get("tau_max", tau.max()))
+    shape = tau.shape[:2]
+    flat_tau = np.where(ok, tau, np.inf).reshape(*shape, -1)
+    best = flat_tau.argmin(axis=-1)
+    value = np.take_along_axis(flat_tau, best[..., None], axis=-1)[..., 0]
+    found = np.isfinite(value)
+    combos = list(itertools.product(*(range(ds.sizes[d]) for d in cats)))
+    labels = [_category_label(ds, cats, c) for c in combos]
+    fig, ax = plt.subplots(figsize=(7.5, 5.5))
+    x, y = ds[xname].values, ds[yname].values
+    shown = np.ma.masked_where(~found, np.where(found, value, 0.0))
+    mesh = ax.pcolormesh(x, y, shown, cmap="Blues_r", vmin=0.0, vmax=tau_max, shading="nearest")
+    fig.colorbar(mesh, ax=ax, label=f"minimum τ of instability (white: none ≤ {tau_max:g})")
+    _band_labels(ax, x, y, np.where(found, best, -1), labels, min_cells)
+    ax.set_xlabel(axis_label(ds[xname]))
+    ax.set_ylabel(axis_label(ds[yname]))
+    _scale(ax, ds, xname, "x")
+    _scale(ax, ds, yname, "y")
+    over = ", ".join(f"{d} = {', '.join(str(v) for v in ds[d].values)}" for d in cats
+                     if ds.sizes[d] > 1)
+    labels_note = " (labels: " + ("m, " if "m" in cats else "") + "H harmonic / S subharmonic)"
+    fixed = _fixed(ds, [xname, yname] + [d for d in cats if ds.sizes[d] > 1])
+    ax.set_title(_title(ds, fixed) + (f"\nminimum over {over}{labels_note}" if over else ""),
+                 fontsize=8)
+    return fig
+
+
+def save(ds: xr.Dataset, path: str | Path, *, min_cells: int = 6, dpi: int = 120) -> Path:
+    """Draw a sweep Dataset as PNG: a line plot for one real axis, a labelled minimum-tau map
+    for two (the first grid axis horizontal).
+
+    Raises
+    ------
+    ParameterError : the sweep has no, or more than two, real axes with several values.
+    """
+    if "tau_min" not in ds or "has_tau" not in ds:
+        raise ParameterError("sweep is invalid for plotting: it has no tau_min/has_tau variables")
+    real, cats = _picture_axes(ds)
+    if len(real) == 1:
+        fig = _line(ds, real[0], cats)
+    elif len(real) == 2:
+        fig = _map(ds, real[0], real[1], cats, min_cells)
+    else:
+        raise ParameterError(f"sweep axes {real!r} are invalid for a picture: plot draws one or "
+                             "two real axes with several values")
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    return path

@@ -1,0 +1,16 @@
+"""Stage 5b: the sweep runner -- plan a grid's chunks, run them on serial, process or Dask
+executors (one ``concurrent.futures.Executor`` interface), and keep labelled, resumable results
+(``xarray`` Datasets in Zarr or NetCDF stores).
+
+Public functions: :func:`sweep` (-> Dataset), :func:`run_sweep` (-> SweepRun with counts),
+:func:`sweep_summary` (the CLI's JSON summary), :func:`open_sweep` (load a store) and
+:func:`map_points` (every marginal tau at arbitrary points, through any executor).
+"""
+
+from .executors import CONNECT_TIMEOUT, EXECUTORS, SerialExecutor, open_pool
+from .solve import SweepError
+from .store import open_sweep
+from .sweep import SweepRun, map_points, run_sweep, sweep, sweep_summary
+
+__all__ = ["sweep", "run_sweep", "sweep_summary", "open_sweep", "map_points", "SweepRun",
+           "SweepError", "SerialExecutor", "open_pool", "EXECUTORS", "CONNECT_TIMEOUT"]

@@ -1,0 +1,192 @@
+"""Executors behind one interface (``concurrent.futures.Executor``): serial, processes, Dask.
+
+* ``serial``: :class:`SerialExecutor`, runs each task in this process when submitted (debugging,
+  tests).
+* ``processes``: ``concurrent.futures.ProcessPoolExecutor`` with ``workers`` processes (default:
+  every core), started by 'fork' where available (see :func:`_process_context`).
+* ``dask``: ``distributed.Client(...).get_executor()``, for a running scheduler
+  (``scheduler='tcp://HOST:PORT'``, connection timeout :data:`CONNECT_TIMEOUT` seconds, which
+  also bounds the wait for a first worker) or a ``LocalCluster`` on the loopback address
+  (``scheduler='local'``, ``workers`` single-threaded worker processes) started and stopped here.
+  Dask is the optional extra ``spectralshell[dask]``; nothing here imports it unless asked.
+"""
+
+from __future__ import annotations
+
+import logging
+import multiprocessing
+import os
+import re
+from collections.abc import Iterator
+from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+from .._validate import require_choice, require_int_in_range
+from .._version import __version__
+from ..errors import BackendUnavailable, ParameterError
+
+EXECUTORS = ("serial", "processes", "dask")
+CONNECT_TIMEOUT = 10.0  # seconds: connecting to a Dask scheduler, and waiting for its first worker
+DASK_EXTRA = "executor 'dask' needs the optional extra: pip install spectralshell[dask]"
+_ADDRESS = re.compile(r"^(tcp|tls)://[^\s/:]+:\d+/?$")
+
+
+def _process_context():
+    """'fork' where the platform has it (workers start at once, and scripts need no
+    ``if __name__ == "__main__"`` guard; the parent's threads -- tqdm's monitor, Zarr's I/O loop --
+    are not used by the tasks), else the platform default."""
+    methods = multiprocessing.get_all_start_methods()
+    return multiprocessing.get_context("fork" if "fork" in methods else None)
+
+
+class SerialExecutor(Executor):
+    """An Executor that runs each task in the calling process, at ``submit``."""
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        """Run ``fn(*args, **kwargs)`` now; the returned Future holds its result or exception."""
+        future: Future = Future()
+        try:
+            future.set_result(fn(*args, **kwargs))
+        except Exception as exc:  # noqa: BLE001 - delivered through the Future
+            future.set_exception(exc)
+        return future
+
+
+@dataclass(frozen=True, eq=False)
+class Pool:
+    """An open executor: ``executor``, the number of tasks it runs at once (``slots``) and a
+    one-line ``description``."""
+
+    executor: Executor
+    slots: int
+    name: str
+    description: str
+
+
+def check_executor(executor: str, workers: int | None,
+                   scheduler: str | None) -> tuple[str, int | None, str | None]:
+    """Validated (executor, workers, scheduler), before anything starts.
+
+    Raises
+    ------
+    ParameterError : unknown executor, workers < 1, a scheduler without executor 'dask', or a
+        scheduler that is neither 'local' nor 'tcp://HOST:PORT' / 'tls://HOST:PORT'.
+    """
+    executor = require_choice("executor", executor, EXECUTORS)
+    if workers is not None:
+        workers = require_int_in_range("workers", workers, 1)
+    if executor == "serial" and workers not in (None, 1):
+        raise ParameterError(f"workers = {workers} is invalid with executor 'serial': must be 1 "
+                             "or omitted")
+    if scheduler is not None and executor != "dask":
+        raise ParameterError(f"scheduler = {scheduler!r} is invalid with executor {executor!r}: "
+                             "a scheduler needs executor 'dask'")
+    if executor == "dask":
+        scheduler = "local" if scheduler is None else scheduler
+        if scheduler != "local" and not (isinstance(scheduler, str) and _ADDRESS.match(scheduler)):
+            raise ParameterError(f"scheduler = {scheduler!r} is invalid: must be 'local' or an "
+                                 "address tcp://HOST:PORT")
+        if scheduler != "local" and workers is not None:
+            raise ParameterError(f"workers = {workers} is invalid with scheduler {scheduler!r}: "
+                                 "a running cluster has its own workers")
+    return executor, workers, scheduler
+
+
+def _worker_version() -> str:
+    """spectralshell version of a Dask worker (run there by ``Client.run``)."""
+    return __version__
+
+
+def _import_distributed():
+    try:
+        import distributed
+    except ImportError:
+        raise BackendUnavailable(DASK_EXTRA) from None
+    return distributed
+
+
+def _connect(distributed, address: str):
+    try:
+        client = distributed.Client(address, timeout=f"{CONNECT_TIMEOUT}s", set_as_default=False)
+    except (OSError, TimeoutError) as exc:
+        raise ParameterError(f"scheduler = {address!r} is unreachable: no Dask scheduler answered "
+                             f"within {CONNECT_TIMEOUT:g} s ({type(exc).__name__})") from None
+    try:
+        client.wait_for_workers(1, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError):
+        client.close()
+        raise ParameterError(f"scheduler = {address!r} has no workers after {CONNECT_TIMEOUT:g} s: "
+                             f"start some with `dask worker {address}`") from None
+    return client
+
+
+def _check_versions(client, address: str) -> None:
+    try:
+        versions = client.run(_worker_version)
+    except Exception as exc:  # noqa: BLE001 - e.g. spectralshell missing on a worker
+        raise ParameterError(f"scheduler = {address!r}: its workers cannot run spectralshell "
+                             f"({type(exc).__name__}: {exc}); install spectralshell "
+                             f"{__version__} on every worker") from None
+    wrong = {w: v for w, v in versions.items() if v != __version__}
+    if wrong:
+        worker, version = next(iter(wrong.items()))
+        raise ParameterError(f"scheduler = {address!r}: worker {worker} runs spectralshell "
+                             f"{version}, this client {__version__}: install the same version")
+
+
+@contextmanager
+def _dask_pool(scheduler: str, workers: int | None, max_tasks: int | None) -> Iterator[Pool]:
+    distributed = _import_distributed()
+    cluster = None
+    if scheduler == "local":
+        n = workers or os.cpu_count() or 1
+        n = max(1, min(n, max_tasks)) if max_tasks else n
+        cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                           host="127.0.0.1", dashboard_address=None,
+                                           silence_logs=logging.ERROR)
+        client = distributed.Client(cluster, set_as_default=False)
+    else:
+        client = _connect(distributed, scheduler)
+    try:
+        if cluster is None:
+            _check_versions(client, scheduler)
+        slots = max(1, sum(client.nthreads().values()))
+        where = f"LocalCluster of {slots} workers" if cluster else f"Dask scheduler {scheduler}"
+        yield Pool(client.get_executor(pure=False), slots, "dask", f"{where} ({slots} threads)")
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+@contextmanager
+def open_pool(executor: str = "processes", *, workers: int | None = None,
+              scheduler: str | None = None, max_tasks: int | None = None) -> Iterator[Pool]:
+    """Start an executor and stop it on exit (on an error or Ctrl-C: without waiting for queued
+    tasks). ``max_tasks`` caps the number of local processes started (no more than there are
+    tasks). A LocalCluster starts its workers by 'spawn': a script that uses it needs the
+    ``if __name__ == "__main__":`` guard.
+
+    Raises
+    ------
+    ParameterError : invalid arguments (see :func:`check_executor`), or an unreachable scheduler.
+    BackendUnavailable : executor 'dask' without the extra installed.
+    """
+    executor, workers, scheduler = check_executor(executor, workers, scheduler)
+    if executor == "serial":
+        yield Pool(SerialExecutor(), 1, "serial", "serial (this process)")
+        return
+    if executor == "dask":
+        with _dask_pool(scheduler, workers, max_tasks) as pool:
+            yield pool
+        return
+    n = workers or os.cpu_count() or 1
+    n = max(1, min(n, max_tasks)) if max_tasks else n
+    pool = ProcessPoolExecutor(max_workers=n, mp_context=_process_context())
+    try:
+        yield Pool(pool, n, "processes", f"{n} processes")
+    except BaseException:
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)

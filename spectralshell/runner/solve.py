@@ -1,0 +1,207 @@
+"""Per-point and per-chunk solves of a sweep (run inside the workers), with continuation.
+
+Continuation along the line axis
+--------------------------------
+``marginal_tau`` solves the truncations x_0 < x_1 < ... (x_0 just above the model's resonant
+index, x_{i+1} = x_i + max(6, x_i // 2)) until tau_min changes by less than ``tol`` between two
+successive ones, and reports the pair (n_previous, n_temporal). Neighbouring points of a line
+need about the same pair, so when the neighbour stopped at (x_k, x_{k+1}) with k >= 3, a point
+runs the same loop but starts one step lower, at x_{k-1}: it skips x_0 .. x_{k-2}, and, starting
+below the neighbour, follows the need down as well as up. It accepts the first pair that passes
+the solver's test with a tau <= tau_max at both truncations; if none has up to one step beyond
+the neighbour's pair, or there is no tau there, it falls back to the full ``marginal_tau``.
+
+The result is bitwise the independent solve's whenever that converges at the same pair (the
+same truncations through the same code); it differs -- by less than ``tol``, the accepted
+value passing the same test at a larger N -- only where the independent solve would have stopped
+below x_{k-1}. What continuation saves is solver calls (k - 1 per point) rather than
+floating-point work, since the skipped truncations are the small ones: see the measurements in
+``validation/bench_sweep.py``. The sequence rule mirrors ``solvers.marginal`` (tested against
+it in tests/test_sweep.py); were the two to drift apart, results would stay correct (the
+acceptance test is the solver's own), only continuation would stop paying off.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ConvergenceError, ParameterError, SpectralShellError
+from ..models.base import HillSystem
+from ..models.registry import hill_system
+from ..params.registry import make_params
+from ..params.sweep_grid import SolverOptions, SweepSpec
+from ..solvers.marginal import N_MAX, MarginalTau, marginal_tau, solve_truncation
+from .layout import Chunk, block_index, block_shape, chunk_points
+
+#: Result variables of the ask 'tau_min' and their dtypes.
+VARIABLES = {"tau_min": np.float64, "has_tau": np.bool_, "error_estimate": np.float64,
+             "n_temporal": np.int32}
+FIRST_MARGIN = 8  # solvers.marginal starts at x_0 = ceil(n_resonant) + 8
+
+
+class SweepError(SpectralShellError, RuntimeError):
+    """A sweep could not finish (a point's solve raised, or a worker died); finished chunks are
+    kept in the store."""
+
+
+@dataclass(frozen=True)
+class KindSolution:
+    """tau_min of one kind at one point, NaN-free: ``has_tau`` False means no marginal
+    tau <= tau_max, and then tau_min = tau_max and error_estimate = 0.
+
+    n_previous, n_temporal : the truncation pair of the convergence test.
+    continued : accepted from the neighbour's truncation pair.
+    """
+
+    has_tau: bool
+    tau_min: float
+    error_estimate: float
+    n_temporal: int
+    n_previous: int
+    continued: bool = False
+
+
+def from_marginal(m: MarginalTau, tau_max: float) -> KindSolution:
+    """KindSolution of a full ``marginal_tau`` result."""
+    if m.tau_min is None:
+        return KindSolution(has_tau=False, tau_min=float(tau_max), error_estimate=0.0,
+                            n_temporal=m.n_temporal, n_previous=m.n_previous)
+    return KindSolution(has_tau=True, tau_min=float(m.tau_min),
+                        error_estimate=float(m.error_estimate), n_temporal=m.n_temporal,
+                        n_previous=m.n_previous)
+
+
+def solve_full(system: HillSystem, kind: str, options: SolverOptions) -> KindSolution:
+    """Independent solve of one kind (``marginal_tau``)."""
+    return from_marginal(marginal_tau(system, kind, **options.marginal_kwargs()), options.tau_max)
+
+
+def truncation_sequence(system: HillSystem, n_max: int = N_MAX) -> list[int]:
+    """The truncations x_0 < x_1 < ... <= n_max that ``marginal_tau`` tries (see the notes)."""
+    n = min(int(np.ceil(system.n_resonant)) + FIRST_MARGIN, n_max - max(2, n_max // 4))
+    out = [max(1, n)]
+    while out[-1] < n_max:
+        out.append(min(out[-1] + max(6, out[-1] // 2), n_max))
+    return out
+
+
+def continuation_start(system: HillSystem, hint: tuple[int, int] | None) -> int | None:
+    """Index in this point's sequence where continuation from the neighbour's pair ``hint``
+    starts (one step below it), or None when that would skip fewer than two truncations."""
+    if hint is None:
+        return None
+    seq = truncation_sequence(system)
+    k = int(np.searchsorted(seq, hint[0], side="right")) - 1  # largest x_k <= hint[0]
+    return k - 1 if k >= 3 else None
+
+
+def _capped(system: HillSystem, kind: str, n: int, tau_max: float) -> tuple[np.ndarray, float]:
+    tau, _, spread = solve_truncation(system, kind, n)
+    return tau[tau <= tau_max], spread
+
+
+def solve_continued(system: HillSystem, kind: str, options: SolverOptions,
+                    start: int) -> KindSolution | None:
+    """The solver's loop from index ``start`` (one below the neighbour's pair) of this point's
+    truncation sequence; None -- leave it to the full solve -- when no pair with a tau <= tau_max
+    converges up to one step beyond the neighbour's pair, or none has a tau at all."""
+    seq = truncation_sequence(system)
+    prev, _ = _capped(system, kind, seq[start], options.tau_max)
+    for i in range(start + 1, min(start + 4, len(seq))):
+        tau, spread = _capped(system, kind, seq[i], options.tau_max)
+        if tau.size and prev.size and abs(float(tau[0] - prev[0])) < options.tol:
+            change = abs(float(tau[0] - prev[0]))
+            error = max(change, spread, 8 * np.finfo(float).eps * max(1.0, float(tau[0])))
+            return KindSolution(has_tau=True, tau_min=float(tau[0]), error_estimate=error,
+                                n_temporal=seq[i], n_previous=seq[i - 1], continued=True)
+        if not tau.size and not prev.size:
+            return None
+        prev = tau
+    return None
+
+
+def solve_kind(system: HillSystem, kind: str, options: SolverOptions,
+               hint: tuple[int, int] | None = None) -> KindSolution:
+    """One kind at one point: continued from the neighbour's pair ``hint`` where that saves
+    solver calls and converges, else the full solve."""
+    start = continuation_start(system, hint)
+    if start is not None and options.continuation and options.n_temporal is None:
+        found = solve_continued(system, kind, options, start)
+        if found is not None:
+            return found
+    return solve_full(system, kind, options)
+
+
+@dataclass(frozen=True, eq=False)
+class ChunkResult:
+    """Solved block of one chunk: arrays of ``block_shape`` per variable, compute time (s) in
+    the worker, and how many kind solves were accepted from continuation / fell back."""
+
+    index: int
+    arrays: dict[str, np.ndarray]
+    seconds: float
+    continued: int
+    fallbacks: int
+
+
+def _describe(values: dict, kind: str, params: dict) -> str:
+    where = ", ".join(f"{k} = {v!r}" for k, v in {**values, "kind": kind}.items())
+    given = ", ".join(f"{k} = {v!r}" for k, v in params.items())
+    return f"point {where} (parameters: {given})"
+
+
+def _point_error(exc: Exception, values: dict, kind: str, params: dict) -> Exception:
+    """The error of a failed point, naming the point and its parameters (one line)."""
+    first_line = str(exc).splitlines()[0] if str(exc) else ""
+    text = f"{_describe(values, kind, params)} failed: {first_line}"
+    if isinstance(exc, ConvergenceError):
+        return ConvergenceError(text)
+    if isinstance(exc, ParameterError):
+        return ParameterError(text)
+    return SweepError(f"{text} ({type(exc).__name__})")
+
+
+def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
+    """Solve every point and kind of a chunk in line order, each point continuing from the
+    previous one (when ``spec.options.continuation``).
+
+    Raises
+    ------
+    ConvergenceError, ParameterError, SweepError : a point failed; the message names it.
+    """
+    t0 = time.perf_counter()
+    shape = block_shape(spec, chunk)
+    arrays = {name: np.zeros(shape, dtype=dtype) for name, dtype in VARIABLES.items()}
+    hints: dict[str, tuple[int, int] | None] = {k: None for k in spec.kinds}
+    continued = fallbacks = 0
+    continuing = spec.options.continuation and spec.options.n_temporal is None
+    for j, values in chunk_points(spec, chunk):
+        params = spec.params_at(values)
+        kind = spec.kinds[0]
+        try:
+            system = hill_system(make_params(spec.model, params))
+            for q, kind in enumerate(spec.kinds):
+                hint = hints[kind] if continuing else None
+                tried = continuation_start(system, hint) is not None
+                sol = solve_kind(system, kind, spec.options, hint)
+                hints[kind] = (sol.n_previous, sol.n_temporal) if sol.has_tau else None
+                continued += sol.continued
+                fallbacks += tried and not sol.continued
+                at = block_index(spec, j, q)
+                for name in VARIABLES:
+                    arrays[name][at] = getattr(sol, name)
+        except Exception as exc:  # noqa: BLE001 - re-raised naming the point
+            raise _point_error(exc, values, kind, params) from exc
+    return ChunkResult(index=chunk.index, arrays=arrays, seconds=time.perf_counter() - t0,
+                       continued=int(continued), fallbacks=int(fallbacks))
+
+
+def solve_points(factory, points: list, kinds: tuple[str, ...],
+                 options: dict) -> list[dict[str, MarginalTau]]:
+    """Full ``marginal_tau`` of each kind at each point (``factory(point)`` -> HillSystem): the
+    task of :func:`spectralshell.runner.map_points`."""
+    return [{k: marginal_tau(system, k, **options) for k in kinds}
+            for system in map(factory, points)]

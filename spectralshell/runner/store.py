@@ -1,0 +1,203 @@
+"""Sweep results as a labelled ``xarray.Dataset``, and their stores: Zarr (written chunk by
+chunk, resumable) and NetCDF (written at the end).
+
+Variables (dimensions: the grid axes, 'kind' included), NaN-free:
+
+* ``tau_min``: smallest marginal tau <= tau_max; equals tau_max where ``has_tau`` is false;
+* ``has_tau``: a marginal tau <= tau_max exists;
+* ``error_estimate``: the solver's error estimate of tau_min (0 where there is none);
+* ``n_temporal``: the final temporal truncation N;
+* ``computed``: the point has been solved (false only in an interrupted store).
+
+A Zarr store (format 2, consolidated metadata) is created whole -- metadata, coordinates and
+fill values -- in a hidden directory that is then renamed into place, so it is always readable.
+Each finished chunk is written as one Zarr chunk per variable (each an atomic file write), its
+``computed`` flags last: a chunk counts as finished only once all its variables are on disk.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import uuid
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .._version import __version__
+from ..errors import ParameterError
+from ..params.sweep_grid import LONG_NAMES, SweepSpec
+from .layout import store_chunks
+from .solve import VARIABLES
+
+ALL_VARIABLES = {**VARIABLES, "computed": np.bool_}
+SUFFIXES = (".zarr", ".nc")
+_VAR_ATTRS = {
+    "tau_min": {"long_name": "smallest marginal forcing amplitude tau <= tau_max", "units": "1",
+                "note": "equals tau_max where has_tau is false"},
+    "has_tau": {"long_name": "a marginal tau <= tau_max exists"},
+    "error_estimate": {"long_name": "Floquet error estimate of tau_min", "units": "1",
+                       "note": "0 where has_tau is false"},
+    "n_temporal": {"long_name": "final temporal truncation N"},
+    "computed": {"long_name": "point solved (false only in an interrupted store)"},
+}
+
+
+def empty_arrays(spec: SweepSpec) -> dict[str, np.ndarray]:
+    """Result arrays before any point is solved (tau_min = tau_max, everything else 0/false)."""
+    out = {name: np.zeros(spec.shape, dtype=dtype) for name, dtype in ALL_VARIABLES.items()}
+    out["tau_min"][...] = spec.options.tau_max
+    return out
+
+
+def provenance(spec: SweepSpec) -> dict[str, Any]:
+    """Dataset attributes: package version, the scene as given (JSON: ``ss.sweep(json.loads(
+    ds.attrs["scene"]))`` reruns it), its canonical form and hash, the solver options."""
+    canonical = spec.canonical()
+    return {"title": f"spectralshell sweep: {spec.model}, ask {', '.join(spec.ask)}",
+            "package": "spectralshell", "version": __version__, "model": spec.model,
+            "scene": spec.source or json.dumps(canonical, sort_keys=True),
+            "scene_canonical": json.dumps(canonical, sort_keys=True), "scene_hash": spec.digest,
+            "params": json.dumps(dict(spec.fixed)),
+            "solver_options": json.dumps(canonical["options"], sort_keys=True),
+            "tau_max": spec.options.tau_max, "chunk": spec.chunk,
+            "line_axis": "" if spec.line_axis is None else spec.dims[spec.line_axis],
+            "conventions": "K(t) = kappa (1 + 2 tau sin t), forcing period 2 pi; harmonic "
+                           "gamma = 0, subharmonic gamma = i/2"}
+
+
+def to_dataset(spec: SweepSpec, arrays: dict[str, np.ndarray]) -> xr.Dataset:
+    """The labelled Dataset of a sweep's arrays (coordinates with units, provenance attrs)."""
+    coords = {}
+    for a in spec.axes:
+        attrs = {"long_name": LONG_NAMES.get(a.name, a.name), "spacing": a.spacing}
+        if a.units:
+            attrs["units"] = a.units
+        coords[a.name] = xr.Variable((a.name,), np.array(a.values), attrs)
+    data = {name: xr.Variable(spec.dims, arrays[name], _VAR_ATTRS[name]) for name in ALL_VARIABLES}
+    return xr.Dataset(data, coords=coords, attrs=provenance(spec))
+
+
+def check_out(out: str | os.PathLike | None) -> Path | None:
+    """Validated output path (.zarr or .nc in a writable directory), before anything runs.
+
+    Raises
+    ------
+    ParameterError : wrong suffix, missing or read-only directory, or a path of the wrong type.
+    """
+    if out is None:
+        return None
+    path = Path(out)
+    if path.suffix not in SUFFIXES:
+        raise ParameterError(f"out = {str(out)!r} is invalid: must end in .zarr (written chunk by "
+                             "chunk, resumable) or .nc (NetCDF, written at the end)")
+    parent = path.resolve().parent
+    if not parent.is_dir() or not os.access(parent, os.W_OK):
+        raise ParameterError(f"out = {str(out)!r} is not writable: directory {str(parent)!r} "
+                             "does not exist or is read-only")
+    if path.exists() and (path.is_dir() != (path.suffix == ".zarr")):
+        raise ParameterError(f"out = {str(out)!r} is invalid: it exists and is not a "
+                             f"{'directory' if path.suffix == '.zarr' else 'file'}")
+    if path.suffix == ".zarr" and path.exists() and not os.access(path, os.W_OK):
+        raise ParameterError(f"out = {str(out)!r} is not writable: read-only")
+    return path
+
+
+def _open(path: Path) -> xr.Dataset:
+    try:
+        if path.suffix == ".zarr":
+            return xr.open_zarr(path)
+        return xr.open_dataset(path)
+    except Exception as exc:  # noqa: BLE001 - any unreadable file
+        raise ParameterError(f"out = {str(path)!r} exists and is not a readable spectralshell "
+                             f"sweep ({type(exc).__name__}): choose another path") from None
+
+
+def load_existing(path: Path, spec: SweepSpec) -> dict[str, np.ndarray] | None:
+    """Arrays of an existing store of the same scene (None if there is no store).
+
+    Raises
+    ------
+    ParameterError : the path holds another scene's sweep or something else.
+    """
+    if not path.exists():
+        return None
+    with _open(path) as ds:
+        found = ds.attrs.get("scene_hash")
+        if found != spec.digest:
+            what = f"a different sweep (scene hash {found})" if found else "no spectralshell sweep"
+            raise ParameterError(f"out = {str(path)!r} holds {what}, not this scene (hash "
+                                 f"{spec.digest}): choose another --out or delete it; sweeps "
+                                 "are never mixed")
+        missing = [v for v in ALL_VARIABLES if v not in ds]
+        if missing or tuple(ds["tau_min"].dims) != spec.dims:
+            raise ParameterError(f"out = {str(path)!r} is a damaged store (variables or "
+                                 "dimensions missing): delete it and rerun")
+        return {name: np.asarray(ds[name].values, dtype=dtype)
+                for name, dtype in ALL_VARIABLES.items()}
+
+
+class ZarrStore:
+    """A sweep's Zarr store, open for writing finished chunks."""
+
+    def __init__(self, path: Path, spec: SweepSpec):
+        import zarr
+
+        self.path = path
+        group = zarr.open_group(str(path), mode="r+")
+        self._arrays = {name: group[name] for name in ALL_VARIABLES}
+
+    @classmethod
+    def create(cls, path: Path, spec: SweepSpec) -> "ZarrStore":
+        """Write a new store (metadata, coordinates, fill values) and open it."""
+        ds = to_dataset(spec, empty_arrays(spec))
+        chunks = store_chunks(spec)
+        encoding = {name: {"chunks": chunks} for name in ALL_VARIABLES}
+        tmp = path.parent / f".partial-{uuid.uuid4().hex[:8]}-{path.name}"
+        try:
+            ds.to_zarr(tmp, mode="w-", encoding=encoding, zarr_format=2, consolidated=True)
+            os.rename(tmp, path)
+        except PermissionError as exc:
+            raise ParameterError(f"out = {str(path)!r} is not writable: {exc}") from None
+        finally:
+            if tmp.exists():
+                shutil.rmtree(tmp, ignore_errors=True)
+        return cls(path, spec)
+
+    def write(self, where: tuple[slice, ...], block: dict[str, np.ndarray]) -> None:
+        """Write one finished chunk: the variables, then its ``computed`` flags."""
+        for name in VARIABLES:
+            self._arrays[name][where] = block[name]
+        self._arrays["computed"][where] = np.ones(block["tau_min"].shape, dtype=bool)
+
+
+def write_netcdf(ds: xr.Dataset, path: Path) -> None:
+    """Write ``ds`` as NetCDF via a temporary file in the same directory (never a partial file)."""
+    tmp = path.parent / f".partial-{uuid.uuid4().hex[:8]}-{path.name}"
+    try:
+        ds.to_netcdf(tmp)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def open_sweep(path: str | os.PathLike) -> xr.Dataset:
+    """Load a stored sweep (.zarr or .nc) into memory.
+
+    Raises
+    ------
+    ParameterError : no such store, or not a spectralshell sweep.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise ParameterError(f"sweep = {str(path)!r} is invalid: no such file or store")
+    with _open(path) as ds:
+        if "scene_hash" not in ds.attrs or "tau_min" not in ds:
+            raise ParameterError(f"sweep = {str(path)!r} is invalid: not a spectralshell sweep")
+        order = [v for v in ALL_VARIABLES if v in ds]
+        order += [v for v in ds.data_vars if v not in ALL_VARIABLES]
+        return ds[order].load()

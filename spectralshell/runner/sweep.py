@@ -1,0 +1,205 @@
+"""The sweep runner: plan the chunks, skip the finished ones, dispatch the rest, store results."""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import xarray as xr
+from tqdm import tqdm
+
+from ..params.sweep_grid import SweepSpec, sweep_spec
+from .engine import run_tasks
+from .executors import check_executor, open_pool
+from .layout import chunks, region
+from .solve import ChunkResult, SweepError, solve_chunk, solve_points
+from .store import ZarrStore, check_out, empty_arrays, load_existing, to_dataset, write_netcdf
+
+IN_FLIGHT_PER_SLOT = 2  # tasks submitted per executor slot: keeps every worker busy
+
+
+def _in_flight(pool) -> int:
+    """Tasks kept submitted: one for the serial executor (it runs a task at submit), else two
+    per slot, so that a worker never waits for the next task."""
+    return 1 if pool.name == "serial" else IN_FLIGHT_PER_SLOT * pool.slots
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class SweepRun:
+    """A finished sweep: its Dataset, and how many grid points there are, were computed now,
+    and were skipped (already in the store); the store path and the wall time in seconds.
+
+    compute_seconds : summed in-worker compute time of the chunks computed now.
+    continued, fallbacks : kind solves accepted from the neighbour's truncation / not.
+    """
+
+    dataset: xr.Dataset
+    points: int
+    computed: int
+    skipped: int
+    out: str | None
+    seconds: float
+    compute_seconds: float = 0.0
+    chunks: int = 0
+    continued: int = 0
+    fallbacks: int = 0
+    executor: str = ""
+
+    def summary(self) -> dict[str, Any]:
+        """The JSON summary ``{"points", "computed", "skipped", "out", "seconds"}``."""
+        return {"points": self.points, "computed": self.computed, "skipped": self.skipped,
+                "out": self.out, "seconds": round(self.seconds, 3)}
+
+
+def _spec(scene) -> SweepSpec:
+    return scene if isinstance(scene, SweepSpec) else sweep_spec(scene)
+
+
+def _crash() -> SweepError:
+    return SweepError("a worker process died (killed, or out of memory): finished chunks are "
+                      "kept in the store; rerun the same command to resume")
+
+
+def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
+              scheduler: str | None = None, out: str | Path | None = None,
+              progress: bool = False,
+              on_chunk: Callable[[int, ChunkResult], None] | None = None) -> SweepRun:
+    """Run a sweep scene (path, TOML string, dict or SweepSpec) and return a :class:`SweepRun`.
+
+    Parameters
+    ----------
+    executor : 'serial', 'processes' (default) or 'dask'.
+    workers : processes (default: every core) or LocalCluster workers.
+    scheduler : with 'dask': 'local' (a LocalCluster, the default) or 'tcp://HOST:PORT'.
+    out : '*.zarr' (written chunk by chunk; rerunning resumes) or '*.nc' (written at the end);
+        None keeps the results in memory only.
+    progress : a progress bar (points/s, ETA) on stderr.
+    on_chunk : test hook, called as ``on_chunk(n_finished, result)`` after each chunk is stored.
+
+    Raises
+    ------
+    ParameterError : invalid scene, executor arguments or output; a store of another scene.
+    BackendUnavailable : executor 'dask' without the extra.
+    ConvergenceError, SweepError : a point failed (named with its parameters) or a worker died;
+        chunks finished before are kept in the store.
+    """
+    t0 = time.perf_counter()
+    spec = _spec(scene)
+    executor, workers, scheduler = check_executor(executor, workers, scheduler)
+    path = check_out(out)
+    arrays = (load_existing(path, spec) if path is not None else None) or empty_arrays(spec)
+    plan = chunks(spec)
+    todo = [c for c in plan if not arrays["computed"][region(spec, c)].all()]
+    n_todo = sum(int(arrays["computed"][region(spec, c)].size) for c in todo)
+    stats = {"chunks": 0, "seconds": 0.0, "continued": 0, "fallbacks": 0}
+    used = "none (nothing to compute)"
+    store = None
+    if todo:
+        bar = tqdm(total=n_todo, desc="sweep", unit="pt", disable=not progress, file=sys.stderr,
+                   dynamic_ncols=True)
+
+        def record(task: tuple, result: ChunkResult) -> None:
+            where = region(spec, task[1])
+            for name, block in result.arrays.items():
+                arrays[name][where] = block
+            arrays["computed"][where] = True
+            if store is not None:
+                store.write(where, result.arrays)
+            stats["chunks"] += 1
+            stats["seconds"] += result.seconds
+            stats["continued"] += result.continued
+            stats["fallbacks"] += result.fallbacks
+            bar.update(int(result.arrays["tau_min"].size))
+            if on_chunk is not None:
+                on_chunk(stats["chunks"], result)
+
+        try:
+            with open_pool(executor, workers=workers, scheduler=scheduler,
+                           max_tasks=len(todo)) as pool:
+                if path is not None and path.suffix == ".zarr":
+                    store = ZarrStore(path, spec) if path.exists() else ZarrStore.create(path, spec)
+                used = pool.description
+                bar.set_description(f"sweep [{pool.name}]")
+                run_tasks(pool.executor, solve_chunk, ((spec, c) for c in todo),
+                          in_flight=_in_flight(pool), on_result=record)
+        except BrokenProcessPool:
+            raise _crash() from None
+        except Exception as exc:
+            if type(exc).__name__ == "KilledWorker":  # Dask gave up after repeated worker deaths
+                raise _crash() from None
+            raise
+        finally:
+            bar.close()
+    ds = to_dataset(spec, arrays)
+    if path is not None and path.suffix == ".nc" and todo:
+        write_netcdf(ds, path)
+    return SweepRun(dataset=ds, points=spec.size, computed=n_todo, skipped=spec.size - n_todo,
+                    out=None if path is None else str(path), seconds=time.perf_counter() - t0,
+                    compute_seconds=stats["seconds"], chunks=stats["chunks"],
+                    continued=stats["continued"], fallbacks=stats["fallbacks"], executor=used)
+
+
+def sweep(scene, *, executor: str = "processes", workers: int | None = None,
+          scheduler: str | None = None, out: str | Path | None = None,
+          progress: bool = False) -> xr.Dataset:
+    """Run a parameter sweep and return its labelled ``xarray.Dataset``.
+
+    ``scene`` is a path, a TOML string or a dict with model, ask = ["tau_min"], [params] and a
+    [grid] (see :mod:`spectralshell.params.sweep_grid`). The result has the grid parameters as
+    coordinates (units in attrs), variables tau_min, has_tau, error_estimate, n_temporal and
+    computed, and provenance attrs. Every executor gives the same numbers. With ``out`` a .zarr
+    store is written chunk by chunk and a rerun computes only the missing points; a .nc file is
+    written at the end. See :func:`run_sweep` for the parameters and errors.
+    """
+    return run_sweep(scene, executor=executor, workers=workers, scheduler=scheduler, out=out,
+                     progress=progress).dataset
+
+
+def sweep_summary(scene, *, executor: str = "processes", workers: int | None = None,
+                  scheduler: str | None = None, out: str | Path | None = None,
+                  progress: bool = False) -> dict[str, Any]:
+    """Run a sweep (as :func:`run_sweep`) and return the CLI's JSON summary
+    ``{"points": N, "computed": n, "skipped": k, "out": "PATH", "seconds": t}``."""
+    return run_sweep(scene, executor=executor, workers=workers, scheduler=scheduler, out=out,
+                     progress=progress).summary()
+
+
+def _point_chunks(points: Sequence, size: int) -> list[tuple[int, list]]:
+    return [(i, list(points[i:i + size])) for i in range(0, len(points), size)]
+
+
+def map_points(factory, points: Sequence, kinds: tuple[str, ...], *, executor: str = "processes",
+               workers: int | None = None, scheduler: str | None = None, chunk: int = 32,
+               progress: bool = False, desc: str = "points", **options: Any) -> list[dict]:
+    """Full ``marginal_tau`` of each kind at every point, through any executor, in point order:
+    ``factory(point)`` (picklable) gives the Hill system; ``options`` go to ``marginal_tau``.
+
+    The general form of :func:`spectralshell.solvers.tongues.sweep` (same rows, same numbers),
+    for callers that need every marginal tau rather than a stored Dataset.
+    """
+    executor, workers, scheduler = check_executor(executor, workers, scheduler)
+    points = list(points)
+    tasks = [(factory, block, tuple(kinds), dict(options))
+             for _, block in _point_chunks(points, chunk)]
+    starts = {id(t): i * chunk for i, t in enumerate(tasks)}
+    rows: list = [None] * len(points)
+    bar = tqdm(total=len(points), desc=desc, unit="pt", disable=not progress, file=sys.stderr)
+
+    def record(task: tuple, result: list) -> None:
+        start = starts[id(task)]
+        rows[start:start + len(result)] = result
+        bar.update(len(result))
+
+    try:
+        with open_pool(executor, workers=workers, scheduler=scheduler,
+                       max_tasks=len(tasks)) as pool:
+            run_tasks(pool.executor, solve_points, tasks,
+                      in_flight=_in_flight(pool), on_result=record)
+    finally:
+        bar.close()
+    return rows

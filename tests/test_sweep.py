@@ -1,0 +1,368 @@
+"""Parameter sweeps: same numbers on every executor, resumable Zarr stores, continuation, errors."""
+
+import json
+import os
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import spectralshell as ss
+from spectralshell import cli
+from spectralshell.errors import BackendUnavailable, ConvergenceError, ParameterError
+from spectralshell.params.sweep_grid import DEFAULT_CHUNK, sweep_spec
+from spectralshell.runner import SweepError, executors, map_points, open_sweep, run_sweep, solve
+from spectralshell.runner.layout import chunks
+
+CHUNK = 6
+SCENE = {"model": "mathieu", "ask": ["tau_min"],
+         "grid": {"nu": [0.0, 0.1], "kappa": {"start": 0.05, "stop": 1.5, "num": 24}},
+         "tau_min": {"tau_max": 2.0}, "sweep": {"chunk": CHUNK}}
+POINTS_PER_CHUNK = CHUNK * 2  # two kinds
+
+
+def assert_same(a, b, atol=1e-14):
+    """Equal datasets: integer/bool variables exactly, reals to ``atol``; same coordinates."""
+    assert list(a.data_vars) == list(b.data_vars)
+    for name in a.coords:
+        assert np.array_equal(a[name].values, b[name].values), name
+    for name in a.data_vars:
+        x, y = a[name].values, b[name].values
+        if x.dtype.kind == "f":
+            np.testing.assert_allclose(x, y, rtol=0, atol=atol, err_msg=name)
+        else:
+            assert np.array_equal(x, y), name
+
+
+@pytest.fixture(scope="module")
+def serial():
+    return run_sweep(SCENE, executor="serial")
+
+
+def test_dataset_is_labelled_nan_free_and_complete(serial):
+    ds = serial.dataset
+    assert ds["tau_min"].dims == ("nu", "kappa", "kind")
+    assert ds["kappa"].attrs["units"] == "1" and ds["kind"].values.tolist() == ["harmonic", "subharmonic"]
+    assert ds.attrs["version"] == ss.__version__ and ds.attrs["scene_hash"] == sweep_spec(SCENE).digest
+    assert json.loads(ds.attrs["solver_options"])["tau_max"] == 2.0
+    assert bool(ds["computed"].all()) and bool(ds["has_tau"].any()) and not bool(ds["has_tau"].all())
+    for name in ("tau_min", "error_estimate"):
+        assert np.isfinite(ds[name].values).all()
+    none = ~ds["has_tau"].values
+    assert (ds["tau_min"].values[none] == 2.0).all() and (ds["error_estimate"].values[none] == 0).all()
+    assert serial.summary() == {"points": 96, "computed": 96, "skipped": 0, "out": None,
+                                "seconds": serial.summary()["seconds"]}
+
+
+def test_matches_the_floquet_api_pointwise(serial):
+    ds = serial.dataset
+    for nu, kappa in ((0.1, float(ds.kappa[10])), (0.0, float(ds.kappa[3]))):
+        ref = ss.floquet("mathieu", kappa=kappa, nu=nu, tau_max=2.0)
+        for kind in ("harmonic", "subharmonic"):
+            point = ds.sel(nu=nu, kappa=kappa, kind=kind)
+            expected = getattr(ref, kind).tau_min
+            assert bool(point.has_tau) == (expected is not None)
+            if expected is not None:
+                assert abs(float(point.tau_min) - expected) <= 1e-10
+
+
+def test_processes_equal_serial(serial):
+    run = run_sweep(SCENE, executor="processes", workers=2)
+    assert_same(run.dataset, serial.dataset)
+
+
+def test_interrupt_then_resume_equals_fresh_and_rerun_computes_nothing(serial, tmp_path):
+    out = tmp_path / "map.zarr"
+    stop_after = 3
+
+    def hook(n, result):
+        if n == stop_after:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(SCENE, executor="serial", out=out, on_chunk=hook)
+    partial = open_sweep(out)  # finished chunks are readable, the rest is flagged
+    assert int(partial["computed"].sum()) == stop_after * POINTS_PER_CHUNK
+    done = partial["computed"].values
+    for name in ("tau_min", "has_tau", "n_temporal"):
+        assert np.array_equal(partial[name].values[done], serial.dataset[name].values[done]), name
+    assert np.isfinite(partial["tau_min"].values).all() and not partial["has_tau"].values[~done].any()
+
+    seen = []
+    resumed = run_sweep(SCENE, executor="processes", workers=2, out=out,
+                        on_chunk=lambda n, r: seen.append(r.index))
+    assert len(seen) == len(set(seen)) == len(chunks(sweep_spec(SCENE))) - stop_after
+    assert resumed.summary()["computed"] == 96 - stop_after * POINTS_PER_CHUNK
+    assert resumed.summary()["skipped"] == stop_after * POINTS_PER_CHUNK
+    assert_same(resumed.dataset, serial.dataset)
+    assert_same(open_sweep(out), serial.dataset)
+
+    again = run_sweep(SCENE, executor="serial", out=out,
+                      on_chunk=lambda n, r: pytest.fail("a finished sweep computed a chunk"))
+    assert again.computed == 0 and again.skipped == 96
+
+
+def test_different_scene_is_refused_and_store_untouched(tmp_path):
+    out = tmp_path / "map.zarr"
+    small = {**SCENE, "grid": {"kappa": {"start": 0.2, "stop": 0.3, "num": 3}}}
+    run_sweep(small, executor="serial", out=out)
+    before = open_sweep(out)
+    other = {**small, "tau_min": {"tau_max": 1.0}}
+    with pytest.raises(ParameterError, match="holds a different sweep.*never mixed"):
+        run_sweep(other, executor="serial", out=out)
+    assert_same(open_sweep(out), before)
+
+
+def test_netcdf_written_at_the_end_and_reread(serial, tmp_path):
+    out = tmp_path / "map.nc"
+    run = run_sweep(SCENE, executor="serial", out=out)
+    assert run.out == str(out) and out.is_file()
+    back = open_sweep(out)
+    assert back.attrs["scene_hash"] == serial.dataset.attrs["scene_hash"]
+    for name in serial.dataset.data_vars:
+        assert np.array_equal(back[name].values, serial.dataset[name].values), name
+    assert run_sweep(SCENE, executor="serial", out=out).computed == 0
+
+
+def _fail_at(monkeypatch, kappa_bad, action):
+    real = solve.solve_kind
+
+    def patched(system, kind, options, hint=None):
+        if abs(system.forcing[0, 0] - kappa_bad) < 1e-12:
+            action()
+        return real(system, kind, options, hint)
+
+    monkeypatch.setattr(solve, "solve_kind", patched)
+
+
+def test_failing_point_names_point_and_parameters_and_keeps_finished_chunks(monkeypatch, tmp_path):
+    spec = sweep_spec(SCENE)
+    kappa_bad = spec.axis("kappa").values[2 * CHUNK + 1]  # third chunk of the first line
+
+    def boom():
+        raise ConvergenceError("tau_min did not converge (test)")
+
+    _fail_at(monkeypatch, kappa_bad, boom)
+    out = tmp_path / "map.zarr"
+    with pytest.raises(ConvergenceError) as info:
+        run_sweep(SCENE, executor="serial", out=out)
+    message = str(info.value)
+    assert "\n" not in message and f"kappa = {kappa_bad!r}" in message and "nu = 0.0" in message
+    assert "parameters:" in message and "did not converge (test)" in message
+    assert int(open_sweep(out)["computed"].sum()) == 2 * POINTS_PER_CHUNK
+
+
+def test_killed_worker_is_reported_and_finished_chunks_stay_readable(monkeypatch, tmp_path):
+    kappa_bad = sweep_spec(SCENE).axis("kappa").values[-1]
+    _fail_at(monkeypatch, kappa_bad, lambda: os._exit(3))
+    out = tmp_path / "map.zarr"
+    with pytest.raises(SweepError, match="worker process died.*rerun"):
+        run_sweep(SCENE, executor="processes", workers=2, out=out)
+    done = int(open_sweep(out)["computed"].sum())
+    assert done % POINTS_PER_CHUNK == 0 and done < 96
+
+
+def test_continuation_equals_independent_solves():
+    scene = {"model": "sphere", "params": {"nu": 1e-3, "m": 3},
+             "grid": {"kappa": {"start": 0.2, "stop": 0.26, "num": 5}},
+             "tau_min": {"tau_max": 2.0, "tol": 1e-10}}
+    independent = run_sweep({**scene, "tau_min": {**scene["tau_min"], "continuation": False}},
+                            executor="serial")
+    continued = run_sweep(scene, executor="serial")
+    assert continued.continued > 0 and independent.continued == 0
+    a, b = independent.dataset, continued.dataset
+    assert np.array_equal(a.has_tau.values, b.has_tau.values)
+    np.testing.assert_allclose(b.tau_min.values, a.tau_min.values, rtol=0, atol=1e-10)
+    same_pair = a.n_temporal.values == b.n_temporal.values  # same truncations: bitwise equal
+    assert same_pair.any()
+    assert np.array_equal(a.tau_min.values[same_pair], b.tau_min.values[same_pair])
+
+
+@pytest.mark.parametrize("model,params", [
+    ("mathieu", {"kappa": 0.3, "nu": 0.1}), ("mathieu", {"kappa": 6.0, "nu": 0.01}),
+    ("sphere", {"m": 2, "kappa": 0.05, "nu": 2.39e-4}), ("sphere", {"m": 3, "kappa": 0.25, "nu": 1e-3}),
+])
+def test_truncation_sequence_mirrors_the_solver(model, params):
+    from spectralshell.models.registry import hill_system
+    from spectralshell.params.registry import make_params
+    from spectralshell.solvers.marginal import marginal_tau
+
+    system = hill_system(make_params(model, params))
+    seq = solve.truncation_sequence(system)
+    for kind in ("harmonic", "subharmonic"):
+        m = marginal_tau(system, kind, tol=1e-10, tau_max=2.0)
+        i = seq.index(m.n_previous)
+        assert seq[i + 1] == m.n_temporal
+
+
+@pytest.mark.parametrize("change,fragment", [
+    ({"grid": {"alpha": [1.0]}}, "grid parameter 'alpha' is unknown for model 'mathieu'"),
+    ({"grid": {"m": [2, 3]}}, "grid parameter 'm' is unknown"),
+    ({"grid": {"kappa": {"start": 1.0, "stop": 0.5, "num": 5}}}, "stop must be >= start"),
+    ({"grid": {"kappa": {"start": 0.1, "stop": 0.5, "num": 0}}}, "grid kappa num = 0 is invalid"),
+    ({"grid": {"kappa": []}}, "grid kappa = \\[\\] is invalid"),
+    ({"grid": {"kappa": [0.1, 0.1]}}, "appears twice"),
+    ({"grid": {"kappa": {"start": 0.0, "stop": 1.0, "num": 4, "spacing": "log"}}}, "must be > 0"),
+    ({"grid": {"kappa": {"start": 0.1, "stop": 1.0, "num": 4, "spacing": "cubic"}}}, "spacing"),
+    ({"params": {"kappa": 0.3}, "grid": {"kappa": [0.1, 0.2]}}, "kappa is both fixed in \\[params\\]"),
+    ({"grid": {"kappa": [0.1], "kind": ["harmonic", "odd"]}}, "grid kind = 'odd' is invalid"),
+    ({"grid": {"kappa": [-0.1, 0.2]}}, "kappa = -0.1 is invalid"),
+    ({"grid": {}}, "at least one swept parameter"),
+    ({"tau_min": {"tol": 0}}, "tau_min.tol = 0 is invalid"),
+    ({"tau_min": {"kind": "both"}}, "tau_min.kind is unknown"),
+    ({"ask": ["exponents"]}, "ask = 'exponents' is invalid"),
+    ({"colour": "red"}, "scene key 'colour' is unknown"),
+    ({"sweep": {"chunk": 0}}, "sweep.chunk = 0 is invalid"),
+])
+def test_bad_grids_are_refused_in_one_line(change, fragment):
+    with pytest.raises(ParameterError, match=fragment) as info:
+        run_sweep({**SCENE, **change}, executor="serial")
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("change,fragment", [
+    ({"model": "sphere", "params": {"nu": 0.01, "kappa": 0.1}, "grid": {"m": [1, 2]}}, "m = 1 is invalid"),
+    ({"model": "sphere", "params": {"rho": 1.0, "mu": 0.04}, "grid": {"sigma": [1e3], "bpm": [60.0]}},
+     "radius is missing"),
+    ({"model": "sphere", "params": {"rho": 1.0, "mu": 0.04, "radius": 2.0, "nu": 0.1, "m": 2},
+      "grid": {"sigma": [1e3], "bpm": [60.0]}}, "nu is given together with physical"),
+    ({"model": "mathieu", "grid": {"sigma": [1.0]}}, "grid parameter 'sigma' is unknown"),
+])
+def test_bad_sphere_grids_are_refused(change, fragment):
+    with pytest.raises(ParameterError, match=fragment):
+        sweep_spec({"ask": ["tau_min"], **change})
+
+
+def test_unwritable_or_wrong_output_is_refused_before_computing(tmp_path):
+    with pytest.raises(ParameterError, match="must end in .zarr"):
+        run_sweep(SCENE, executor="serial", out=tmp_path / "map.csv")
+    with pytest.raises(ParameterError, match="not writable"):
+        run_sweep(SCENE, executor="serial", out=tmp_path / "missing" / "map.zarr")
+    (tmp_path / "junk.zarr").mkdir()
+    with pytest.raises(ParameterError, match="not a readable spectralshell sweep|no spectralshell sweep"):
+        run_sweep(SCENE, executor="serial", out=tmp_path / "junk.zarr")
+
+
+def test_scene_hash_is_stable_across_forms():
+    toml = """
+model = "mathieu"
+ask = ["tau_min"]
+[params]
+nu = 1
+[grid]
+kappa = {start = 0.1, stop = 0.5, num = 5}
+[tau_min]
+tau_max = 2.0
+"""
+    as_dict = {"model": "mathieu", "params": {"nu": 1.0}, "tau_min": {"tau_max": 2},
+               "grid": {"kappa": "0.1:0.5:5"}}
+    assert sweep_spec(toml).digest == sweep_spec(as_dict).digest
+    assert sweep_spec({**as_dict, "tau_min": {"tau_max": 2, "tol": 1e-9}}).digest != sweep_spec(as_dict).digest
+    spec = sweep_spec(toml)
+    assert spec.dims == ("kappa", "kind") and spec.chunk == DEFAULT_CHUNK
+
+
+def test_log_grid_integer_and_physical_axes():
+    spec = sweep_spec({"model": "sphere", "params": {"rho": 1.0, "mu": 0.04, "radius": 2.0},
+                       "grid": {"sigma": {"start": 1e3, "stop": 2e4, "num": 3, "spacing": "log"},
+                                "bpm": [60.0, 400.0], "m": "2:4", "kind": ["subharmonic"]}})
+    assert spec.dims == ("sigma", "bpm", "m", "kind") and spec.axis("m").values == (2, 3, 4)
+    assert spec.axis("sigma").values[1] == pytest.approx(np.sqrt(2e7)) and spec.line_axis == 1
+    p = spec.params_at({"sigma": 1e3, "bpm": 60.0, "m": 2})
+    omega = 2 * np.pi
+    assert p["kappa"] == pytest.approx(1e3 / (1.0 * 8.0 * omega**2))
+    assert p["nu"] == pytest.approx(0.04 / (4.0 * omega)) and p["m"] == 2
+
+
+def test_dask_missing_gives_one_line_error_naming_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    with pytest.raises(BackendUnavailable, match=r"pip install spectralshell\[dask\]") as info:
+        run_sweep(SCENE, executor="dask")
+    assert "\n" not in str(info.value)
+
+
+def test_executor_arguments_are_checked():
+    with pytest.raises(ParameterError, match="executor = 'threads' is invalid"):
+        run_sweep(SCENE, executor="threads")
+    with pytest.raises(ParameterError, match="needs executor 'dask'"):
+        run_sweep(SCENE, executor="processes", scheduler="local")
+    with pytest.raises(ParameterError, match="must be 'local' or an address"):
+        run_sweep(SCENE, executor="dask", scheduler="somewhere")
+
+
+def test_unreachable_scheduler_fails_within_the_timeout(monkeypatch, tmp_path):
+    pytest.importorskip("distributed")
+    monkeypatch.setattr(executors, "CONNECT_TIMEOUT", 1.0)
+    out = tmp_path / "map.zarr"
+    t0 = time.perf_counter()
+    with pytest.raises(ParameterError, match="unreachable: no Dask scheduler answered within 1 s"):
+        run_sweep(SCENE, executor="dask", scheduler="tcp://127.0.0.1:9", out=out)
+    assert time.perf_counter() - t0 < 10 and not out.exists()
+
+
+def test_local_cluster_equals_serial(serial):
+    pytest.importorskip("distributed")
+    run = run_sweep(SCENE, executor="dask", scheduler="local", workers=2)
+    assert "LocalCluster" in run.executor
+    assert_same(run.dataset, serial.dataset)
+
+
+def mathieu_system(nu, kappa):
+    from spectralshell.models.mathieu import hill_system
+
+    return hill_system(kappa=kappa, nu=nu)
+
+
+def test_map_points_gives_the_rows_of_tongues_sweep():
+    from functools import partial
+
+    from spectralshell.solvers.tongues import sweep as tongues_sweep
+
+    factory = partial(mathieu_system, 0.1)
+    grid = np.linspace(0.1, 1.2, 9)
+    kinds = ("harmonic", "subharmonic")
+    ref = tongues_sweep(factory, grid, kinds, workers=1, tol=1e-10)
+    rows = map_points(factory, grid, kinds, executor="processes", workers=2, chunk=4, tol=1e-10)
+    for r, s in zip(ref, rows):
+        for k in kinds:
+            assert np.array_equal(r[k].tau, s[k].tau) and r[k].n_temporal == s[k].n_temporal
+
+
+def test_plots_of_stored_sweeps(serial, tmp_path):
+    from spectralshell.plots import sweep_plot
+
+    two_d = sweep_plot.save(serial.dataset, tmp_path / "map.png")
+    one_d = sweep_plot.save(serial.dataset.isel(nu=[1]), tmp_path / "line.png")
+    for path in (two_d, one_d):
+        assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with pytest.raises(ParameterError, match="one or two real axes"):
+        sweep_plot.save(serial.dataset.isel(nu=[0], kappa=[0]), tmp_path / "none.png")
+
+
+needs_cli = pytest.mark.skipif(not hasattr(cli, "cmd_sweep"), reason="CLI sweep not integrated yet")
+
+
+@needs_cli
+def test_cli_sweep_json_then_plot(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text('model = "mathieu"\nask = ["tau_min"]\n[params]\nnu = 0.1\n[grid]\n'
+                     'kappa = {start = 0.1, stop = 1.2, num = 12}\n[tau_min]\ntau_max = 2.0\n')
+    out = tmp_path / "m.zarr"
+    assert cli.main(["sweep", str(scene), "--out", str(out), "--executor", "serial", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert set(data) == {"points", "computed", "skipped", "out", "seconds"}
+    assert (data["points"], data["computed"], data["skipped"]) == (24, 24, 0)
+    assert cli.main(["sweep", str(scene), "--out", str(out), "--executor", "serial", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["computed"] == 0
+    assert cli.main(["plot", str(out), "--png", str(tmp_path / "m.png")]) == 0
+    assert (tmp_path / "m.png").is_file()
+
+
+@needs_cli
+def test_cli_sweep_bad_grid_exits_2(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text('model = "mathieu"\n[grid]\nkappa = {start = 1, stop = 0, num = 3}\n')
+    assert cli.main(["sweep", str(scene), "--out", str(tmp_path / "m.zarr")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "stop must be >= start" in err
