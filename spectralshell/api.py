@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -32,8 +33,8 @@ from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, T
 from .solvers.exponents import floquet_exponents
 from .solvers.marginal import N_MAX, marginal_tau
 from .solvers.modes import find_modes
+from .runner import map_points
 from .solvers.tongues import find_tips
-from .solvers.tongues import sweep as point_sweep
 
 
 def _solver_options(tol: float, n_temporal: int | None, tau_max: float | None = None) -> dict[str, Any]:
@@ -85,6 +86,20 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
                          provenance=provenance({"kind": kind, **options}), warnings=tuple(warnings))
 
 
+PARALLEL_MIN_POINTS = 400  # below this a process pool costs more than it saves
+
+
+def _map(factory, points: list, kinds: tuple[str, ...], workers: int | None, progress: bool,
+         desc: str, options: dict[str, Any]) -> list:
+    """Marginal tau at every point through the sweep runner: serial for ``workers=1`` or small
+    grids, otherwise a process pool (all cores when ``workers`` is None)."""
+    serial = workers == 1 or (workers is None and len(points) < PARALLEL_MIN_POINTS)
+    chunk = max(1, -(-len(points) // (4 * (workers or os.cpu_count() or 1))))
+    return map_points(factory, points, kinds, executor="serial" if serial else "processes",
+                      workers=None if serial else workers, chunk=chunk, progress=progress,
+                      desc=desc, **options)
+
+
 def _factory(model: str, params: dict[str, Any], kappa: float) -> HillSystem:
     return _system(model, {**params, "kappa": kappa})[1]
 
@@ -113,7 +128,7 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
     for k in (grid.min(), grid.max()):
         make_params(model, {**params, "kappa": k})
     factory = functools.partial(_factory, model, dict(params))
-    rows = point_sweep(factory, grid, kinds, workers=workers, progress=progress, **options)
+    rows = _map(factory, list(grid), kinds, workers, progress, "tongues", options)
     found, failures = find_tips(factory, grid, rows, kinds, tol=options["tol"]) if tips else ([], [])
     warnings = tau_warnings(t for r in rows for m in r.values() for t in m.tau) + failures
     p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
@@ -184,8 +199,7 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str 
     for c in corners:  # validate the extremes before the sweep
         _point_params(model, dict(params), phys, names, c)
     points = [(gx, gy, d) for gy in grids[1] for gx in grids[0] for d in degrees]
-    rows = point_sweep(factory, points, kinds, workers=workers, progress=progress, desc="tau map",
-                       **options)
+    rows = _map(factory, points, kinds, workers, progress, "tau map", options)
     shape = (grids[1].size, grids[0].size, len(degrees))
     best = np.full(shape[:2], float(tau_max))
     has = np.zeros(shape[:2], dtype=bool)

@@ -314,15 +314,15 @@ def mathieu_system(nu, kappa):
     return hill_system(kappa=kappa, nu=nu)
 
 
-def test_map_points_gives_the_rows_of_tongues_sweep():
+def test_map_points_gives_the_rows_of_independent_solves():
     from functools import partial
 
-    from spectralshell.solvers.tongues import sweep as tongues_sweep
+    from spectralshell.solvers.marginal import marginal_tau
 
     factory = partial(mathieu_system, 0.1)
     grid = np.linspace(0.1, 1.2, 9)
     kinds = ("harmonic", "subharmonic")
-    ref = tongues_sweep(factory, grid, kinds, workers=1, tol=1e-10)
+    ref = [{k: marginal_tau(factory(kappa), k, tol=1e-10) for k in kinds} for kappa in grid]
     rows = map_points(factory, grid, kinds, executor="processes", workers=2, chunk=4, tol=1e-10)
     for r, s in zip(ref, rows):
         for k in kinds:

@@ -1,20 +1,17 @@
-"""Ince-Strutt diagrams: marginal tau over a kappa grid, and the tips (minima) of the fingers.
+"""Ince-Strutt diagrams: the tips (minima) of the fingers of marginal tau over a kappa grid.
 
-The solver sees only a picklable ``factory(kappa) -> HillSystem``; it never knows the model.
+The grid itself is solved by the sweep runner (:func:`spectralshell.runner.map_points`). The
+solver sees only a picklable ``factory(kappa) -> HillSystem``; it never knows the model.
 """
 
 from __future__ import annotations
 
-import os
-from collections.abc import Callable, Sequence
-from typing import Any
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
 from scipy.optimize import brentq
-from tqdm import tqdm
 
 from ..discretise.hill import assemble
 from ..errors import ConvergenceError
@@ -22,7 +19,6 @@ from ..models.base import HillSystem
 from .marginal import MarginalTau, marginal_tau, solve_truncation
 
 SystemFactory = Callable[[float], HillSystem]
-PARALLEL_MIN_POINTS = 400  # below this a process pool costs more than it saves
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -38,45 +34,6 @@ class Tip:
     tau: float
     kappa_error: float
     tau_error: float
-
-
-def _solve_chunk(factory: Callable[[Any], HillSystem], points: Sequence[Any],
-                 kinds: tuple[str, ...], options: dict[str, Any]) -> list[dict[str, MarginalTau]]:
-    return [{k: marginal_tau(system, k, **options) for k in kinds}
-            for system in map(factory, points)]
-
-
-def sweep(factory: Callable[[Any], HillSystem], points: Sequence[Any], kinds: tuple[str, ...], *,
-          workers: int | None = None, progress: bool = False, desc: str = "tongues",
-          **options: Any) -> list[dict[str, MarginalTau]]:
-    """Marginal tau of each kind at every point (``factory(point)`` is its Hill system), on all
-    cores for large grids; ``options`` go to :func:`marginal_tau` (tol, n_temporal, tau_max).
-
-    ``workers=None`` uses every core when the grid has at least PARALLEL_MIN_POINTS points;
-    ``workers=1`` runs serially. Results are identical either way (same per-point computation).
-    """
-    points = list(points)
-    if workers is None:
-        workers = (os.cpu_count() or 1) if len(points) >= PARALLEL_MIN_POINTS else 1
-    n_chunks = max(1, min(len(points), 4 * workers))
-    bounds = np.linspace(0, len(points), n_chunks + 1).astype(int)
-    chunks = [points[a:b] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
-    bar = tqdm(total=len(points), desc=desc, unit="pt", disable=not progress, leave=False)
-    results: list[dict[str, MarginalTau]] = []
-    try:
-        if workers == 1:
-            for chunk in chunks:
-                results.extend(_solve_chunk(factory, chunk, kinds, options))
-                bar.update(len(chunk))
-        else:
-            with ProcessPoolExecutor(max_workers=workers) as pool:
-                futures = [pool.submit(_solve_chunk, factory, c, kinds, options) for c in chunks]
-                for fut, chunk in zip(futures, chunks):
-                    results.extend(fut.result())
-                    bar.update(len(chunk))
-    finally:
-        bar.close()
-    return results
 
 
 def tau_slope(factory: SystemFactory, kind: str, kappa: float, tau: float, n_temporal: int) -> float:
@@ -178,8 +135,8 @@ def find_tips(factory: SystemFactory, kappas: np.ndarray, rows: list[dict[str, M
     for kind in kinds:
         tmin = np.array([r[kind].tau_min if r[kind].tau_min is not None else np.inf for r in rows])
         for i in range(1, len(kappas) - 1):
-            if np.isfinite(tmin[i]) and tmin[i] <= tmin[i - 1] and tmin[i] < tmin[i + 1] \
-                    and np.isfinite(tmin[i - 1]) and np.isfinite(tmin[i + 1]):
+            # a neighbour without tau (none, or none below a tau_max cap) counts as +inf
+            if np.isfinite(tmin[i]) and tmin[i] <= tmin[i - 1] and tmin[i] < tmin[i + 1]:
                 try:
                     tips.append(refine_tip(factory, kind, float(kappas[i - 1]),
                                            float(kappas[i + 1]), float(tmin[i]), tol=tol))
