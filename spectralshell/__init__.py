@@ -12,13 +12,14 @@ Public API::
     ss.tau_map("sphere", x=("kappa", "0.01:0.3:50"), y=("nu", "1e-4:1e-2:50"), m="2:6")
     ss.run_scene("scene.toml")                          # a planned scene
     ss.sweep("map.toml", out="map.zarr")                # a parameter sweep -> xarray.Dataset
+    ss.lp_coefficient(2)                                # lambda = lambda0 (1 + c eps^2), thesis 7.3
 """
 
 from ._version import __version__
-from .api import (exponents, floquet, natural_modes, open_sweep, run_scene, stability, sweep, tau_map,
-                  tongues)
+from .api import (exponents, floquet, lp_coefficient, natural_modes, open_sweep, run_scene, stability,
+                  sweep, tau_map, tongues)
 from .errors import BackendUnavailable, ConvergenceError, ParameterError, SpectralShellError
 
 __all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "natural_modes", "tau_map",
-           "run_scene", "sweep", "open_sweep", "SpectralShellError",
+           "run_scene", "sweep", "open_sweep", "lp_coefficient", "SpectralShellError",
            "ParameterError", "ConvergenceError", "BackendUnavailable"]

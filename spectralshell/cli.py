@@ -254,6 +254,33 @@ def _modes_text(res) -> str:
     return "\n".join(lines)
 
 
+def _integer(name: str, text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise ParameterError(f"{name} = {text!r} is invalid: must be an integer") from None
+
+
+def cmd_lp(args) -> int:
+    if args.m is None:
+        raise ParameterError("--m is required, e.g. --m 2")
+    data = api.lp_summary(_integer("m", args.m), _integer("k", args.k), volume=args.volume,
+                          check=args.check)
+
+    def text() -> str:
+        lines = [f"sphere, inviscid, radial-only displacement, shape 1 + eps Y_{{{data['m']},{data['k']}}}:",
+                 f"  lambda = lambda0 (1 + c eps^2),  c = {data['coefficient_exact']} = "
+                 f"{data['coefficient']:.15g}",
+                 f"  lambda0 / sqrt(kappa) = {data['lambda0_over_sqrt_kappa']:.15g}"]
+        if "check" in data:
+            lines.append(f"  direct nonlinear solve: slope = {data['check']['slope']:.12g} "
+                         f"+- {data['check']['uncertainty']:.1e}  "
+                         f"(difference {abs(data['check']['slope'] - data['coefficient']):.1e})")
+        return "\n".join(lines)
+
+    return _report(args.json, data, text)
+
+
 def cmd_figure(args) -> int:
     from .reports.figures import FIGURES, make_figure
 
@@ -382,6 +409,15 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument(f"--{name}", help=f"physical input ({unit}); with all four, rates in s^-1")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
     p.set_defaults(func=cmd_modes)
+
+    p = sub.add_parser("lp", help="nonlinear frequency coefficient c (Lindstedt-Poincare, thesis 7.3)")
+    p.add_argument("--m", help="degree of the initial shape, 2..8")
+    p.add_argument("--k", default="0", help="order k, |k| <= m (real harmonic)")
+    p.add_argument("--volume", default="reference", choices=("reference", "literal"),
+                   help="enclosed volume: the unit sphere's (default) or that of 1 + eps Y exactly")
+    p.add_argument("--check", action="store_true", help="also run the direct nonlinear solve")
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    p.set_defaults(func=cmd_lp)
 
     p = sub.add_parser("figure", help="reproduce a thesis figure (PNG + JSON data)")
     p.add_argument("name", help="e.g. fig-2.2, fig-2.3")
