@@ -146,8 +146,9 @@ PHYSICAL_AXES = {"sigma": "dyn/cm", "omega": "rad/s", "bpm": "beats/min", "radiu
                  "mu": "g/(cm s)", "rho": "g/cm^3"}
 
 
-def _point_params(model: str, params: dict[str, Any], physical: dict[str, float] | None,
+def _point_params(params: dict[str, Any], physical: dict[str, float] | None,
                   names: tuple[str, str], point: tuple[float, float, int]) -> dict[str, Any]:
+    """Model parameters of one map point (x, y, m), converted from cgs when ``physical`` is given."""
     x, y, degree = point
     values = {**params, names[0]: float(x), names[1]: float(y), "m": int(degree)}
     if physical is None:
@@ -160,7 +161,7 @@ def _point_params(model: str, params: dict[str, Any], physical: dict[str, float]
 
 def _map_system(model: str, params: dict[str, Any], physical: dict[str, float] | None,
                 names: tuple[str, str], point: tuple[float, float, int]) -> HillSystem:
-    return _system(model, _point_params(model, params, physical, names, point))[1]
+    return _system(model, _point_params(params, physical, names, point))[1]
 
 
 def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str = "both",
@@ -198,10 +199,9 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str 
         if name in PHYSICAL_AXES and phys is None:
             raise ParameterError(f"axis {name} = physical quantity is invalid without physical=")
     factory = functools.partial(_map_system, model, dict(params), phys, names)
-    corners = [(gx, gy, d) for gx in (grids[0][0], grids[0][-1]) for gy in (grids[1][0], grids[1][-1])
-               for d in (degrees[0],)]
-    for c in corners:  # validate the extremes before the sweep
-        _point_params(model, dict(params), phys, names, c)
+    for gx in (grids[0][0], grids[0][-1]):  # validate the grid's corners before the sweep
+        for gy in (grids[1][0], grids[1][-1]):
+            make_params(model, _point_params(dict(params), phys, names, (gx, gy, degrees[0])))
     points = [(gx, gy, d) for gy in grids[1] for gx in grids[0] for d in degrees]
     rows = _map(factory, points, kinds, workers, progress, "tau map", options)
     shape = (grids[1].size, grids[0].size, len(degrees))
