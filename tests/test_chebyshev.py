@@ -54,27 +54,30 @@ def test_lobatto_first_derivative_corner_entries():
 @settings(max_examples=25, deadline=None)
 @given(st.integers(min_value=4, max_value=40),
        st.lists(st.floats(-1, 1), min_size=1, max_size=41),
-       st.sampled_from(["lobatto", "gauss", "random"]))
+       st.sampled_from(["lobatto", "gauss"]))
 def test_differentiation_exact_on_polynomials(n, coef, kind):
-    """D^(k) p = p^(k) at the nodes for every polynomial of degree < number of nodes, k <= 4;
-    tolerance eps N^(2k) times the size of p (the known growth of the recursion's rounding)."""
+    """D^(k) p = p^(k) at the Chebyshev nodes for every polynomial of degree < number of nodes,
+    k <= 4; tolerance eps N^(2k) times the size of p (the known growth of the recursion's
+    rounding on Chebyshev nodes; on arbitrary nodes it is set by the spacing instead)."""
     coef = coef[:n]
-    if kind == "lobatto":
-        x = lobatto_points(n - 1)
-    elif kind == "gauss":
-        x = gauss_points(n)
-    else:
-        x = np.sort(np.random.default_rng(n).uniform(-1, 1, n))
-        x = np.unique(np.round(x, 3))
-        if x.size < len(coef) or np.min(np.diff(x)) < 1e-2:
-            return
+    x = lobatto_points(n - 1) if kind == "lobatto" else gauss_points(n)
     Ds = differentiation_matrices(x, 4)
     vals = poly_derivatives(coef, x, 4)
     scale = np.sum(np.abs(coef)) + 1e-300
     for k, D in enumerate(Ds, start=1):
-        cond = 1.0 if kind != "random" else 1e3
-        tol = 1e-14 * cond * (x.size ** (2 * k)) * scale + 1e-12
+        tol = 1e-14 * (x.size ** (2 * k)) * scale + 1e-12
         assert np.max(np.abs(D @ vals[0] - vals[k])) <= tol
+
+
+def test_differentiation_exact_on_arbitrary_nodes():
+    """Barycentric differentiation is exact for polynomials on any distinct nodes: 9 fixed
+    random nodes (spacing >= 0.05), degree 8, first and second derivatives."""
+    x = np.array([-0.93, -0.71, -0.52, -0.2, -0.05, 0.18, 0.41, 0.66, 0.97])
+    coef = list(np.random.default_rng(1).uniform(-1, 1, x.size))
+    D1, D2 = differentiation_matrices(x, 2)
+    vals = poly_derivatives(coef, x, 2)
+    np.testing.assert_allclose(D1 @ vals[0], vals[1], atol=1e-11)
+    np.testing.assert_allclose(D2 @ vals[0], vals[2], atol=1e-9)
 
 
 def test_interpolation_exact_and_hits_nodes():
