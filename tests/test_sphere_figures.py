@@ -10,6 +10,7 @@ from spectralshell.api import tau_map
 from spectralshell.cli import main
 from spectralshell.models.sphere import lambda0_squared
 from spectralshell.params.physical import TABLE_6_1
+from spectralshell.plots import tau_map as tau_plot
 
 
 def test_map_in_physical_units_finds_case_2_mode():
@@ -23,6 +24,16 @@ def test_map_in_physical_units_finds_case_2_mode():
     assert (res.degree[0, 0], res.kind[0, 0]) == (2, "S")
     assert res.error_estimate[0, 0] < 1e-8
     assert res.units == {"sigma": "dyn/cm", "bpm": "beats/min"}
+
+
+def test_map_png_and_npz(tmp_path):
+    res = tau_map("sphere", x=("kappa", [0.02, 0.06]), y=("nu", [0.002, 0.006]), m="2:3", workers=1)
+    assert tau_plot.save(res, tmp_path / "map.png", min_cells=1).stat().st_size > 5_000
+    res.write_npz(tmp_path / "map.npz")
+    with np.load(tmp_path / "map.npz") as data:
+        np.testing.assert_array_equal(data["tau_min"], res.tau_min)
+        assert json.loads(str(data["metadata"]))["units"] == {"kappa": "dimensionless",
+                                                             "nu": "dimensionless"}
 
 
 def test_map_is_blank_without_instability_below_tau_max():

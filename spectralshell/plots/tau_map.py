@@ -38,9 +38,11 @@ def save(res: TauMapResult, path: str | Path, *,
     """Write the map as PNG; ``boxes`` are ((x0, x1), (y0, y1), label, colour) rectangles."""
     fig, ax = plt.subplots(figsize=(7.5, 5.5))
     shown = np.ma.masked_where(~res.has_tau, res.tau_min)
-    mesh = ax.pcolormesh(res.x, res.y, shown, cmap="Blues_r", vmin=0.0, vmax=res.tau_max,
+    # the colour scale stops short of white, which is reserved for "no instability"
+    mesh = ax.pcolormesh(res.x, res.y, shown, cmap="Blues_r", vmin=0.0, vmax=1.3 * res.tau_max,
                          shading="nearest")
-    fig.colorbar(mesh, ax=ax, label=f"minimum τ of instability (white: none below {res.tau_max:g})")
+    bar = fig.colorbar(mesh, ax=ax, label=f"minimum τ of instability (white: none below {res.tau_max:g})")
+    bar.ax.set_ylim(0.0, res.tau_max)
     _band_labels(ax, res, min_cells)
     for (x0, x1), (y0, y1), label, colour in boxes:
         ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor=colour,
