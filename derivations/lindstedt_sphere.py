@@ -115,23 +115,14 @@ import sympy as sp
 from sympy.physics.wigner import gaunt
 
 HERE = Path(__file__).resolve()
+sys.path.insert(0, str(HERE.parent))  # the shared check harness, also when imported by tests
+from _checks import check, section, summary  # noqa: E402  (derivations/_checks.py)
 REPO = HERE.parents[1]
 TARGET = REPO / "spectralshell" / "models" / "nonlinear_coefficients.py"
 GENERATED_RANGE = [(m, k) for m in range(2, 9) for k in range(0, m + 1)]
 DIGITS = 30
 ORDER = 3  # highest power of eps kept
 
-RESULTS: list[tuple[str, bool, str]] = []
-
-
-def check(name: str, ok: bool, detail: str = "") -> bool:
-    RESULTS.append((name, bool(ok), detail))
-    print(f"  [{'PASS' if ok else 'FAIL'}] {name}" + (f"  ({detail})" if detail else ""))
-    return bool(ok)
-
-
-def section(title: str) -> None:
-    print("\n" + "=" * 78 + f"\n{title}\n" + "=" * 78)
 
 
 # =============================================================================================
@@ -909,7 +900,6 @@ def main(argv=None) -> int:
     ap.add_argument("--k", type=int, nargs="*", help="orders to tabulate (default 0..m)")
     ap.add_argument("--quick", action="store_true", help="skip sections A, B, G")
     args = ap.parse_args(argv)
-    t0 = time.time()
     pairs = [(m, k) for (m, k) in GENERATED_RANGE
              if (args.m is None or m in args.m) and (args.k is None or k in args.k)]
     if not args.quick:
@@ -930,8 +920,7 @@ def main(argv=None) -> int:
         check("generated file is up to date", TARGET.exists() and TARGET.read_text() == text)
     else:
         print("  subset run: generated file not compared")
-    print(f"\n{sum(ok for _, ok, _ in RESULTS)}/{len(RESULTS)} checks pass; {time.time() - t0:.1f} s")
-    return 0 if all(ok for _, ok, _ in RESULTS) else 1
+    return summary()
 
 
 if __name__ == "__main__":

@@ -26,27 +26,16 @@ Conventions used throughout (they are restated in the result file):
 from __future__ import annotations
 
 import sys
-import time
 
 import mpmath as mp
 import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-T0 = time.time()
+from _checks import check, section, summary  # noqa: E402  (derivations/_checks.py)
+
 mp.mp.dps = 40
 
-RESULTS: list[tuple[str, bool, str]] = []
-
-
-def check(name: str, ok: bool, detail: str = "") -> bool:
-    RESULTS.append((name, bool(ok), detail))
-    print(f"  [{'PASS' if ok else 'FAIL'}] {name}" + (f"  ({detail})" if detail else ""))
-    return bool(ok)
-
-
-def section(title: str) -> None:
-    print("\n" + "=" * 78 + f"\n{title}\n" + "=" * 78)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -962,13 +951,7 @@ def main() -> int:
     section("Summary")
     for k, v in verdicts.items():
         print(f"  erratum '{k}': {'CONFIRMED' if v else 'NOT CONFIRMED'}")
-    n_fail = sum(1 for _, ok, _ in RESULTS if not ok)
-    print(f"  {len(RESULTS) - n_fail}/{len(RESULTS)} checks passed; runtime {time.time() - T0:.1f} s")
-    if n_fail:
-        for name, ok, det in RESULTS:
-            if not ok:
-                print(f"  FAILED: {name} {det}")
-    return 1 if n_fail else 0
+    return summary()
 
 
 if __name__ == "__main__":

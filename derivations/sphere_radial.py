@@ -23,23 +23,11 @@ all pass (about 10 s).
 from __future__ import annotations
 
 import sys
-import time
 
 import mpmath as mp
 import sympy as sp
 
-T0 = time.time()
-RESULTS: list[tuple[str, bool]] = []
-
-
-def check(name: str, ok: bool, detail: str = "") -> None:
-    RESULTS.append((name, bool(ok)))
-    print(f"  [{'PASS' if ok else 'FAIL'}] {name}" + (f"  ({detail})" if detail else ""))
-
-
-def section(title: str) -> None:
-    print("\n" + "=" * 78 + f"\n{title}\n" + "=" * 78)
-
+from _checks import check, section, summary  # derivations/_checks.py
 
 r, xi = sp.symbols("r xi", positive=True)
 m = sp.Symbol("m", positive=True, integer=True)
@@ -246,11 +234,7 @@ def main() -> int:
     part_b()
     part_c()
     part_d()
-    failed = [n for n, ok in RESULTS if not ok]
-    print(f"\n{len(RESULTS) - len(failed)}/{len(RESULTS)} checks pass, {time.time() - T0:.1f} s")
-    for n in failed:
-        print("FAILED:", n)
-    return 1 if failed else 0
+    return summary()
 
 
 if __name__ == "__main__":

@@ -31,7 +31,7 @@ from ..errors import ParameterError
 from .._validate import require_choice, require_int_in_range
 
 GENERATOR = "derivations/lindstedt_sphere.py"
-GENERATOR_SHA256 = "a95f31c99bd8af024a8101e87a2f58f98aa412f2d72758695e8f19a5369c1fdd"
+GENERATOR_SHA256 = "4b5c91645fa678543ed6e9c7f73d78493b2395db035729834caaf8e4847c05e9"
 M_MIN, M_MAX = 2, 8
 
 #: (m, k) -> (num, den): c_{m,k} = num / (den pi), exact
