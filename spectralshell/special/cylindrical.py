@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.special as sc
 
-from .spherical import M_MAX, _finish, _invalid, _prepare
+from .spherical import M_MAX, _finish, _invalid, _prepare, ratio_i_continued_fraction
 
 __all__ = ["M_MAX", "ratio_i", "ratio_k", "logderiv_i", "logderiv_k"]
 
@@ -45,7 +45,6 @@ _Z_TINY = 1e-100
 _Z_ASYMPTOTIC = 25.0
 _ASYMPTOTIC_TERMS = 40
 _EPS = np.finfo(float).eps
-_TINY = 1e-300
 
 
 # ----------------------------------------------------------------------------- kernels
@@ -89,44 +88,8 @@ def _ratio_i_asymptotic(m: np.ndarray, z: np.ndarray) -> np.ndarray:
 
 
 def _ratio_i_cf(m: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """I_{m+1}/I_m by the continued fraction DLMF 10.33.1 (modified Lentz).
-
-    I_nu / I_{nu-1} = 1/(b_1 + 1/(b_2 + ...)), b_k = 2(nu + k - 1)/z, here nu = m + 1. The tail
-    converges once k exceeds about |z|; the cap allows 2|z| + 500 terms.
-    """
-    out = np.empty(z.shape, dtype=np.complex128)
-    if z.size == 0:
-        return out
-    mf = m.astype(float)
-    cap = (2.0 * np.abs(z) + 500.0).astype(np.int64)
-    idx = np.arange(z.size)
-    f = 2.0 * (mf + 1.0) / z
-    c = f.copy()
-    d = np.zeros_like(f)
-    zz, mm, cc = z, mf, cap
-    k = 1
-    while idx.size:
-        k += 1
-        b = 2.0 * (mm + k) / zz
-        d = b + d
-        d[d == 0] = _TINY
-        c = b + 1.0 / c
-        c[c == 0] = _TINY
-        d = 1.0 / d
-        delta = c * d
-        f = f * delta
-        done = np.abs(delta - 1.0) <= _EPS
-        if done.any():
-            out[idx[done]] = 1.0 / f[done]
-            keep = ~done
-            idx, f, c, d = idx[keep], f[keep], c[keep], d[keep]
-            zz, mm, cc = zz[keep], mm[keep], cc[keep]
-        over = k >= cc
-        if over.any():  # pragma: no cover - not reached on the documented domain
-            j = idx[over][0]
-            raise _invalid("z", complex(z[j]), f"a point where the continued fraction for "
-                           f"I_(m+1)/I_m (m = {int(m[j])}) converges within {int(cap[j])} terms")
-    return out
+    """I_{m+1}/I_m by the continued fraction DLMF 10.33.1 (modified Lentz)."""
+    return ratio_i_continued_fraction(m.astype(float), z, "I_(m+1)/I_m")
 
 
 def _ratio_i_all(m: np.ndarray, z: np.ndarray) -> np.ndarray:

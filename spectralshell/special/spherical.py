@@ -141,27 +141,27 @@ def _finish(out: np.ndarray, z: np.ndarray, shape: tuple) -> np.ndarray | np.com
 # ----------------------------------------------------------------------------- kernels
 
 
-def _ratio_i_cf(m: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """i_{m+1}(z)/i_m(z) by the continued fraction DLMF 10.33.1 (modified Lentz).
+def ratio_i_continued_fraction(order: np.ndarray, z: np.ndarray, label: str) -> np.ndarray:
+    """I_{order+1}(z)/I_order(z) for real orders >= 0 by the continued fraction DLMF 10.33.1
+    (modified Lentz), vectorised; shared by the spherical and cylindrical kernels.
 
-    With nu = m + 3/2, I_nu/I_{nu-1} = 1/(b_1 + 1/(b_2 + ...)), b_k = (2m + 2k + 1)/z, and
-    i_{m+1}/i_m = I_{m+3/2}/I_{m+1/2} (the factor sqrt(pi/(2z)) cancels).  The tail converges
-    once k exceeds about |z|; the cap allows 2|z| + 500 terms.
+    I_nu/I_{nu-1} = 1/(b_1 + 1/(b_2 + ...)), b_k = 2(nu + k - 1)/z with nu = order + 1, so
+    b_k = 2(order + k)/z. The tail converges once k exceeds about |z|; the cap allows
+    2|z| + 500 terms. ``label`` names the ratio (and its order) in the error message.
     """
     out = np.empty(z.shape, dtype=np.complex128)
     if z.size == 0:
         return out
-    mf = m.astype(float)
     cap = (2.0 * np.abs(z) + 500.0).astype(np.int64)
     idx = np.arange(z.size)
-    f = (2.0 * mf + 3.0) / z  # b_1 (never zero: |z| is finite)
+    f = 2.0 * (order + 1.0) / z  # b_1 (never zero: |z| is finite)
     c = f.copy()
     d = np.zeros_like(f)
-    zz, mm, cc = z, mf, cap
+    zz, oo, cc = z, order, cap
     k = 1
     while idx.size:
         k += 1
-        b = (2.0 * mm + (2 * k + 1)) / zz
+        b = 2.0 * (oo + k) / zz
         d = b + d
         d[d == 0] = _TINY
         c = b + 1.0 / c
@@ -174,17 +174,18 @@ def _ratio_i_cf(m: np.ndarray, z: np.ndarray) -> np.ndarray:
             out[idx[done]] = 1.0 / f[done]
             keep = ~done
             idx, f, c, d = idx[keep], f[keep], c[keep], d[keep]
-            zz, mm, cc = zz[keep], mm[keep], cc[keep]
+            zz, oo, cc = zz[keep], oo[keep], cc[keep]
         over = k >= cc
         if over.any():
             j = idx[over][0]
-            raise _invalid(
-                "z",
-                complex(z[j]),
-                f"a point where the continued fraction for i_(m+1)/i_m (m = {int(m[j])}) "
-                f"converges within {int(cap[j])} terms",
-            )
+            raise _invalid("z", complex(z[j]), f"a point where the continued fraction for {label} "
+                           f"(order {float(order[j]):g}) converges within {int(cap[j])} terms")
     return out
+
+
+def _ratio_i_cf(m: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """i_{m+1}(z)/i_m(z) = I_{m+3/2}(z)/I_{m+1/2}(z) (the factor sqrt(pi/(2z)) cancels)."""
+    return ratio_i_continued_fraction(m.astype(float) + 0.5, z, "i_(m+1)/i_m")
 
 
 def _bessel_poly_sums(n: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
