@@ -22,12 +22,13 @@ from hypothesis import strategies as st
 from spectralshell.errors import ConvergenceError, ParameterError
 from spectralshell.models.base import ModalSystem
 from spectralshell.models.sphere import lambda0_squared, poloidal_unforced, toroidal_unforced
-from spectralshell.models.sphere_modes import (_p_q, _ratio_i, inviscid_limit, modal_system,
+from spectralshell.models.sphere_modes import (_p_q, inviscid_limit, modal_system,
                                                poloidal_residual, poloidal_residual_mp,
                                                psi_relaxation_limit, stokes_limit, stokes_matrix,
                                                toroidal_limits, toroidal_residual_mp)
 from spectralshell.results.modes import NaturalModesResult
 from spectralshell.solvers.modes import find_modes
+from spectralshell.special.spherical_scalar import ratio_i_scalar
 
 
 def mp_d(gamma, m, kappa, nu):
@@ -271,7 +272,7 @@ def test_scalar_ratio_kernel_against_mpmath(m, z):
         want = mp.besseli(m + 1.5, zz) / mp.besseli(m + 0.5, zz)
         P = zz * want
         cond = max(1.0, abs(complex((zz**2 - (2 * m + 1) * P - P * P) / P - 1)))
-    assert abs(_ratio_i(m, z) - complex(want)) <= 2e-14 * cond * abs(complex(want))
+    assert abs(ratio_i_scalar(m, z) - complex(want)) <= 2e-14 * cond * abs(complex(want))
 
 
 def test_riccati_derivatives():
