@@ -26,7 +26,7 @@ from .models.nonlinear_coefficients import lp_coefficient_exact
 from .models.sphere import lambda0_squared
 from .models.sphere_nonlinear import lambda0_over_sqrt_kappa
 from .params.grid import parse_int_range, parse_range
-from .params.physical import PhysicalSphere, bpm_to_rad_per_s
+from .params.physical import PHYSICAL_UNITS, PhysicalSphere, sphere_forced_params
 from .params.registry import check_model, make_params
 from .params.scene import Plan, plan
 from .results.maps import TauMapResult
@@ -142,21 +142,12 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
                          provenance=provenance({"kind": kind, "tips": tips, **options}))
 
 
-PHYSICAL_AXES = {"sigma": "dyn/cm", "omega": "rad/s", "bpm": "beats/min", "radius": "cm",
-                 "mu": "g/(cm s)", "rho": "g/cm^3"}
-
-
 def _point_params(params: dict[str, Any], physical: dict[str, float] | None,
                   names: tuple[str, str], point: tuple[float, float, int]) -> dict[str, Any]:
     """Model parameters of one map point (x, y, m), converted from cgs when ``physical`` is given."""
     x, y, degree = point
     values = {**params, names[0]: float(x), names[1]: float(y), "m": int(degree)}
-    if physical is None:
-        return values
-    phys = {**physical, **{k: values.pop(k) for k in list(values) if k in PHYSICAL_AXES}}
-    if "bpm" in phys:
-        phys["omega"] = bpm_to_rad_per_s(phys.pop("bpm"))
-    return {**values, **PhysicalSphere(**phys).forced()}
+    return values if physical is None else sphere_forced_params({**physical, **values})
 
 
 def _map_system(model: str, params: dict[str, Any], physical: dict[str, float] | None,
@@ -196,7 +187,7 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str 
         raise ParameterError("x/y grid = [] is invalid: must be a non-empty grid")
     phys = None if physical is None else {k: float(v) for k, v in physical.items()}
     for name in names:
-        if name in PHYSICAL_AXES and phys is None:
+        if name in PHYSICAL_UNITS and phys is None:
             raise ParameterError(f"axis {name} = physical quantity is invalid without physical=")
     factory = functools.partial(_map_system, model, dict(params), phys, names)
     for gx in (grids[0][0], grids[0][-1]):  # validate the grid's corners before the sweep
@@ -217,7 +208,7 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str 
                 best[idx[:2]], has[idx[:2]] = t, True
                 degree[idx[:2]], which[idx[:2]] = degrees[idx[2]], k[0].upper()
                 err[idx[:2]] = row[k].error_estimate or 0.0
-    units = {n: PHYSICAL_AXES.get(n, "dimensionless") for n in names}
+    units = {n: PHYSICAL_UNITS.get(n, "dimensionless") for n in names}
     p = dict(params) if phys is None else {**params, **phys}
     return TauMapResult(model=model, params=p, x_name=names[0], y_name=names[1], units=units,
                         x=grids[0], y=grids[1], degrees=tuple(degrees), tau_max=float(tau_max),

@@ -79,6 +79,21 @@ class PhysicalSphere:
                          / (self.rho * self.radius**3 * (2 * m + 1)))
 
 
+#: The cgs quantities that may replace (nu, kappa) of the sphere, with their units.
+PHYSICAL_UNITS = {"rho": "g/cm^3", "mu": "g/(cm s)", "radius": "cm", "sigma": "dyn/cm",
+                  "omega": "rad/s", "bpm": "beats/min"}
+
+
+def sphere_forced_params(values: dict) -> dict:
+    """``values`` with its cgs quantities (rho, mu, radius, sigma and omega or bpm) replaced by
+    the dimensionless nu and kappa of (6.4)-(6.5); the other entries pass through."""
+    rest = {k: v for k, v in values.items() if k not in PHYSICAL_UNITS}
+    phys = {k: v for k, v in values.items() if k in PHYSICAL_UNITS}
+    if "bpm" in phys:
+        phys["omega"] = bpm_to_rad_per_s(phys.pop("bpm"))
+    return {**rest, **PhysicalSphere(**phys).forced()}
+
+
 def young_laplace_sigma(pressure: float, radius: float) -> float:
     """Effective stiffness sigma = [[p]] R / 2 (dyn/cm) from the Young-Laplace law (7.23)."""
     return require_positive("pressure", pressure) * require_positive("radius", radius) / 2.0

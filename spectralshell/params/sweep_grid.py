@@ -43,7 +43,7 @@ import numpy as np
 from .._validate import require_choice, require_int_in_range, require_positive, require_real
 from ..errors import ParameterError
 from .grid import parse_int_range, parse_range
-from .physical import PhysicalSphere, bpm_to_rad_per_s
+from .physical import PHYSICAL_UNITS, sphere_forced_params
 from .registry import PARAMS, check_model, make_params, param_names
 from .scene import load_scene
 
@@ -60,10 +60,8 @@ N_TEMPORAL_MAX = 400  # = solvers.marginal.N_MAX (a later stage: not importable 
 #: (a 128-point chunk: 3 % and 5-8 %); dearer models are far below.
 DEFAULT_CHUNK = 256
 PHYSICAL_MODELS = ("sphere",)
-PHYSICAL = ("rho", "mu", "radius", "sigma", "omega", "bpm")
-UNITS = {"kappa": "1", "nu": "1", "m": "1", "component": "", "kind": "",
-         "rho": "g/cm^3", "mu": "g/(cm s)", "radius": "cm", "sigma": "dyn/cm", "omega": "rad/s",
-         "bpm": "beats/min"}
+PHYSICAL = tuple(PHYSICAL_UNITS)
+UNITS = {"kappa": "1", "nu": "1", "m": "1", "component": "", "kind": "", **PHYSICAL_UNITS}
 LONG_NAMES = {"kappa": "stiffness kappa", "nu": "viscosity nu", "m": "degree m",
               "component": "component", "kind": "Floquet kind", "rho": "fluid density",
               "mu": "dynamic viscosity", "radius": "radius", "sigma": "membrane stiffness",
@@ -157,12 +155,7 @@ class SweepSpec:
         """Model parameters at a grid point (``values``: the non-kind axis values), with the
         physical quantities converted to kappa and nu."""
         merged = {**dict(self.fixed), **values}
-        if not self.physical:
-            return merged
-        phys = {k: merged.pop(k) for k in PHYSICAL if k in merged}
-        if "bpm" in phys:
-            phys["omega"] = bpm_to_rad_per_s(phys.pop("bpm"))
-        return {**merged, **PhysicalSphere(**phys).forced()}
+        return sphere_forced_params(merged) if self.physical else merged
 
     def canonical(self) -> dict[str, Any]:
         """JSON-able form of everything that determines the numbers (hashed into ``digest``)."""
