@@ -20,7 +20,8 @@ from . import api
 from ._version import __version__
 from .errors import ConvergenceError, ParameterError, SpectralShellError
 from .params.registry import PARAMS, param_names
-from .params.scene import default_scene, plan
+from .params.scene import default_scene, load_scene, plan
+from .params.sweep_grid import is_sweep_scene
 
 
 class _Parser(argparse.ArgumentParser):
@@ -331,8 +332,29 @@ def cmd_demo(args) -> int:
     return _run(default_scene(), args.out, args.json, "demo")
 
 
+def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str) -> int:
+    """A scene with a [grid]: the sweep runner writes NAME.zarr (resumable) and NAME.png."""
+    output = scene.get("output", {})
+    out = Path(out_dir or (output.get("dir") if isinstance(output, dict) else None)
+               or "scene-output")
+    out.mkdir(parents=True, exist_ok=True)
+    _check_writable(str(out / "x"))
+    store = out / f"{name}.zarr"
+    summary = api.sweep_summary({k: v for k, v in scene.items() if k != "output"},
+                                out=str(store), progress=sys.stderr.isatty() and not as_json)
+    from .plots import sweep_plot
+
+    png = out / f"{name}.png"
+    _atomic_write(png, lambda p: sweep_plot.save(api.open_sweep(store), p))
+    return _report(as_json, {**summary, "png": str(png)}, lambda: _sweep_text(summary),
+                   [str(png)])
+
+
 def cmd_run(args) -> int:
-    return _run(args.scene, args.out, args.json, Path(args.scene).stem)
+    scene = load_scene(args.scene)
+    if is_sweep_scene(scene):
+        return _run_sweep(scene, args.out, args.json, Path(args.scene).stem)
+    return _run(scene, args.out, args.json, Path(args.scene).stem)
 
 
 def _sweep_text(summary: dict) -> str:
@@ -430,7 +452,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_demo)
 
-    p = sub.add_parser("run", help="run a scene TOML file")
+    p = sub.add_parser("run", help="run a scene TOML file (a scene with a [grid] runs as a resumable sweep)")
     p.add_argument("scene")
     p.add_argument("--out", default=None, help="output directory (default: the scene's)")
     p.add_argument("--json", action="store_true")

@@ -340,10 +340,8 @@ def test_plots_of_stored_sweeps(serial, tmp_path):
         sweep_plot.save(serial.dataset.isel(nu=[0], kappa=[0]), tmp_path / "none.png")
 
 
-needs_cli = pytest.mark.skipif(not hasattr(cli, "cmd_sweep"), reason="CLI sweep not integrated yet")
 
 
-@needs_cli
 def test_cli_sweep_json_then_plot(tmp_path, capsys):
     scene = tmp_path / "s.toml"
     scene.write_text('model = "mathieu"\nask = ["tau_min"]\n[params]\nnu = 0.1\n[grid]\n'
@@ -359,10 +357,35 @@ def test_cli_sweep_json_then_plot(tmp_path, capsys):
     assert (tmp_path / "m.png").is_file()
 
 
-@needs_cli
 def test_cli_sweep_bad_grid_exits_2(tmp_path, capsys):
     scene = tmp_path / "s.toml"
     scene.write_text('model = "mathieu"\n[grid]\nkappa = {start = 1, stop = 0, num = 3}\n')
     assert cli.main(["sweep", str(scene), "--out", str(tmp_path / "m.zarr")]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "stop must be >= start" in err
+
+
+def test_cli_run_routes_a_grid_scene_to_the_sweep_runner(tmp_path, capsys):
+    scene = tmp_path / "g.toml"
+    scene.write_text('model = "mathieu"\nask = ["tau_min"]\n[params]\nnu = 0.1\n[grid]\n'
+                     'kappa = {start = 0.1, stop = 1.2, num = 4}\n[tau_min]\ntau_max = 2.0\n')
+    assert cli.main(["run", str(scene), "--out", str(tmp_path / "o"), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert (data["points"], data["computed"]) == (8, 8)
+    assert (tmp_path / "o" / "g.png").is_file()
+    stored = open_sweep(tmp_path / "o" / "g.zarr")
+    fresh = run_sweep(scene.read_text(), executor="serial").dataset
+    assert_same(stored, fresh)
+
+
+def _blas_threads():
+    from threadpoolctl import threadpool_info
+
+    return max(d["num_threads"] for d in threadpool_info())
+
+
+def test_process_workers_do_not_oversubscribe_blas_threads():
+    cores = os.cpu_count() or 1
+    with executors.open_pool("processes", workers=2) as pool:
+        threads = [pool.executor.submit(_blas_threads).result() for _ in range(2)]
+    assert all(t <= max(1, cores // 2) for t in threads)

@@ -49,7 +49,7 @@ from .scene import load_scene
 
 ASKS = ("tau_min",)
 KINDS = ("harmonic", "subharmonic")
-SCENE_KEYS = ("model", "ask", "params", "grid", "tau_min", "sweep")
+SCENE_KEYS = ("model", "ask", "params", "grid", "tau_min", "sweep", "output")
 OPTION_KEYS = ("tol", "n_temporal", "tau_max", "continuation")
 SWEEP_KEYS = ("chunk",)
 N_TEMPORAL_MAX = 400  # = solvers.marginal.N_MAX (a later stage: not importable here)

@@ -3,7 +3,8 @@
 * ``serial``: :class:`SerialExecutor`, runs each task in this process when submitted (debugging,
   tests).
 * ``processes``: ``concurrent.futures.ProcessPoolExecutor`` with ``workers`` processes (default:
-  every core), started by 'fork' where available (see :func:`_process_context`).
+  every core), started by 'fork' where available (see :func:`_process_context`), each limited to
+  cores // workers BLAS threads (threadpoolctl), so that workers do not oversubscribe the cores.
 * ``dask``: ``distributed.Client(...).get_executor()``, for a running scheduler
   (``scheduler='tcp://HOST:PORT'``, connection timeout :data:`CONNECT_TIMEOUT` seconds, which
   also bounds the wait for a first worker) or a ``LocalCluster`` on the loopback address
@@ -38,6 +39,14 @@ def _process_context():
     are not used by the tasks), else the platform default."""
     methods = multiprocessing.get_all_start_methods()
     return multiprocessing.get_context("fork" if "fork" in methods else None)
+
+
+def _limit_blas_threads(threads: int) -> None:
+    """Worker initialiser: at most ``threads`` BLAS/OpenMP threads in this process (a forked
+    worker inherits the parent's thread pools, so environment variables would come too late)."""
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=threads)
 
 
 class SerialExecutor(Executor):
@@ -183,7 +192,9 @@ def open_pool(executor: str = "processes", *, workers: int | None = None,
         return
     n = workers or os.cpu_count() or 1
     n = max(1, min(n, max_tasks)) if max_tasks else n
-    pool = ProcessPoolExecutor(max_workers=n, mp_context=_process_context())
+    threads = max(1, (os.cpu_count() or 1) // n)
+    pool = ProcessPoolExecutor(max_workers=n, mp_context=_process_context(),
+                               initializer=_limit_blas_threads, initargs=(threads,))
     try:
         yield Pool(pool, n, "processes", f"{n} processes")
     except BaseException:
