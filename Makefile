@@ -13,11 +13,13 @@ demo: $(STAMP)
 test: $(STAMP)
 	$(PY) -m pytest -m "not slow" -q
 
+# the slow tests include the full validation report, kept in validation-report/
 test-all: $(STAMP)
-	$(PY) -m pytest -q
+	SPECTRALSHELL_REPORT_DIR=validation-report $(PY) -m pytest -q
 
+# every validation/bench_*.py -> validation/BENCHMARKS.md (one table) + validation/cost_growth.png
 bench: $(STAMP)
-	@for f in validation/bench_*.py; do echo "== $$f"; $(PY) $$f || exit 1; done
+	$(PY) validation/bench_table.py
 
 # SHTns is built from its PyPI source and needs the FFTW3 headers.
 fftw:

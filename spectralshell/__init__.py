@@ -9,17 +9,21 @@ Public API::
     ss.exponents("mathieu", kappa=1, nu=0.1, tau=0.3)   # Floquet exponents gamma
     ss.stability("sphere", tau=0.45, m="2:6", kappa=0.02, nu=0.006)  # which degrees resonate
     ss.natural_modes("sphere", m=2, kappa=1, nu=0.01)   # decay rates and frequencies (tau = 0)
+    ss.floquet("cochlea", omega=1000)                   # basilar membrane, Table 5.1 units
+    ss.response("cochlea", omega=1000)                  # pure-tone BM envelope (thesis 5.5)
     ss.tau_map("sphere", x=("kappa", "0.01:0.3:50"), y=("nu", "1e-4:1e-2:50"), m="2:6")
     ss.run_scene("scene.toml")                          # a planned scene
     ss.sweep("map.toml", out="map.zarr")                # a parameter sweep -> xarray.Dataset
     ss.lp_coefficient(2)                                # lambda = lambda0 (1 + c eps^2), thesis 7.3
+    ss.simulate({"params": {"kappa": 0.06, "nu": 0.002, "tau": 0.25},
+                 "initial": {"shape": "2:0"}, "simulate": {"t_end": 200}})  # time stepping
 """
 
 from ._version import __version__
-from .api import (exponents, floquet, lp_coefficient, natural_modes, open_sweep, run_scene, stability,
-                  sweep, tau_map, tongues)
+from .api import (exponents, floquet, lp_coefficient, natural_modes, open_sweep, response, run_scene,
+                  simulate, stability, sweep, tau_map, tongues)
 from .errors import BackendUnavailable, ConvergenceError, ParameterError, SpectralShellError
 
 __all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "natural_modes", "tau_map",
-           "run_scene", "sweep", "open_sweep", "lp_coefficient", "SpectralShellError",
+           "run_scene", "sweep", "open_sweep", "lp_coefficient", "simulate", "response", "SpectralShellError",
            "ParameterError", "ConvergenceError", "BackendUnavailable"]

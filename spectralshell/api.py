@@ -18,19 +18,22 @@ import numpy as np
 
 from ._validate import require_int_in_range, require_nonnegative, require_positive, require_real
 from .discretise.fourier import expand_kind
-from .errors import ParameterError
+from .errors import ConvergenceError, ParameterError
 from .models.base import HillSystem
 from .models.registry import hill_system, modal_system
 from .models.nonlinear_coefficients import lp_coefficient as lp_coefficient_float
 from .models.nonlinear_coefficients import lp_coefficient_exact
+from .models.fibre import lambda0_squared as fibre_lambda0_squared
 from .models.sphere import lambda0_squared
 from .models.sphere_nonlinear import lambda0_over_sqrt_kappa
 from .params.grid import parse_int_range, parse_range
 from .params.physical import PHYSICAL_UNITS, PhysicalSphere, sphere_forced_params
-from .params.registry import check_model, make_params
+from .params.physical import convert_physical
+from .params.registry import check_model, make_params, param_names
 from .params.scene import Plan, plan
 from .results.maps import TauMapResult
 from .results.modes import NaturalModesResult
+from .results.spatial import SpatialFloquetResult
 from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
                               provenance, tau_warnings)
 from .solvers.exponents import floquet_exponents
@@ -57,7 +60,8 @@ def _system(model: str, params: Mapping[str, Any]) -> tuple[Any, HillSystem]:
 
 
 def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: int | None = None,
-            tau_max: float | None = None, **params: Any) -> FloquetResult:
+            tau_max: float | None = None, tol_spatial: float | None = None,
+            **params: Any) -> FloquetResult:
     """Marginal forcing amplitudes tau (Floquet boundaries) of a model.
 
     Parameters
@@ -68,7 +72,13 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     n_temporal : fix the truncation N instead (the error estimate compares with a smaller N).
     tau_max : compute only the marginal tau <= tau_max (e.g. 0.5, the physical range); the
         truncation then grows only as far as those need, and tau_min is None when there is none.
-    **params : the model's parameters, e.g. ``kappa``, ``nu`` for 'mathieu'.
+    tol_spatial : models with spatial modes (a parameter ``n_spatial``, e.g. 'cochlea') only:
+        with ``n_spatial=None`` the number of spatial modes is doubled from 16 until every
+        tau_min changes by at most ``tol_spatial`` (absolute; default 1e-3), see
+        :func:`_floquet_spatial`.
+    **params : the model's parameters, e.g. ``kappa``, ``nu`` for 'mathieu'; for 'cochlea' also
+        the cgs inputs rho, mu, sigma, length, lambda_c, omega (Table 5.1 defaults for the
+        missing ones; omega required), converted by :func:`params.physical.cochlea_params`.
 
     Notes
     -----
@@ -77,17 +87,106 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     Raises
     ------
     ParameterError : a parameter, kind or option out of range.
-    ConvergenceError : tau_min did not converge to ``tol``.
+    ConvergenceError : tau_min did not converge to ``tol`` (or to ``tol_spatial`` in n_spatial).
     """
     model = check_model(model)
     kinds = expand_kind(kind)
     options = _solver_options(tol, n_temporal, tau_max)
+    params, physical = convert_physical(model, dict(params))
+    if "n_spatial" in param_names(model):
+        return _floquet_spatial(model, kind, options, params, physical, tol_spatial)
+    if tol_spatial is not None:
+        raise ParameterError(f"tol_spatial = {tol_spatial!r} is invalid for model {model!r}: it "
+                             "has no spatial modes")
     p, system = _system(model, params)
     res = {k: marginal_tau(system, k, **options) for k in kinds}
     warnings = tau_warnings(t for m in res.values() for t in m.tau)
     return FloquetResult(model=model, params=dataclasses.asdict(p), harmonic=res.get("harmonic"),
                          subharmonic=res.get("subharmonic"),
                          provenance=provenance({"kind": kind, **options}), warnings=tuple(warnings))
+
+
+SPATIAL_START = 16    # first number of spatial modes of the automatic refinement
+SPATIAL_LIMIT = 512   # the automatic refinement stops (ConvergenceError) beyond this
+TOL_SPATIAL = 1e-3    # default absolute tolerance of tau_min in the number of spatial modes
+
+
+def _marginal_at(model: str, params: dict[str, Any], n_spatial: int | None, kinds, options):
+    p = make_params(model, {**params, "n_spatial": n_spatial})
+    return p, {k: marginal_tau(hill_system(p), k, **options) for k in kinds}
+
+
+def _spatial_change(fine, coarse) -> float | None:
+    if fine.tau_min is None and coarse.tau_min is None:
+        return 0.0
+    if fine.tau_min is None or coarse.tau_min is None:
+        return None
+    return abs(fine.tau_min - coarse.tau_min)
+
+
+def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dict[str, Any],
+                     physical: dict[str, float] | None,
+                     tol_spatial: float | None) -> SpatialFloquetResult:
+    """Marginal tau of a model with spatial modes, with an error estimate in their number M.
+
+    * ``spatial_mode`` given (a single decoupled mode): one solve, exact in space.
+    * ``n_spatial = M`` given: solves at M and at M // 2; the spatial change
+      |tau_min(M) - tau_min(M // 2)| (the thesis's epsilon_M of 5.3, Fig 5.6) enters the error
+      estimate.
+    * ``n_spatial = None``: M = 16, 32, 64, ... until every asked kind's tau_min changes by at
+      most ``tol_spatial`` between successive M (a kind without tau_min at both counts as
+      converged); ConvergenceError past M = SPATIAL_LIMIT.
+
+    Each kind's ``error_estimate`` becomes max(temporal estimate, spatial change); a missing
+    change (tau_min at one M only, or M = 1) makes it tau_min itself, as for the temporal one.
+    """
+    kinds = expand_kind(kind)
+    first = make_params(model, params)
+    n_given = first.n_spatial
+    if tol_spatial is not None and (n_given is not None or first.spatial_mode is not None):
+        raise ParameterError(f"tol_spatial = {tol_spatial!r} is invalid with a fixed n_spatial or "
+                             "spatial_mode: it sets when the automatic refinement in n_spatial stops")
+    tol_spatial = require_positive("tol_spatial", TOL_SPATIAL if tol_spatial is None else tol_spatial)
+    if first.spatial_mode is not None:
+        p, fine = first, {k: marginal_tau(hill_system(first), k, **options) for k in kinds}
+        m_fine, m_coarse, coarse = 1, None, None
+    elif n_given is not None:
+        p, fine = _marginal_at(model, params, n_given, kinds, options)
+        m_fine, m_coarse = n_given, (n_given // 2 or None)
+        coarse = None if m_coarse is None else _marginal_at(model, params, m_coarse, kinds, options)[1]
+    else:
+        m_coarse = SPATIAL_START
+        coarse = _marginal_at(model, params, m_coarse, kinds, options)[1]
+        while True:
+            m_fine = 2 * m_coarse
+            p, fine = _marginal_at(model, params, m_fine, kinds, options)
+            changes = [_spatial_change(fine[k], coarse[k]) for k in kinds]
+            if all(c is not None and c <= tol_spatial for c in changes):
+                break
+            if m_fine >= SPATIAL_LIMIT:
+                raise ConvergenceError(
+                    f"tau_min did not converge to tol_spatial={tol_spatial:g} by n_spatial={m_fine} "
+                    f"(last changes {changes}); relax tol_spatial or give n_spatial")
+            m_coarse, coarse = m_fine, fine
+    if first.spatial_mode is not None:
+        change = {k: 0.0 for k in kinds}
+    else:
+        change = {k: None if coarse is None else _spatial_change(fine[k], coarse[k]) for k in kinds}
+    res = {}
+    for k in kinds:
+        m = fine[k]
+        if m.tau_min is not None:
+            err = m.tau_min if change[k] is None else max(m.error_estimate, change[k])
+            m = dataclasses.replace(m, error_estimate=float(err))
+        res[k] = m
+    warnings = tau_warnings(t for m in res.values() for t in m.tau)
+    auto = n_given is None and first.spatial_mode is None
+    opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
+    return SpatialFloquetResult(model=model, params=dataclasses.asdict(p),
+                                harmonic=res.get("harmonic"), subharmonic=res.get("subharmonic"),
+                                provenance=provenance(opts), warnings=tuple(warnings),
+                                n_spatial=m_fine, n_spatial_previous=m_coarse,
+                                spatial_change=change, physical=physical)
 
 
 PARALLEL_MIN_POINTS = 400  # below this a process pool costs more than it saves
@@ -229,17 +328,27 @@ def natural_modes(model: str, *, count: int | None = None, precision: int | None
     zeta : shorthand for kappa = 1, nu = zeta (the modes depend on zeta = nu/sqrt(kappa) only).
     physical : cgs values {rho, mu, radius, sigma} instead of kappa, nu: the modes are then
         returned in s^-1 (gamma / T, T = sqrt(rho R^3/sigma); ``params['units']``).
-    **params : the model's parameters (sphere: m, kappa, nu, component).
+    **params : the model's parameters (sphere: m, kappa, nu, component; fibre: m, kappa, nu).
 
     Notes
     -----
-    Roots of det D(gamma) = 0 (thesis (7.14)), solved in beta = sqrt(gamma/nu) by Newton's method
-    from asymptotic seeds (:mod:`spectralshell.models.sphere_modes`, :func:`solvers.modes.find_modes`).
-    nu = 0 has the closed form gamma = i lambda0 ((7.4), Lamb/Rayleigh) and no toroidal mode.
+    Roots of det D(gamma) = 0 (thesis (7.14); fibre: derivations/fibre_modes.py), solved in
+    beta = sqrt(gamma/nu) by Newton's method from asymptotic seeds
+    (:mod:`spectralshell.models.sphere_modes`, :func:`spectralshell.models.fibre.modal_system`,
+    :func:`solvers.modes.find_modes`). Both models have two modes with Im gamma >= 0 (sphere:
+    poloidal; its toroidal component has one). nu = 0 has the closed form gamma = i lambda0
+    ((7.4), Lamb/Rayleigh; fibre: lambda0^2 = kappa m (m^2-1)/2) and no other mode.
     """
     model = check_model(model)
-    if model != "sphere":
-        raise ParameterError(f"model = {model!r} is invalid for natural modes: must be 'sphere'")
+    if model == "cochlea":
+        return _cochlea_natural_modes(count=count, precision=precision, zeta=zeta,
+                                      physical=physical, params=params)
+    if model not in ("sphere", "fibre"):
+        raise ParameterError(f"model = {model!r} is invalid for natural modes: must be 'sphere', "
+                             "'fibre' or 'cochlea'")
+    if model == "fibre" and physical is not None:
+        raise ParameterError("physical = given for model 'fibre' is invalid: give kappa and nu "
+                             "(params.physical.fibre_forced converts cgs values) or zeta")
     scale = 1.0
     if zeta is not None or physical is not None:
         if {"kappa", "nu"} & set(params) or (zeta is not None and physical is not None):
@@ -252,7 +361,7 @@ def natural_modes(model: str, *, count: int | None = None, precision: int | None
     p = make_params(model, dict(params))
     options = {"count": count, "precision": precision}
     if p.nu == 0.0:
-        result = _inviscid_modes(p, count, precision, options)
+        result = _inviscid_modes(model, p, count, precision, options)
     else:
         roots = find_modes(modal_system(p), count=count, precision=precision)
         result = NaturalModesResult.build(model=model, params=dataclasses.asdict(p), roots=roots,
@@ -266,25 +375,243 @@ def natural_modes(model: str, *, count: int | None = None, precision: int | None
                                params={**result.params, **physical, "units": "s^-1"})
 
 
-def _inviscid_modes(p, count, precision, options) -> NaturalModesResult:
-    """nu = 0: the exact modes gamma = +-i lambda0 ((7.4)); the toroidal part has none."""
-    if p.component == "toroidal":
+MODES_START = 1e-10  # continuation of the cochlea's modes starts at zeta = MODES_START * zeta
+
+
+def _cochlea_natural_modes(*, count, precision, zeta, physical, params) -> NaturalModesResult:
+    """Natural modes of the cochlea: eigenvalues of the nonlinear matrix function
+    T(s) = diag(Z_k(s; zeta)) + C (D(gamma)/kappa, s = gamma/sqrt(kappa), thesis (5.14)).
+
+    Method (model-agnostic solver :mod:`spectralshell.solvers.nonlinear_eigen`): the inviscid
+    modes s = i w_j (w_j^2 the eigenvalues of diag(sqrt(k/2)) C diag(sqrt(k/2))) are continued in
+    zeta from MODES_START * zeta to zeta with step control (Newton on det T in trace form). Roots
+    are reported with Im s >= 0 (conjugate pairs), least damped first; the sheet margin
+    min_k Re sqrt(s/zeta + k^2) classifies them (near the cut at large zeta they become
+    nearly real decays, thesis Fig 5.7 right). An argument-principle count over the rectangle
+    enclosing the found modes with Im s >= 1e-3 max|s| checks that none was missed there.
+    Units: with ``zeta`` 1/sqrt(kappa) (kappa = 1); with ``kappa``, ``nu`` the forcing period
+    (gamma = sqrt(kappa) s); with ``physical`` (cgs: rho, mu, sigma, length, lambda_c, Table 5.1
+    defaults for the missing ones) s^-1, gamma = s / T with T = sqrt(rho L/(pi sigma)).
+    """
+    from .models.cochlea import natural_frequencies, natural_mode_family, sheet_margin
+    from .params.physical import TABLE_5_1, cochlea_forced, cochlea_time_scale
+    from .solvers.nonlinear_eigen import (SINGULAR_RTOL, continue_roots, count_in_contour, newton,
+                                          singular_ratio)
+
+    if precision is not None:
+        raise ParameterError(f"precision = {precision!r} is invalid for model 'cochlea': its modes "
+                             "are computed in double precision only")
+    params = dict(params)
+    scale, extras = 1.0, {}
+    if zeta is not None or physical is not None:
+        if {"kappa", "nu"} & set(params) or (zeta is not None and physical is not None):
+            raise ParameterError("zeta/physical = given with kappa or nu is invalid: give one of "
+                                 "(kappa, nu), zeta, or physical (rho, mu, sigma, length, lambda_c)")
+        if physical is not None:
+            phys = {**{k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")},
+                    **{k: float(v) for k, v in physical.items()}}
+            dimless = cochlea_forced(**phys, omega=1.0)
+            zeta = dimless["nu"] / np.sqrt(dimless["kappa"])
+            scale = 1.0 / cochlea_time_scale(rho=phys["rho"], sigma=phys["sigma"], length=phys["length"])
+            if "alpha" in params:
+                raise ParameterError("alpha = given with physical input is invalid: lambda_c sets it")
+            params["alpha"] = dimless["alpha"]
+            extras = {**phys, "zeta": float(zeta), "units": "s^-1"}
+        params = {**params, "kappa": 1.0, "nu": require_nonnegative("zeta", zeta)}
+    p = make_params("cochlea", params)
+    if p.n_spatial is None or p.spatial_mode is not None:
+        raise ParameterError(f"n_spatial = {p.n_spatial!r} is invalid for natural modes: give the "
+                             "number of cosine modes M (e.g. 20, as in thesis Fig 5.7)")
+    M = p.n_spatial
+    count = M if count is None else require_int_in_range("count", count, 1, M)  # at most M
+    zeta = p.nu / np.sqrt(p.kappa)
+    scale *= np.sqrt(p.kappa)
+    start = 1j * natural_frequencies(1.0, p.alpha, np.arange(1, M + 1))
+    warnings: list[str] = []
+    if zeta == 0.0:
+        roots, steps = start, 4 * np.finfo(float).eps * np.abs(start)
+    else:
+        family = natural_mode_family(alpha=p.alpha, n_spatial=M)
+        roots, steps, ok = continue_roots(family, MODES_START * zeta, zeta, start)
+        T, dT = family(zeta)
+        lost = 0
+        for i in np.flatnonzero(~ok):  # a lost branch (near-collision): deflated Newton at zeta
+            known = np.concatenate([roots[ok], roots[ok].conj()])  # roots pair up: T(conj s) = conj T(s)
+            out = newton(T, dT, roots[i], known=known)
+            near = np.min(np.abs(known - out[0]), initial=np.inf) if out is not None else 0.0
+            if out is None or near <= 1e-5 * abs(out[0]) or singular_ratio(T, out[0]) > SINGULAR_RTOL:
+                lost += 1
+                continue
+            roots[i], steps[i] = out
+            ok[i] = True
+        if lost:
+            warnings.append(f"{lost} of the {M} inviscid mode branches could not be followed to "
+                            f"zeta = {zeta:g} and no further root was found near their last position "
+                            "(possibly it left the physical sheet through the branch cut)")
+        roots, steps = roots[ok], steps[ok]
+        roots = np.where(roots.imag < 0, roots.conj(), roots)
+        keep = [i for i in range(roots.size)
+                if not np.any(np.abs(roots[:i] - roots[i]) <= 1e-8 * abs(roots[i]))]
+        if len(keep) < roots.size:
+            warnings.append(f"{roots.size - len(keep)} branch(es) merged with a conjugate branch")
+        roots, steps = roots[keep], steps[keep]
+        imag = np.sort(roots.imag)
+        small = imag[(imag > 1e-2 * imag[-1]) & (imag <= 0.5 * imag[-1])]
+        gaps = np.concatenate([[1e-2 * imag[-1]], small, [0.5 * imag[-1]]])
+        g = int(np.argmax(gaps[1:] / gaps[:-1]))
+        top = float(np.sqrt(gaps[g] * gaps[g + 1]))  # bottom edge: in the widest gap of Im s
+        inside = roots[roots.imag > top]
+        if inside.size:
+            lo, hi = inside.real.min(), inside.real.max()
+            pad = 0.1 * (hi - lo) + 0.05 * np.abs(inside).max()
+            left, right, height = lo - pad, hi + pad, 1.2 * inside.imag.max()
+            box = [left + 1j * top, right + 1j * top, right + 1j * height, left + 1j * height]
+            counted = count_in_contour(T, dT, box)
+            if counted != inside.size:
+                warnings.append(f"the argument principle counts {counted} modes with Im > {top:.3g} "
+                                f"where {inside.size} were found: some were missed")
+    order = np.argsort(-roots.real)[:count]
+    gamma = roots[order] * scale
+    err = np.maximum(steps[order], 64 * np.finfo(float).eps * np.abs(roots[order])) * scale
+    margin = np.array([np.inf if zeta == 0.0 else sheet_margin(r, zeta, M) for r in roots[order]])
+    margin_err = err / scale / max(zeta, 1e-300) / np.maximum(margin, 1e-300)  # d(Re sqrt) ~ ds/(zeta sqrt)
+    on_cut = margin <= margin_err
+    if on_cut.any():
+        warnings.append(f"{int(on_cut.sum())} mode(s) lie on the branch cut to within their error")
+    options = {"count": count, "precision": None, "method": "continuation in zeta, Newton on "
+               "det T (trace form)", "zeta": float(zeta)}
+    return NaturalModesResult(model="cochlea", params={**dataclasses.asdict(p), **extras},
+                              gamma=gamma, error_estimate=err, principal_sheet=~on_cut,
+                              on_cut=on_cut, precision=None, provenance=provenance(options),
+                              warnings=tuple(warnings))
+
+
+#: model -> (lambda0^2(m, kappa), its source): the inviscid natural frequency of each model.
+_INVISCID = {"sphere": (lambda0_squared, "closed form (7.4)"),
+             "fibre": (fibre_lambda0_squared, "closed form lambda0^2 = kappa m (m^2 - 1)/2 "
+                       "(derivations/fibre_linear_result.md, 4a)")}
+
+
+def _inviscid_modes(model, p, count, precision, options) -> NaturalModesResult:
+    """nu = 0: the exact modes gamma = +-i lambda0 (sphere (7.4), fibre kappa m (m^2-1)/2); the
+    viscous branches (the sphere's toroidal mode, the fast Stokes-layer modes) are absent."""
+    if getattr(p, "component", None) == "toroidal":
         raise ParameterError("nu = 0 is invalid for toroidal modes: without viscosity the "
                              "toroidal component carries no mode")
     if count is not None:
         require_int_in_range("count", count, 1, 1)
-    lam = np.sqrt(lambda0_squared(p.m, p.kappa))
+    squared, method = _INVISCID[model]
+    lam = np.sqrt(squared(p.m, p.kappa))
     digits = None
     if precision is not None:
         with mpmath.workdps(require_int_in_range("precision", precision, 16, 1000)):
-            exact = mpmath.sqrt(mpmath.mpf(p.kappa) * p.m * (p.m + 1) * (p.m - 1) * (p.m + 2)
-                                / (2 * p.m + 1))
+            exact = mpmath.sqrt(squared(p.m, mpmath.mpf(p.kappa)))
             digits = (("0", mpmath.nstr(exact, precision)),)
-    return NaturalModesResult(model="sphere", params=dataclasses.asdict(p), gamma=np.array([1j * lam]),
+    return NaturalModesResult(model=model, params=dataclasses.asdict(p), gamma=np.array([1j * lam]),
                               error_estimate=np.array([4 * np.finfo(float).eps * lam]),
                               principal_sheet=np.array([True]), on_cut=np.array([False]),
                               precision=precision, gamma_digits=digits,
-                              provenance=provenance({**options, "method": "closed form (7.4)"}))
+                              provenance=provenance({**options, "method": method}))
+
+
+RESPONSE_MODES = 128    # default number of cosine modes of a response
+RESPONSE_POINTS = 2001  # grid on [0, pi]
+RESPONSE_TIMES = 256    # time samples per period of the parametric solution
+GAMMA_OF_KIND = {"harmonic": 1.0, "subharmonic": 0.5}  # dominant response frequency
+
+
+def _peak(x: np.ndarray, env: np.ndarray, start: float) -> float:
+    """Location of the maximum of env over x >= start, refined by a parabola through 3 points."""
+    i = int(np.flatnonzero(x >= start)[0] + np.argmax(env[x >= start]))
+    if 0 < i < x.size - 1:
+        a, b, c = env[i - 1], env[i], env[i + 1]
+        denom = a - 2 * b + c
+        if denom < 0:
+            return float(x[i] + 0.5 * (a - c) / denom * (x[1] - x[0]))
+    return float(x[i])
+
+
+def _response_at(p, n_spatial: int, kind: str, options: dict[str, Any]):
+    """(envelope, profile, peak, tau, response frequency) of the cochlea with n_spatial modes."""
+    from .models.cochlea import TONE_WIDTH, tone_response
+    from .solvers.marginal_mode import marginal_mode
+
+    x = np.linspace(0.0, np.pi, RESPONSE_POINTS)
+    basis = np.cos(np.outer(x, np.arange(1, n_spatial + 1)))
+    if kind == "tone":
+        h = basis @ tone_response(kappa=p.kappa, nu=p.nu, alpha=p.alpha, n_spatial=n_spatial)
+        env = np.abs(h)
+        profile = (h * np.exp(-1j * np.angle(h[np.argmax(env)]))).real  # t_peak: phase of the peak
+        tau, freq, start = None, 1.0, 4 * TONE_WIDTH
+    else:
+        q = make_params("cochlea", {**dataclasses.asdict(p), "n_spatial": n_spatial})
+        system = hill_system(q)
+        m = marginal_tau(system, kind, **options)
+        if m.tau_min is None:
+            raise ParameterError(f"kind = {kind!r} has no marginal tau here (tau_max = "
+                                 f"{options.get('tau_max')}): no parametric response to show")
+        mode = marginal_mode(system, kind, m.tau_min, m.n_temporal)
+        period = 2 * np.pi if kind == "harmonic" else 4 * np.pi
+        field = mode.evaluate(np.linspace(0.0, period, RESPONSE_TIMES, endpoint=False)) @ basis.T
+        env = np.abs(field).max(axis=0)
+        profile = field[np.argmax(np.abs(field).max(axis=1))]
+        tau, freq, start = m.tau_min, GAMMA_OF_KIND[kind], 0.0
+    scale = env.max()
+    return x, env / scale, profile / scale, _peak(x, env, start), tau, freq
+
+
+def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: int | None = None,
+             tau_max: float | None = None, **params: Any) -> "ResponseResult":
+    """Basilar-membrane displacement envelope for a pure tone (thesis 5.5, Figs 5.8-5.10).
+
+    Parameters
+    ----------
+    model : 'cochlea'.
+    kind : 'tone' (passive response, tau = 0, to a pressure load at the base oscillating at the
+        forcing frequency: the externally forced tone of LeVeque, Peskin & Lax), or 'harmonic' /
+        'subharmonic' (the Floquet solution at tau_min of that kind, as in thesis 5.5: response
+        at the forcing frequency, or half of it).
+    tol, n_temporal, tau_max : options of the marginal tau (parametric kinds).
+    **params : as for :func:`floquet` ('cochlea' parameters or cgs inputs with omega);
+        n_spatial defaults to RESPONSE_MODES; the peak's error estimate compares with n_spatial // 2.
+
+    Notes
+    -----
+    The envelope is the largest |h(x, t)| over a period (for the tone, |complex amplitude|); the
+    thesis draws the Hilbert-transform envelope of one snapshot instead. The peak is searched for
+    x >= 4 * TONE_WIDTH for the tone (the load region itself is excluded).
+    """
+    from .results.response import ResponseResult
+
+    model = check_model(model)
+    if model != "cochlea":
+        raise ParameterError(f"model = {model!r} is invalid for response: must be 'cochlea'")
+    if kind not in ("tone", "harmonic", "subharmonic"):
+        raise ParameterError(f"kind = {kind!r} is invalid: must be one of 'tone', 'harmonic', "
+                             "'subharmonic'")
+    options = _solver_options(tol, n_temporal, tau_max)
+    params, physical = convert_physical(model, dict(params))
+    p = make_params(model, params)
+    if p.spatial_mode is not None:
+        raise ParameterError(f"spatial_mode = {p.spatial_mode} is invalid for response: the "
+                             "envelope needs n_spatial cosine modes")
+    M = p.n_spatial or RESPONSE_MODES
+    x, env, profile, peak, tau, freq = _response_at(p, M, kind, options)
+    coarse = _response_at(p, max(M // 2, 1), kind, options)[3]
+    from .models.cochlea import wkb_peak
+
+    wkb = wkb_peak(kappa=p.kappa, nu=p.nu, alpha=p.alpha, frequency=freq) if p.nu > 0 and p.alpha > 0 \
+        else float("nan")
+    warnings = [] if np.isfinite(wkb) else ["the WKB peak needs nu > 0 and alpha > 0: reported as NaN"]
+    if np.isfinite(wkb) and not 0 < wkb < np.pi:
+        warnings.append(f"the WKB peak x = {wkb:.3g} lies outside the membrane [0, pi]")
+    return ResponseResult(model=model, params={**dataclasses.asdict(p), "n_spatial": M}, kind=kind,
+                          response_frequency=freq, x=x, envelope=env, profile=profile,
+                          peak_x=peak, peak_error=abs(peak - coarse) + (x[1] - x[0]) / 10,
+                          wkb_peak_x=wkb if np.isfinite(wkb) else None, tau=tau,
+                          length=None if physical is None else physical["length"],
+                          physical=physical, provenance=provenance({"kind": kind, **options}),
+                          warnings=tuple(warnings))
 
 
 def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,
@@ -298,6 +625,14 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
     tau = require_real("tau", tau)
     options = _solver_options(tol, n_temporal)
     p, system = _system(model, params)
+    if system.polynomial is None:  # Hill's companion form needs a matrix polynomial D(s)
+        if getattr(p, "nu", 0.0):
+            raise ParameterError(f"nu = {p.nu!r} is invalid for Floquet exponents of model {model!r}: "
+                                 "must be 0 (the viscous load is not polynomial in s); use "
+                                 "floquet/stability for the marginal tau of the viscous model")
+        raise ParameterError(f"component = {getattr(p, 'component', None)!r} is invalid for Floquet "
+                             "exponents at nu = 0: must be 'poloidal' (the inviscid toroidal component "
+                             "has no dynamics)")
     result = floquet_exponents(system, tau, **options)
     return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
                                  exponents=result, options=options)
@@ -396,6 +731,27 @@ def open_sweep(path: str | Path):
     from .runner import open_sweep as load
 
     return load(path)
+
+
+def simulate(scene: str | Path | Mapping, *, progress: bool = False):
+    """Time-step a sphere scene (TOML path or string, or mapping) -> :class:`Trajectory`.
+
+    The linearised membrane in unsteady Stokes flow inside and outside the unit sphere, one
+    semi-discrete system per degree of the initial shape (radial Chebyshev, reduced to an ODE;
+    :mod:`spectralshell.discretise.sphere_stepping`), stepped with an IMEX scheme of
+    :mod:`spectralshell.solvers.imex`; nu = 0 steps the Mathieu equation per degree. Returns the
+    mode coefficients against time and, per excited mode, the fitted growth rate and frequency
+    with an error estimate (:mod:`spectralshell.runner.simulate`). Scene keys:
+    :mod:`spectralshell.params.simulation`.
+
+    Raises
+    ------
+    ParameterError : a scene value out of range.
+    ConvergenceError : the radial resolution cannot reach the scene's tol, or the state blew up.
+    """
+    from .runner.simulate import simulate as run  # lazy: keeps `import spectralshell` light
+
+    return run(scene, progress=progress)
 
 
 def lp_coefficient(m: int, k: int = 0, *, volume: str = "reference") -> float:

@@ -21,7 +21,7 @@ from ._version import __version__
 from .errors import ConvergenceError, ParameterError, SpectralShellError
 from .params.registry import PARAMS, param_names
 from .params.scene import default_scene, load_scene, plan
-from .params.sweep_grid import is_sweep_scene
+from .params.sweep_grid import is_sweep_scene, sweep_spec
 
 
 class _Parser(argparse.ArgumentParser):
@@ -82,6 +82,18 @@ def _check_writable(path: str | None) -> None:
                              "does not exist or is read-only")
 
 
+def _make_dir(out: str | Path) -> Path:
+    """Create the output directory ``out`` (with parents), or say in one line why it cannot be."""
+    out = Path(out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ParameterError(f"output directory {str(out)!r} cannot be created: "
+                             f"{exc.strerror or exc}") from None
+    _check_writable(str(out / "x"))
+    return out
+
+
 def _atomic_write(path: str | Path, writer: Callable[[Path], Any]) -> None:
     """Write via a temporary file in the same directory, so no partial file is ever left."""
     path = Path(path)
@@ -135,8 +147,20 @@ def _floquet_text(res) -> str:
     return "\n".join(lines)
 
 
+#: cgs flags of models that accept physical input (cochlea: Table 5.1 defaults), with units.
+COCHLEA_FLAGS = {"omega": "rad/s", "rho": "g/cm^3", "mu": "g/(cm s)", "sigma": "g/(cm^2 s^2)",
+                 "length": "cm", "lambda_c": "1/cm"}
+
+
+def _physical(args: argparse.Namespace) -> dict[str, float]:
+    return {k: _number(k, getattr(args, k)) for k in COCHLEA_FLAGS if getattr(args, k, None) is not None}
+
+
 def cmd_floquet(args) -> int:
-    res = api.floquet(args.model, kind=args.kind, **_solver(args), **_params(args, args.model))
+    extra = _physical(args)
+    if args.tol_spatial is not None:
+        extra["tol_spatial"] = _number("tol_spatial", args.tol_spatial)
+    res = api.floquet(args.model, kind=args.kind, **_solver(args), **extra, **_params(args, args.model))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), lambda: _floquet_text(res))
 
@@ -220,7 +244,15 @@ PHYSICAL_FLAGS = ("radius", "sigma", "rho", "mu")
 
 def cmd_modes(args) -> int:
     physical = {k: _number(k, getattr(args, k)) for k in PHYSICAL_FLAGS if getattr(args, k) is not None}
-    if physical and len(physical) < len(PHYSICAL_FLAGS):
+    if args.model == "cochlea":  # cgs input: any of rho mu sigma length lambda_c (Table 5.1 defaults)
+        if args.radius is not None:
+            raise ParameterError("--radius is not an input of model 'cochlea' (use --length)")
+        physical = {k: _number(k, getattr(args, k)) for k in COCHLEA_FLAGS
+                    if k != "omega" and getattr(args, k, None) is not None}
+    elif args.model == "fibre" and physical:
+        raise ParameterError(f"--{next(iter(physical))} is not an input of model 'fibre' (give "
+                             "--kappa and --nu, or --zeta)")
+    elif physical and len(physical) < len(PHYSICAL_FLAGS):
         missing = [f"--{k}" for k in PHYSICAL_FLAGS if k not in physical]
         raise ParameterError(f"physical input needs all of --radius --sigma --rho --mu: missing "
                              f"{' '.join(missing)}")
@@ -253,6 +285,29 @@ def _modes_text(res) -> str:
         value = f"{d[0]} {'' if d[1].startswith('-') else '+'}{d[1]}i" if d else f"{g.real:+.12g} {g.imag:+.12g}i"
         lines.append(f"  gamma = {value}   error <= {e:.1e}   ({kind})")
     return "\n".join(lines)
+
+
+def cmd_response(args) -> int:
+    _check_writable(args.png)
+    res = api.response(args.model, kind=args.kind, **_solver(args), **_physical(args),
+                       **_params(args, args.model))
+    _warn(res.warnings)
+    written = []
+    if args.png:
+        from .plots import cochlea as cochlea_plots
+
+        title = f"{res.model}: {_fmt_params(res.params)}"
+        _atomic_write(args.png, lambda path: cochlea_plots.save_responses([(title, [res])], path))
+        written.append(args.png)
+
+    def text() -> str:
+        unit = "" if res.length is None else (f" = {res.to_cm(res.peak_x):.4g} cm "
+                                              f"(WKB {res.to_cm(res.wkb_peak_x or float('nan')):.4g} cm)")
+        tau = "" if res.tau is None else f"  tau = {res.tau:.10g}"
+        return (f"{res.model} {res.kind} response: {_fmt_params(res.params)}{tau}\n"
+                f"  envelope peak x = {res.peak_x:.6g} +- {res.peak_error:.1e} (of pi){unit}")
+
+    return _report(args.json, res.to_dict(), text, written)
 
 
 def _integer(name: str, text: str) -> int:
@@ -288,11 +343,30 @@ def cmd_figure(args) -> int:
     if args.name not in FIGURES:
         raise ParameterError(f"figure = {args.name!r} is invalid: must be one of {', '.join(FIGURES)}")
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    _check_writable(str(out / "x"))
+    _make_dir(out)
     for path in make_figure(args.name, out, progress=sys.stderr.isatty(), workers=args.workers):
         print(f"wrote {path}")
     return 0
+
+
+def cmd_validate(args) -> int:
+    """Run the validation cases, write report.md (+ report.json, PNGs); status 1 if any case fails."""
+    from .reports import validation
+
+    workers = None if args.workers is None else _integer("workers", args.workers)
+    if workers is not None and workers < 1:
+        raise ParameterError(f"workers = {workers} is invalid: must be an integer >= 1")
+    out = _make_dir(args.out)
+
+    def show(outcome) -> None:
+        print(f"{'pass' if outcome.passed else 'FAIL'}  {outcome.case.name}  ({outcome.seconds:.1f} s)"
+              + (f"  {outcome.message}" if outcome.message else ""), file=sys.stderr)
+
+    report = validation.run(out, quick=args.quick, workers=workers, progress=show)
+    n, failed = len(report.outcomes), len(report.failures)
+    print(f"validation ({'quick' if args.quick else 'full'}): {n - failed} of {n} cases pass "
+          f"in {report.seconds:.1f} s -> {out / 'report.md'}")
+    return 0 if report.passed else 1
 
 
 def _summary(results: dict[str, Any]) -> str:
@@ -313,8 +387,7 @@ def _summary(results: dict[str, Any]) -> str:
 def _run(scene, out_dir: str | None, as_json: bool, name: str) -> int:
     the_plan = plan(scene)
     out = Path(out_dir or the_plan.output_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    _check_writable(str(out / "x"))
+    _make_dir(out)
     results = api.run_scene(the_plan, progress=sys.stderr.isatty() and not as_json)
     for r in results.values():
         _warn(r.warnings)
@@ -337,8 +410,8 @@ def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str) -> in
     output = scene.get("output", {})
     out = Path(out_dir or (output.get("dir") if isinstance(output, dict) else None)
                or "scene-output")
-    out.mkdir(parents=True, exist_ok=True)
-    _check_writable(str(out / "x"))
+    sweep_spec({k: v for k, v in scene.items() if k != "output"})  # validate before creating out
+    _make_dir(out)
     store = out / f"{name}.zarr"
     summary = api.sweep_summary({k: v for k, v in scene.items() if k != "output"},
                                 out=str(store), progress=sys.stderr.isatty() and not as_json)
@@ -381,6 +454,92 @@ def cmd_plot(args) -> int:
     return 0
 
 
+def _simulation_flags_scene(args) -> dict:
+    """The scene of ``spectralshell simulate sphere --m ... --kappa ...``."""
+    if (args.m is None) == (args.shape is None):
+        raise ParameterError("give exactly one of --m (degree of the initial (m, 0) shape) and "
+                             "--shape (modes 'm:k[:amplitude], ...' or an expression in theta, phi)")
+    for flag in ("kappa", "nu", "t_end"):
+        if getattr(args, flag) is None:
+            raise ParameterError(f"--{flag.replace('_', '-')} is required, e.g. --kappa 0.06 "
+                                 "--nu 0.002 --t-end 200")
+    params = {"kappa": args.kappa if _is_text(args.kappa) else _number("kappa", args.kappa),
+              "nu": _number("nu", args.nu), "tau": _number("tau", args.tau or "0")}
+    simulate = {"t_end": _number("t_end", args.t_end), "scheme": args.scheme}
+    if args.dt is not None:
+        simulate["dt"] = _number("dt", args.dt)
+    if args.n_radial is not None:
+        simulate["n_radial"] = _integer("n_radial", args.n_radial)
+    shape = f"{_integer('m', args.m)}:0" if args.m is not None else args.shape
+    return {"model": "sphere", "params": params, "initial": {"shape": shape},
+            "simulate": simulate}
+
+
+def _is_text(value: str) -> bool:
+    try:
+        float(value)
+        return False
+    except ValueError:
+        return True
+
+
+def _simulate_text(traj) -> str:
+    p = traj.params
+    lines = [f"sphere: kappa = {p['kappa']}  nu = {p['nu']:g}  tau = {p['tau']:g}   "
+             f"t_end = {p['t_end']:.6g}  {p['scheme']}  dt = {p['dt']:.4g}"]
+    for f in traj.fits:
+        lines.append(f"  (m, k) = ({f.m}, {f.k}):  growth rate {f.growth_rate:+.10f}   frequency "
+                     f"{f.frequency:.10f}   error <= {f.error_estimate:.1e}")
+    return "\n".join(lines)
+
+
+def _write_simulation(traj, png: str | None, npz: str | None) -> list[str]:
+    written = []
+    if png:
+        from .plots import trajectory as plot
+
+        from .runner.simulate import shape_snapshots
+
+        shape_png = str(Path(png).with_name(Path(png).stem + "_shape.png"))
+        _atomic_write(png, lambda p: plot.save_amplitudes(traj, p))
+        theta, phi, fields, times = shape_snapshots(traj)
+        _atomic_write(shape_png, lambda p: plot.save_shape(theta, phi, fields, times, p))
+        written += [png, shape_png]
+    if npz:
+        _atomic_write(npz, traj.write_npz)
+        written.append(npz)
+    return written
+
+
+def cmd_simulate(args) -> int:
+    from .params.simulation import simulation_scene
+
+    flags = ("m", "shape", "kappa", "nu", "tau", "t_end", "dt", "n_radial")
+    png, npz = args.png, args.npz
+    if args.target == "sphere":
+        scene = _simulation_flags_scene(args)
+        json_path = None
+    else:
+        given = [f"--{f.replace('_', '-')}" for f in flags if getattr(args, f) is not None]
+        if given:
+            raise ParameterError(f"{given[0]} is invalid with a scene file: set it in the scene")
+        scene = load_scene(args.target)
+        out = Path(simulation_scene(scene).output_dir)
+        _make_dir(out)
+        stem = Path(args.target).stem
+        png, npz = png or str(out / f"{stem}.png"), npz or str(out / f"{stem}.npz")
+        json_path = out / f"{stem}.json"
+    for path in (png, npz, None if json_path is None else str(json_path)):
+        _check_writable(path)
+    traj = api.simulate(scene, progress=sys.stderr.isatty() and not args.json)
+    _warn(traj.warnings)
+    written = _write_simulation(traj, png, npz)
+    if json_path is not None:
+        _atomic_write(json_path, lambda p: p.write_text(json.dumps(traj.to_dict(), indent=1)))
+        written.append(str(json_path))
+    return _report(args.json, traj.to_dict(), lambda: _simulate_text(traj), written)
+
+
 def _computation(sub, name: str, help: str, func, models: Sequence[str], *, kind: bool = True,
                  skip: Sequence[str] = ()) -> argparse.ArgumentParser:
     """A computation subcommand: MODEL, [--kind], the model's flags, solver flags, --json."""
@@ -401,8 +560,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"spectralshell {__version__}")
     sub = parser.add_subparsers(dest="command", parser_class=_Parser, required=True)
 
-    _computation(sub, "floquet", "marginal forcing amplitudes tau (harmonic/subharmonic)",
-                 cmd_floquet, models)
+    p = _computation(sub, "floquet", "marginal forcing amplitudes tau (harmonic/subharmonic)",
+                     cmd_floquet, models)
+    for name, unit in COCHLEA_FLAGS.items():
+        p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X",
+                       help=f"cochlea: physical input ({unit}; Table 5.1 defaults, --omega required)")
+    p.add_argument("--tol-spatial", dest="tol_spatial", metavar="X",
+                   help="cochlea without --n-spatial: tolerance of tau_min in the number of "
+                        "spatial modes (default 1e-3)")
 
     p = _computation(sub, "tongues", "Ince-Strutt diagram over a kappa range", cmd_tongues, models,
                      skip=("kappa",))
@@ -422,8 +587,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tau", help="forcing amplitude")
 
     p = sub.add_parser("modes", help="natural modes gamma (decay rate, frequency) at tau = 0")
-    p.add_argument("model", choices=("sphere",))
+    p.add_argument("model", choices=("sphere", "cochlea", "fibre"))
     _model_flags(p)
+    p.add_argument("--length", help="cochlea: BM length L (cm; Table 5.1 default 3.5)")
+    p.add_argument("--lambda-c", dest="lambda_c", help="cochlea: stiffness decay rate (1/cm; default 1.4)")
     p.add_argument("--count", help="number of least-damped modes (default: all)")
     p.add_argument("--precision", help="digits of an mpmath polish, e.g. 30")
     p.add_argument("--zeta", help="shorthand for --kappa 1 --nu ZETA")
@@ -431,6 +598,20 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument(f"--{name}", help=f"physical input ({unit}); with all four, rates in s^-1")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
     p.set_defaults(func=cmd_modes)
+
+    p = sub.add_parser("response", help="cochlea: BM displacement envelope for a pure tone (5.5)")
+    p.add_argument("model", choices=("cochlea",))
+    p.add_argument("--kind", default="tone", choices=("tone", "harmonic", "subharmonic"),
+                   help="tone: passive response to a load at the base; harmonic/subharmonic: the "
+                        "Floquet solution at tau_min (thesis 5.5)")
+    _model_flags(p)
+    for name, unit in COCHLEA_FLAGS.items():
+        p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X",
+                       help=f"physical input ({unit}; Table 5.1 defaults, --omega required)")
+    _solver_flags(p)
+    p.add_argument("--png", help="write the envelope and profile as PNG")
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    p.set_defaults(func=cmd_response)
 
     p = sub.add_parser("lp", help="nonlinear frequency coefficient c (Lindstedt-Poincare, thesis 7.3)")
     p.add_argument("--m", help="degree of the initial shape, 2..8")
@@ -446,6 +627,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default=".", help="output directory")
     p.add_argument("--workers", type=int, default=None)
     p.set_defaults(func=cmd_figure)
+
+    p = sub.add_parser("validate", help="run the validation cases; write report.md and PNGs "
+                                        "(exit 1 if any case fails)")
+    p.add_argument("--out", default="validation-report", help="output directory (default validation-report)")
+    p.add_argument("--quick", action="store_true", help="only the quick cases (well under 2 minutes)")
+    p.add_argument("--workers", default=None, help="processes for the figure sweeps (default: all cores)")
+    p.set_defaults(func=cmd_validate)
 
     p = sub.add_parser("demo", help="run the embedded default scene")
     p.add_argument("--out", default="demo-output", help="output directory (default demo-output)")
@@ -470,6 +658,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true",
                    help='print exactly one object {"points", "computed", "skipped", "out", "seconds"}')
     p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("simulate", help="time-step the sphere (spectral IMEX): mode amplitudes, "
+                       "fitted growth rates and frequencies")
+    p.add_argument("target", help="'sphere' (then give the flags below) or a scene TOML file")
+    p.add_argument("--m", help="degree of the initial (m, 0) shape")
+    p.add_argument("--shape", help="initial shape: modes 'm:k[:amplitude], ...' or an expression "
+                   "in theta (polar), phi (azimuth)")
+    for name, text in (("kappa", "stiffness kappa (or an expression in theta, phi)"),
+                       ("nu", "viscosity nu (0: inviscid)"), ("tau", "forcing amplitude (default 0)"),
+                       ("t-end", "end time"), ("dt", "time step (default: from the fastest mode)"),
+                       ("n-radial", "radial nodes per side (default: chosen for 1e-9)")):
+        p.add_argument(f"--{name}", dest=name.replace("-", "_"), metavar="X", help=text)
+    p.add_argument("--scheme", default="SBDF3", help="IMEX scheme (SBDF1-4, CNAB2, MCNAB2, "
+                   "RK111, RK222, RK443; default SBDF3)")
+    p.add_argument("--png", help="write mode amplitudes against time (and PNG_shape.png: the "
+                   "membrane shape)")
+    p.add_argument("--npz", help="write the trajectory as NPZ")
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser("plot", help="draw a stored sweep (.zarr or .nc) as PNG")
     p.add_argument("store", help="a sweep written by `spectralshell sweep --out`")

@@ -9,7 +9,8 @@ import pytest
 DERIVATIONS = Path(__file__).resolve().parents[1] / "derivations"
 
 
-@pytest.mark.parametrize("script", ["mathieu_mapping.py", "sphere_linear.py", "fibre_linear.py"])
+@pytest.mark.parametrize("script", ["mathieu_mapping.py", "sphere_linear.py", "fibre_linear.py",
+                                    "cochlea_linear.py", "cochlea_wkb.py", "fibre_modes.py"])
 def test_derivation_script_passes(script):
     done = subprocess.run([sys.executable, str(DERIVATIONS / script)], capture_output=True, text=True,
                           timeout=300)

@@ -21,6 +21,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 import spectralshell as ss
+from _bench import row
 from spectralshell.discretise.hill import assemble
 from spectralshell.models import fibre, sphere
 from spectralshell.models.mathieu import hill_system
@@ -69,6 +70,13 @@ def main() -> None:
         print(f"{tol:8.0e} {m.n_temporal:4d} | {t_pkg:10.2e} {abs(m.tau_min - ref):8.1e} | "
               f"{t_dense:11.2e} {abs(tau_dense - ref):8.1e} {t_dense / t_pkg:6.1f} | "
               f"{t_mono:11.2e} {abs(tau_mono - ref):8.1e} {t_mono / t_pkg:7.0f}")
+        task = f"damped Mathieu tau_min (kappa {KAPPA}, nu {NU}, {KIND}), tol {tol:.0e}, N = {m.n_temporal}"
+        row(task=task, package_s=t_pkg, baseline="dense scipy.linalg.eig(A, B), same pencil",
+            baseline_s=t_dense, error=abs(m.tau_min - ref), baseline_error=abs(tau_dense - ref),
+            note="errors against QZ at N = 80")
+        row(task=task, package_s=t_pkg, baseline="solve_ivp monodromy (DOP853) + brentq",
+            baseline_s=t_mono, error=abs(m.tau_min - ref), baseline_error=abs(tau_mono - ref),
+            note="errors against QZ at N = 80")
 
     print("\nfixed truncation N: one structured solve vs dense scipy.linalg.eig(A, B), same pencil")
     print(f"{'model':>28} {'N':>4} {'kind':>12} | {'structured s':>12} | {'dense eig s':>11} | "

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from _bench import row as bench_row
 from spectralshell.params.sweep_grid import DEFAULT_CHUNK, sweep_spec
 from spectralshell.runner import open_pool, run_sweep
 from spectralshell.runner.engine import run_tasks
@@ -187,6 +188,9 @@ def speedup() -> float:
     t1, _ = best_of(lambda: run_sweep(scene, executor="processes", workers=1), 2)
     t2, _ = best_of(lambda: run_sweep(scene, executor="processes", workers=2), 2)
     print(f"  1 worker {t1:.2f} s, 2 workers {t2:.2f} s -> speed-up {t1 / t2:.2f}")
+    bench_row(task="sphere sweep, 1440 points, processes executor with 2 workers", package_s=t2,
+              baseline="the same sweep on 1 worker", baseline_s=t1, error=None,
+              note="identical numbers by construction (tests/test_sweep.py)")
     return t1 / t2
 
 
@@ -194,26 +198,23 @@ class SolveCounter:
     """Counts the truncations solved (and sum N^3, the dense work) in this process."""
 
     def __init__(self):
-        import spectralshell.runner.solve as runner_solve
         import spectralshell.solvers.marginal as marginal
 
-        self.modules = (marginal, runner_solve)
-        self.real = marginal.solve_truncation
+        self.module = marginal  # every truncation (marginal_tau and solve_truncation) goes through
+        self.real = marginal.truncation_taus  # marginal.truncation_taus
         self.calls, self.work = 0, 0.0
 
     def __enter__(self):
-        def counted(system, kind, n):
+        def counted(system, kind, n, *args, **kwargs):
             self.calls += 1
             self.work += float(n) ** 3
-            return self.real(system, kind, n)
+            return self.real(system, kind, n, *args, **kwargs)
 
-        for m in self.modules:
-            m.solve_truncation = counted
+        self.module.truncation_taus = counted
         return self
 
     def __exit__(self, *exc):
-        for m in self.modules:
-            m.solve_truncation = self.real
+        self.module.truncation_taus = self.real
 
 
 def continuation() -> dict[str, float]:
@@ -233,6 +234,9 @@ def continuation() -> dict[str, float]:
         on = min(runs[True], key=lambda r: r.compute_seconds)
         diff = float(np.abs(off.dataset.tau_min - on.dataset.tau_min).max())
         out[name] = off.compute_seconds / on.compute_seconds
+        bench_row(task=f"line sweep with continuation: {name}", package_s=on.compute_seconds,
+                  baseline="independent solves (continuation off)", baseline_s=off.compute_seconds,
+                  error=diff, note="error = max |tau_min(on) - tau_min(off)|")
         print(f"  {name}\n    time: off {off.compute_seconds:.3f} s, on {on.compute_seconds:.3f} s -> "
               f"speed-up {out[name]:.2f}; truncations solved {counts[False][0]} -> {counts[True][0]}, "
               f"sum N^3 ratio {counts[False][1] / counts[True][1]:.2f}\n    continued "

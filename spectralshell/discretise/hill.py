@@ -86,6 +86,28 @@ class HillMatrices:
         indptr = np.searchsorted(rows[order], np.arange(K + 1))
         return sp.bsr_matrix((data[order], cols[order], indptr), shape=(K * s,) * 2).tocsr()
 
+    def block_range(self, n_temporal: int) -> slice:
+        """Block positions of the truncation ``n_temporal`` <= N inside this one: the leading
+        blocks n = 0..n_temporal (real form) or the central ones (two-sided form)."""
+        if not 1 <= n_temporal <= self.n_temporal:
+            raise ValueError(f"n_temporal = {n_temporal!r} is invalid: "
+                             f"must be in 1..{self.n_temporal}")
+        if self.is_real:
+            return slice(0, n_temporal + 1)
+        K = len(self.diag) - 2 * (self.n_temporal - n_temporal)
+        return slice(self.n_temporal - n_temporal, self.n_temporal - n_temporal + K)
+
+    def truncated(self, n_temporal: int) -> HillMatrices:
+        """The pencil ``assemble`` gives at the truncation ``n_temporal`` <= N, cut out of this
+        one: every block depends only on its own Fourier index(es), so the smaller pencil is the
+        sub-pencil on :meth:`block_range` (views, no copies)."""
+        rows = self.block_range(n_temporal)
+        couple = slice(rows.start, rows.stop - 1)
+        self_coupling = None if self.self_coupling is None else self.self_coupling[rows]
+        return HillMatrices(kind=self.kind, form=self.form, n_temporal=int(n_temporal),
+                            diag=self.diag[rows], lower=self.lower[couple],
+                            upper=self.upper[couple], self_coupling=self_coupling)
+
 
 def _realify(d: np.ndarray) -> np.ndarray:
     """Real 2b x 2b blocks [[Re d, -Im d], [Im d, Re d]] of complex (k, b, b) blocks."""

@@ -40,8 +40,12 @@ class HillSystem:
     polynomial : coefficient matrices (D_0, D_1, ..., D_p) with D(s) = sum_j s^j D_j when D is a
         matrix polynomial with invertible leading coefficient (needed for Floquet exponents as a
         linear eigenproblem), otherwise None.
-    n_resonant : the largest Fourier index at which D(i n) can be (nearly) singular, i.e. the
-        natural frequency in units of the forcing frequency; truncations start above it.
+    n_resonant : the Fourier index below which truncation must not stop: the natural frequency
+        (in units of the forcing frequency) of the modes that set tau_min. For a scalar model it
+        is the largest index at which D(i n) can be (nearly) singular; for a block model whose
+        blocks carry many spatial modes (cochlea) it is the lowest mode frequency, since the
+        high spatial modes are far from resonance and converge in N regardless (their
+        convergence is checked by the N-refinement like everything else).
     """
 
     name: str

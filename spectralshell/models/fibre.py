@@ -28,19 +28,30 @@ tangential row forces X^theta = -X^r/m, and the radial row becomes the Mathieu e
 X'' + lambda0^2 (1 + 2 tau sin t) X = 0 with lambda0^2 = kappa m (m^2 - 1)/2. This is Rayleigh's
 frequency of a capillary column with tension K and equal densities. ``nu = 0`` therefore reuses
 the Mathieu model. With forcing = 'tangential' the limit is unforced, for tau < 1/2.
+
+Natural modes (tau = 0): :func:`modal_system` states det D(gamma) = 0 in beta for the root finder
+(two modes with Im gamma >= 0: the Rayleigh oscillation and the fast Stokes-layer mode), with the
+asymptotic seeds :func:`oscillatory_limit`, :func:`fast_limit` and :func:`stokes_limit`.
 """
 
 from __future__ import annotations
 
+import cmath
 import dataclasses
+import functools
+import math
+from collections.abc import Iterator
 
+import mpmath
 import numpy as np
+import scipy.special as sc
 
 from .._validate import require_positive
+from ..errors import ParameterError
 from ..params.fibre import FibreParams
 from ..special.cylindrical import ratio_i, ratio_k
 from . import mathieu
-from .base import HillSystem
+from .base import HillSystem, ModalSystem
 
 
 def lambda0_squared(m: int, kappa: float) -> float:
@@ -153,3 +164,288 @@ def hill_system(*, m: int, kappa: float, nu: float, forcing: str = "both") -> Hi
     return HillSystem(name="fibre", block_size=2, forcing=forcing_matrix(m_, kappa_, p.forcing),
                       unforced=lambda s: unforced(s, m=m_, kappa=kappa_, nu=nu_),
                       n_resonant=float(np.sqrt(lam2)))
+
+
+# ----------------------------------------------------------------------------- natural modes
+#
+# Derived in derivations/fibre_modes.py (results in derivations/fibre_linear_result.md, section 7,
+# "Natural modes"). Scaled variables: zeta = nu/sqrt(kappa), sigma = gamma/sqrt(kappa) = zeta beta^2,
+# S = sigma^2, x = 1/Q, y = 1/P. In the basis e+- = (1, +-1)/sqrt(2), which diagonalises E,
+#
+#     det D(gamma)/kappa^2 = Delta(beta) = A+ A- - S^2/m^2,
+#     A+ = S (1/m + 2y) + m(m+1),   A- = S (1/m + 2x) + m(m-1),
+#
+# i.e. Delta = S^2 (2(x+y)/m + 4xy) + 2mS (1 + (m+1)x + (m-1)y) + m^2(m^2-1).
+
+#: Range of zeta = nu/sqrt(kappa) over which the seeds are verified (tests/test_fibre_modes.py).
+ZETA_MIN = 1e-10
+ZETA_MAX = 1e3
+#: Modes on the physical sheet with Im gamma >= 0 (argument-principle counts in the tests).
+N_MODES = 2
+_EULER_GAMMA = 0.57721566490153286
+
+
+def _q_second_sheet(m: int, w: complex, q_w: complex, upper: bool) -> complex:
+    """Q(beta) at beta = -w, Re w > 0: K_n(w e^{+-i pi}) = (-1)^n K_n(w) -+ i pi I_n(w) (DLMF 10.34.2),
+
+        Q(-w) = (Q(w) - (-1)^m e w rho / r) / (1 + (-1)^m e rho),   e = -+ i pi,
+
+    rho = I_m(w)/K_m(w) from scipy's scaled ``ive``/``kve`` (0 where it underflows: then Q is
+    continued as an even function, correct to double precision: by the Wronskian
+    I_m K_m' - I_m' K_m = -1/w, K_m overflows or I_m underflows only where rho is below 1e-300),
+    r = I_m(w)/I_{m-1}(w).
+    The upper sign holds for Im beta >= 0."""
+    e = -1j * math.pi if upper else 1j * math.pi
+    sign = -1.0 if m % 2 else 1.0
+    i_scaled, k_scaled = complex(sc.ive(m, w)), complex(sc.kve(m, w))
+    rho = 0j
+    if i_scaled != 0 and cmath.isfinite(k_scaled) and k_scaled != 0:
+        rho = i_scaled / k_scaled * cmath.exp(w.real + w)  # I/K = (ive/kve) e^{|Re w| + w}
+    if not cmath.isfinite(rho):
+        raise OverflowError("I_m/K_m overflows: beta is far into the second sheet")
+    r = complex(ratio_i(m - 1, w))
+    return (q_w - sign * e * w * rho / r) / (1.0 + sign * e * rho)
+
+
+def _p_q(m: int, beta: complex) -> tuple[complex, complex, complex, complex]:
+    """P, Q and their beta-derivatives (Riccati form of DLMF 10.25.1) at beta != 0, on both sheets.
+
+        beta P' = beta^2 - 2m P - P^2,      beta Q' = Q^2 + 2m Q - beta^2.
+
+    P is even in beta; Q is continued across Re beta = 0 by :func:`_q_second_sheet`."""
+    w = beta if beta.real >= 0 else -beta
+    P = complex(w * ratio_i(m, w))
+    Q = complex(w / ratio_k(m - 1, w))
+    if beta.real < 0:
+        Q = _q_second_sheet(m, w, Q, beta.imag >= 0)
+    b2 = beta * beta
+    return P, Q, (b2 - 2 * m * P - P * P) / beta, (Q * Q + 2 * m * Q - b2) / beta
+
+
+def _delta_from_pq(m, zeta, beta, P, Q, dP, dQ):
+    """(Delta, Delta' + Delta g'/g) from P, Q and their derivatives (any number type; m of that type).
+
+    g = I_{m+1}(beta) K_{m-1}(beta)/beta^2 removes the poles of Delta (zeros of I_{m+1} on the
+    imaginary axis, of K_{m-1} in Re beta < 0); beta g'/g = beta^2 (1/P - 1/Q) - 4 (DLMF 10.29.2).
+    |beta| < m uses the product form, which keeps the near-double Stokes roots well conditioned;
+    |beta| >= m the expanded form, which avoids the cancellation of S^2/m^2 at large beta."""
+    x, y = 1 / Q, 1 / P
+    dx, dy = -dQ * x * x, -dP * y * y
+    S = (zeta * beta * beta) ** 2
+    dS = 4 * S / beta
+    if abs(beta) < m:
+        ap, am = S * (1 / m + 2 * y) + m * (m + 1), S * (1 / m + 2 * x) + m * (m - 1)
+        dap, dam = dS * (1 / m + 2 * y) + 2 * S * dy, dS * (1 / m + 2 * x) + 2 * S * dx
+        delta = ap * am - S * S / (m * m)
+        ddelta = dap * am + ap * dam - 2 * S * dS / (m * m)
+    else:
+        c, dc = 2 * (x + y) / m + 4 * x * y, 2 * (dx + dy) / m + 4 * (dx * y + x * dy)
+        b, db = 2 * m * (1 + (m + 1) * x + (m - 1) * y), 2 * m * ((m + 1) * dx + (m - 1) * dy)
+        delta = S * S * c + S * b + m * m * (m * m - 1)
+        ddelta = 2 * S * dS * c + S * S * dc + dS * b + S * db
+    return delta, ddelta + delta * (beta * (y - x) - 4 / beta)
+
+
+def modal_residual(beta: complex, *, m: int, zeta: float) -> tuple[complex, complex]:
+    """(Delta, Newton derivative) of the fibre's dispersion relation in double precision."""
+    beta = complex(beta)
+    return _delta_from_pq(float(m), zeta, beta, *_p_q(m, beta))
+
+
+def modal_residual_mp(beta, *, m: int, zeta: float):
+    """:func:`modal_residual` in mpmath (besseli/besselk of integer order, principal branch)."""
+    beta, mm = mpmath.mpc(beta), mpmath.mpf(m)
+    P = beta * mpmath.besseli(m + 1, beta) / mpmath.besseli(m, beta)
+    Q = beta * mpmath.besselk(m - 1, beta) / mpmath.besselk(m, beta)
+    b2 = beta * beta
+    return _delta_from_pq(mm, mpmath.mpf(zeta), beta, P, Q, (b2 - 2 * mm * P - P * P) / beta,
+                          (Q * Q + 2 * mm * Q - b2) / beta)
+
+
+def oscillatory_limit(*, m: int, kappa: float, nu: float) -> complex:
+    """Small-nu Rayleigh mode: gamma = i lambda0 - c_m sqrt(i lambda0 nu) - d_m nu + O(nu^(3/2)),
+    c_m = (m^2+1)/(2m), d_m = (m^4-3)/(4m^2) (Stokes-layer damping; derivations/fibre_modes.py)."""
+    lam0 = math.sqrt(lambda0_squared(m, kappa))
+    return (1j * lam0 - (m * m + 1) / (2 * m) * cmath.sqrt(1j * lam0 * nu)
+            - (m ** 4 - 3) / (4 * m * m) * nu)
+
+
+def fast_limit(*, m: int, kappa: float, nu: float) -> complex:
+    """Small-nu fast branch: gamma = a^2 (kappa^2/nu)^(1/3) - 2(m^2-1)/(3m) a (kappa nu)^(1/3)
+    + O(nu), a = (m^2/2)^(1/3) e^{i pi/3} (|gamma| ~ (kappa^2 m^4/(4 nu))^(1/3), arg 2 pi/3)."""
+    a = (m * m / 2.0) ** (1.0 / 3.0) * cmath.exp(1j * math.pi / 3)
+    third = 1.0 / 3.0
+    return a * a * (kappa * kappa / nu) ** third - 2 * (m * m - 1) / (3 * m) * a * (kappa * nu) ** third
+
+
+def stokes_limit(*, m: int, kappa: float, nu: float) -> np.ndarray:
+    """Large-nu pair near the steady-Stokes double root gamma0 = -kappa m/(4 nu), from the quartic
+
+        A+ A- - sigma^4/m^2 = 0,  A+- = sigma^2 (1/m + 2 c+-) + 4(m+-1) zeta sigma + m(m+-1),
+
+    with 1/P = 2(m+1)/beta^2 + c+, 1/Q = 2(m-1)/beta^2 + c- + o(1): c+ = 1/(2(m+2)),
+    c- = 1/(2(m-2)) (m >= 3), c- = -log(beta0/2) - gamma_E (m = 2, the 2D Stokes paradox;
+    beta0 = sqrt(gamma0/nu), Im beta0 > 0). Returns the two roots nearest gamma0 (gamma units)."""
+    zeta = nu / math.sqrt(kappa)
+    sigma0 = -m / (4 * zeta)
+    c_plus = 1 / (2 * (m + 2))
+    if m == 2:
+        c_minus = -cmath.log(cmath.sqrt(sigma0 / zeta) / 2) - _EULER_GAMMA
+    else:
+        c_minus = 1 / (2 * (m - 2))
+    ap = np.array([1 / m + 2 * c_plus, 4 * (m + 1) * zeta, m * (m + 1)], dtype=complex)
+    am = np.array([1 / m + 2 * c_minus, 4 * (m - 1) * zeta, m * (m - 1)], dtype=complex)
+    quartic = np.polymul(ap, am)
+    quartic[0] -= 1 / (m * m)
+    roots = np.roots(quartic * (4 * zeta / m) ** np.arange(5))  # in units of |sigma0|
+    roots = roots[np.argsort(abs(roots + 1))][:2] * abs(sigma0)
+    return math.sqrt(kappa) * roots
+
+
+#: Smallest relative separation of the two overdamped modes (near the Stokes double root) that
+#: the root finder resolves with margin (its duplicate tolerance is 1e-8 in beta).
+_SEPARATION_MIN = 1e-6
+
+
+def zeta_max(m: int) -> float:
+    """Largest zeta = nu/sqrt(kappa) for which both modes are resolved: ZETA_MAX for m = 2, else
+    where the two overdamped modes, |gamma_+ - gamma_-|/|gamma0| ~ (m/(4 zeta^2)) |d_m|,
+
+        d_m = (1/m + 1/(m+2))/(4(m+1)) - (1/m + 1/(m-2))/(4(m-1))      (from :func:`stokes_limit`),
+
+    come closer than 1e-6 (zeta_max = 316, 204, 72, 3.5 for m = 3, 4, 10, 200).
+    For m = 2 the logarithm of the 2D Stokes paradox keeps them 2e-6 apart even at zeta = 1e3."""
+    if m == 2:
+        return ZETA_MAX
+    d = (1 / m + 1 / (m + 2)) / (4 * (m + 1)) - (1 / m + 1 / (m - 2)) / (4 * (m - 1))
+    return min(ZETA_MAX, math.sqrt(m * abs(d) / (4 * _SEPARATION_MIN)))
+
+
+def _first_quadrant(beta: complex, offset: float = 0.0) -> complex:
+    """The point with the same |Re|, |Im| in the closed first quadrant (Re at least offset |beta|)."""
+    return complex(max(abs(beta.real), offset * abs(beta)), abs(beta.imag))
+
+
+def modal_seeds(*, m: int, zeta: float) -> Iterator[complex]:
+    """Starting points beta for the two modes, best first (lazy), in scaled units (kappa = 1).
+
+    Notes
+    -----
+    * the asymptotic pair of the regime first: for zeta <= 1/sqrt(m) (|beta0| >= m/2, beta0 the
+      Stokes value) the small-nu modes :func:`oscillatory_limit` and :func:`fast_limit`, otherwise
+      the two roots of :func:`stokes_limit`;
+    * then the other pair, and all four moved off the imaginary axis by 2 % of |beta| (on the
+      axis a nearly even residual keeps Newton's iterates);
+    * last, for zeta above 0.2/sqrt(m), both small-nu modes continued in zeta from there
+      (:func:`_continued`): for large m the crossover |beta| ~ m is where neither asymptotic
+      pair is close enough (e.g. m = 200, zeta = 0.044).
+
+    Over m = 2..200, zeta = 1e-10..zeta_max(m), these find both modes
+    (tests/test_fibre_modes.py); the regime's pair alone does so away from the crossover.
+    """
+    small = [oscillatory_limit(m=m, kappa=1.0, nu=zeta), fast_limit(m=m, kappa=1.0, nu=zeta)]
+    large = [complex(g) for g in stokes_limit(m=m, kappa=1.0, nu=zeta)]
+    ordered = small + large if zeta * math.sqrt(m) <= 1.0 else large + small
+    betas = [cmath.sqrt(sigma / zeta) for sigma in ordered]
+    for beta in betas:
+        yield _first_quadrant(beta)
+    for beta in betas:
+        yield _first_quadrant(beta, 0.02)
+    start = 0.2 / math.sqrt(m)
+    if zeta > start:
+        yield from _continued(m, zeta, start)
+
+
+def _newton_polish(m: int, zeta: float, beta: complex) -> complex | None:
+    """Newton's method on :func:`modal_residual` from beta (30 steps at most, step capped at
+    |beta|/2, relative tolerance 1e-10); None if it fails."""
+    for _ in range(30):
+        try:
+            f, fp = modal_residual(beta, m=m, zeta=zeta)
+        except (ParameterError, OverflowError, ZeroDivisionError):
+            return None
+        if fp == 0 or not (cmath.isfinite(f) and cmath.isfinite(fp)):
+            return None
+        step = f / fp
+        if abs(step) > 0.5 * abs(beta):
+            step *= 0.5 * abs(beta) / abs(step)
+        beta -= step
+        if abs(step) <= 1e-10 * abs(beta):
+            return beta
+    return None
+
+
+def _continued(m: int, zeta: float, start: float) -> Iterator[complex]:
+    """The two small-nu modes at zeta = start, continued to zeta in geometric steps of ratio
+    <= 10^(1/40) (predictor: linear extrapolation of beta in log zeta; corrector: Newton).
+    A branch whose corrector fails, or jumps by more than 10 % of |beta|, is dropped."""
+    steps = max(2, math.ceil(40 * math.log10(zeta / start)))
+    path = [start * (zeta / start) ** (k / steps) for k in range(steps + 1)]
+    for sigma in (oscillatory_limit(m=m, kappa=1.0, nu=start), fast_limit(m=m, kappa=1.0, nu=start)):
+        beta = _newton_polish(m, start, cmath.sqrt(sigma / start))
+        history = [] if beta is None else [beta]
+        for k in range(1, steps + 1):
+            if not history:
+                break
+            guess = history[-1] * math.sqrt(path[k - 1] / path[k])
+            if len(history) >= 2:
+                guess = 2 * history[-1] - history[-2]
+            beta = _newton_polish(m, path[k], guess)
+            if beta is None or abs(beta - guess) > 0.1 * abs(guess):
+                history = []
+            else:
+                history.append(beta)
+        if history:
+            yield _first_quadrant(history[-1])
+
+
+def modal_system(*, m: int, kappa: float, nu: float) -> ModalSystem:
+    """Natural modes of wavenumber m of the unforced fibre as a :class:`ModalSystem` in beta.
+
+    Parameters
+    ----------
+    m : wavenumber, 2 <= m <= 200.
+    kappa, nu : stiffness and viscosity (> 0); zeta = nu/sqrt(kappa) must lie in
+        [ZETA_MIN, zeta_max(m)] (:func:`zeta_max`).
+
+    Notes
+    -----
+    x = beta = sqrt(gamma/nu) (Re beta > 0 on the physical sheet), gamma = nu beta^2; the
+    dispersion relation is Delta(beta) = det D(gamma)/kappa^2 (see the block comment above), a
+    function of beta and zeta only, so gamma/sqrt(kappa) depends on zeta alone. Delta is analytic in
+    Re beta > 0 (its poles are at the zeros of I_{m+1}, on the imaginary axis, and of K_{m-1}, in
+    Re beta < 0); K_{m-1}, K_m carry the logarithmic branch point of 2D Stokes flow at beta = 0,
+    cut along beta <= 0, so the continuation across the imaginary axis (gamma's cut) is the
+    second sheet. n_modes = 2 (N_MODES): argument-principle counts over the first quadrant find
+    exactly two roots for every m, zeta tested (tests/test_fibre_modes.py): the Rayleigh
+    oscillation (gamma -> i lambda0 as nu -> 0) and the fast Stokes-layer mode
+    (|gamma| ~ (kappa^2 m^4/(4 nu))^(1/3)), which become the two overdamped Stokes modes near
+    -kappa m/(4 nu) as nu grows. ``count`` in :func:`solvers.modes.find_modes` therefore defaults
+    to both.
+
+    Raises
+    ------
+    ParameterError : m, kappa or nu out of range (nu = 0: the modes are gamma = +-i lambda0, and
+        the fast mode has gone to infinity: nothing to solve).
+    """
+    if nu == 0:
+        raise ParameterError("nu = 0 is invalid: must be > 0 for the viscous natural modes (the "
+                             "inviscid one is gamma = i lambda0, lambda0^2 = kappa m (m^2 - 1)/2)")
+    p = FibreParams(m=m, kappa=kappa, nu=nu)
+    zeta = p.nu / math.sqrt(p.kappa)
+    top = zeta_max(p.m)
+    if not ZETA_MIN <= zeta <= top:
+        raise ParameterError(
+            f"zeta = nu/sqrt(kappa) = {zeta!r} is invalid: must be in [{ZETA_MIN:g}, {top:.4g}] "
+            f"for m = {p.m} (above it the two overdamped modes, both near gamma = -kappa m/(4 nu), "
+            "are closer than 1e-6 relative and cannot be told apart)")
+    m_, nu_ = p.m, p.nu
+    return ModalSystem(
+        name="fibre",
+        residual=functools.partial(modal_residual, m=m_, zeta=zeta),
+        residual_mp=functools.partial(modal_residual_mp, m=m_, zeta=zeta),
+        seeds=functools.partial(modal_seeds, m=m_, zeta=zeta),
+        to_gamma=lambda beta: nu_ * beta * beta,
+        sheet_margin=lambda beta: beta.real,
+        n_modes=N_MODES,
+    )

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+from ..errors import ParameterError
+from ..params.cochlea import CochleaParams
 from ..params.fibre import FibreParams
 from ..params.mathieu import MathieuParams
 from ..params.sphere import SphereParams
-from . import fibre, mathieu, sphere, sphere_modes
+from . import cochlea, fibre, mathieu, sphere, sphere_modes
 from .base import HillSystem, ModalSystem
 
 
@@ -19,6 +21,12 @@ def hill_system(params) -> HillSystem:
     if isinstance(params, FibreParams):
         return fibre.hill_system(m=params.m, kappa=params.kappa, nu=params.nu,
                                  forcing=params.forcing)
+    if isinstance(params, CochleaParams):
+        if params.n_spatial is None and params.spatial_mode is None:
+            raise ParameterError("n_spatial = None is invalid here: this computation needs a fixed "
+                                 "number of cosine modes (only floquet converges in n_spatial)")
+        return cochlea.hill_system(kappa=params.kappa, nu=params.nu, alpha=params.alpha,
+                                   n_spatial=params.n_spatial, spatial_mode=params.spatial_mode)
     raise TypeError(f"no Hill system for parameters of type {type(params).__name__}")
 
 
@@ -27,4 +35,6 @@ def modal_system(params) -> ModalSystem:
     if isinstance(params, SphereParams):
         return sphere_modes.modal_system(m=params.m, kappa=params.kappa, nu=params.nu,
                                          component=params.component)
+    if isinstance(params, FibreParams):
+        return fibre.modal_system(m=params.m, kappa=params.kappa, nu=params.nu)
     raise TypeError(f"no natural-mode relation for parameters of type {type(params).__name__}")

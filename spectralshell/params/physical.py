@@ -141,3 +141,91 @@ def fibre_forced(*, rho: float, mu: float, radius: float, sigma: float, omega: f
 #: Table 4.1 (2D simulations, tau = 0.45): physical values; the printed (nu, kappa) are the check.
 TABLE_4_1 = {1: {"rho": 1.0, "mu": 0.02, "radius": 0.2, "sigma": 5e3, "omega": 2500.0},
              2: {"rho": 1.0, "mu": 0.02, "radius": 0.2, "sigma": 2e4, "omega": 2500.0}}
+
+
+# ---------------------------------------------------------------------------------------------
+# Cochlea (thesis chapter 5)
+# ---------------------------------------------------------------------------------------------
+
+#: Units of the cgs quantities of the cochlea model. sigma is a stiffness per unit area
+#: (g cm^-2 s^-2: force per unit area per unit displacement); omega is the angular frequency of
+#: the pumping (rad/s), the omega of K = sigma e^{-lambda_c x}(1 + 2 tau sin(omega t)) (5.3).
+COCHLEA_UNITS = {"rho": "g/cm^3", "mu": "g/(cm s)", "sigma": "g/(cm^2 s^2)", "length": "cm",
+                 "lambda_c": "1/cm", "omega": "rad/s"}
+
+#: Table 5.1 (values of LeVeque, Peskin & Lax, thesis ref. [74]; sigma is theirs, not a human
+#: value): rho, mu, sigma, BM length L, stiffness decay rate lambda_c, and the frequency range.
+#: The printed dimensionless ranges nu in [8.06e-6, 1.61e-4], kappa in [0.135, 53.9] belong to
+#: omega in [100, 2000] rad/s (ERRATA; derivations/cochlea_linear.py Part 1), not to the printed
+#: [400, 1600]; omega_range_dimensionless records that range. We use the formulas
+#: (cochlea_forced) with omega in rad/s; Table 5.2 and Figs 5.8-5.14 use omega in [400, 1600].
+TABLE_5_1 = {"rho": 1.0, "mu": 0.02, "sigma": 6e5, "length": 3.5, "lambda_c": 1.4,
+             "omega_range": (400.0, 1600.0), "omega_range_dimensionless": (100.0, 2000.0)}
+
+#: Thesis 5.6.2 / Fig 5.18: human stiffness range (refs [71], [93]) and audible range as printed
+#: ("Hz"); gerbil stiffness decay, length and stiffness range (refs [90], [96]).
+COCHLEA_HUMAN = {"sigma_range": (1e7, 2e9), "frequency_range": (50.0, 20000.0)}
+COCHLEA_GERBIL = {"rho": 1.0, "mu": 0.02, "length": 1.3, "lambda_c": 3.7,
+                  "sigma_range": (1.5e8, 2e9), "frequency_range": (100.0, 50000.0)}
+
+
+def cochlea_forced(*, rho: float, mu: float, sigma: float, length: float, lambda_c: float,
+                   omega: float) -> dict[str, float]:
+    """Dimensionless {nu, kappa, alpha} of the cochlea (thesis 5.2): lengths in units L/pi,
+    time in 1/omega, so nu = mu pi^2/(rho L^2 omega), kappa = sigma pi/(rho L omega^2),
+    alpha = lambda_c L/pi (derived in derivations/cochlea_linear.py Part 1)."""
+    for name, value in (("rho", rho), ("sigma", sigma), ("length", length), ("omega", omega)):
+        require_positive(name, value)
+    for name, value in (("mu", mu), ("lambda_c", lambda_c)):
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+            raise ParameterError(f"{name} = {value!r} is invalid: must be a finite number >= 0 "
+                                 f"({COCHLEA_UNITS[name]})")
+    return {"nu": mu * math.pi**2 / (rho * length**2 * omega),
+            "kappa": sigma * math.pi / (rho * length * omega**2),
+            "alpha": lambda_c * length / math.pi}
+
+
+def cochlea_time_scale(*, rho: float, sigma: float, length: float) -> float:
+    """T = sqrt(rho L / (pi sigma)) in s: the time unit of the natural modes (gamma/sqrt(kappa)
+    of (5.14)); zeta = mu / sqrt(rho sigma (L/pi)^3) is then their only fluid parameter."""
+    return math.sqrt(require_positive("rho", rho) * require_positive("length", length)
+                     / (math.pi * require_positive("sigma", sigma)))
+
+
+#: Which physical quantity each dimensionless cochlea parameter replaces when both are given.
+_COCHLEA_SOURCE = {"nu": "mu", "kappa": "sigma", "alpha": "lambda_c"}
+
+
+def cochlea_params(values: dict) -> dict:
+    """``values`` with cgs inputs (keys of COCHLEA_UNITS, missing ones from TABLE_5_1) converted to
+    nu, kappa, alpha by :func:`cochlea_forced`; explicitly given nu, kappa or alpha win.
+
+    Without ``omega`` nothing is converted (the values must then hold nu, kappa, alpha). A
+    dimensionless value given together with the quantity it replaces (nu with mu, kappa with
+    sigma, alpha with lambda_c) is contradictory and refused.
+    """
+    phys = {k: v for k, v in values.items() if k in COCHLEA_UNITS}
+    rest = {k: v for k, v in values.items() if k not in COCHLEA_UNITS}
+    if not phys:
+        return rest
+    if "omega" not in phys:
+        raise ParameterError(f"omega = None is invalid with {', '.join(sorted(phys))}: physical "
+                             "input needs the forcing angular frequency omega (rad/s)")
+    for name, source in _COCHLEA_SOURCE.items():
+        if name in rest and source in phys:
+            raise ParameterError(f"{name} = {rest[name]!r} is invalid together with {source} = "
+                                 f"{phys[source]!r}: give one of them")
+    base = {k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
+    converted = cochlea_forced(**{**base, **{k: float(v) for k, v in phys.items()}})
+    return {**converted, **rest}
+
+
+def convert_physical(model: str, values: dict) -> tuple[dict, dict | None]:
+    """(model parameters, the cgs inputs used or None): the cgs quantities a model accepts in
+    place of its dimensionless ones are converted (cochlea: :func:`cochlea_params`); values of
+    other models pass through unchanged."""
+    if model == "cochlea" and any(k in COCHLEA_UNITS for k in values):
+        phys = {k: float(v) for k, v in values.items() if k in COCHLEA_UNITS}
+        base = {k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
+        return cochlea_params(values), {**base, **phys}
+    return dict(values), None

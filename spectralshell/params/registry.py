@@ -7,11 +7,13 @@ from typing import Any
 
 from .._validate import require_choice
 from ..errors import ParameterError
+from .cochlea import CochleaParams
 from .fibre import FibreParams
 from .mathieu import MathieuParams
 from .sphere import SphereParams
 
-PARAMS = {"mathieu": MathieuParams, "sphere": SphereParams, "fibre": FibreParams}
+PARAMS = {"mathieu": MathieuParams, "sphere": SphereParams, "fibre": FibreParams,
+          "cochlea": CochleaParams}
 
 
 def check_model(model: str) -> str:

@@ -5,17 +5,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-import matplotlib
+from ._canvas import plt, save_figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from ..results.floquet import StabilityResult  # noqa: E402
-from .ince_strutt import STYLE  # noqa: E402
+from ..results.floquet import StabilityResult
+from .ince_strutt import STYLE
 
 
 def save(panels: Sequence[tuple[str, dict[int, object], StabilityResult]], path: str | Path, *,
-         tau_max: float = 1.0) -> Path:
+         tau_max: float = 1.0, x_label: str = "m, spherical-harmonic degree") -> Path:
     """One panel per (title, {m: FloquetResult}, StabilityResult at the reference tau)."""
     fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4.0), squeeze=False)
     for ax, (title, by_degree, stab) in zip(axes[0], panels):
@@ -34,12 +31,8 @@ def save(panels: Sequence[tuple[str, dict[int, object], StabilityResult]], path:
         ax.axhline(0.5, color="0.4", linestyle="--", linewidth=1, label="τ = 1/2")
         ax.set_xticks(sorted(by_degree))
         ax.set_ylim(0, tau_max)
-        ax.set_xlabel("m, spherical-harmonic degree")
+        ax.set_xlabel(x_label)
         ax.set_ylabel("τ, forcing amplitude (dimensionless)")
         ax.set_title(title, fontsize=9)
         ax.legend(loc="upper left", fontsize=6)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=120)

@@ -5,12 +5,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-import matplotlib
+from ._canvas import plt, save_figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from ..results.floquet import TonguesResult  # noqa: E402
+from ..results.floquet import TonguesResult
 
 STYLE = {"harmonic": dict(marker="+", color="tab:blue", label="harmonic (γ = 0)"),
          "subharmonic": dict(marker="o", mfc="none", color="tab:red", label="subharmonic (γ = i/2)")}
@@ -50,8 +47,4 @@ def save(results: Sequence[TonguesResult], path: str | Path, *, tau_max: float =
     fig, axes = plt.subplots(rows, columns, figsize=(6.4 * columns, 4.2 * rows), squeeze=False)
     for ax, res in zip(axes.flat, results):
         draw(ax, res, tau_max=tau_max, **draw_options)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=120)

@@ -5,13 +5,10 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-import matplotlib
+from ._canvas import plt, save_figure
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from ..results.modes import NaturalModesResult  # noqa: E402
+from ..results.modes import NaturalModesResult
 
 
 def save(zeta: np.ndarray, by_degree: Mapping[int, Sequence[NaturalModesResult]],
@@ -30,8 +27,4 @@ def save(zeta: np.ndarray, by_degree: Mapping[int, Sequence[NaturalModesResult]]
     for ax in (top, bottom):
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=120)

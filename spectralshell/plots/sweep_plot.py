@@ -12,15 +12,12 @@ from __future__ import annotations
 import itertools
 from pathlib import Path
 
-import matplotlib
+from ._canvas import plt, save_figure
+import numpy as np
+import xarray as xr
+from scipy import ndimage
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-from scipy import ndimage  # noqa: E402
-
-from ..errors import ParameterError  # noqa: E402
+from ..errors import ParameterError
 
 SYMBOLS = {"kappa": "κ", "nu": "ν", "sigma": "σ", "omega": "ω", "mu": "μ", "rho": "ρ",
            "radius": "R", "bpm": "beat rate"}
@@ -178,8 +175,4 @@ def save(ds: xr.Dataset, path: str | Path, *, min_cells: int = 6, dpi: int = 120
     else:
         raise ParameterError(f"sweep axes {real!r} are invalid for a picture: plot draws one or "
                              "two real axes with several values")
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=dpi)

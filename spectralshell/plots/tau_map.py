@@ -5,15 +5,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-import matplotlib
+from ._canvas import plt, save_figure
+import numpy as np
+from matplotlib.patches import Rectangle
+from scipy import ndimage
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.patches import Rectangle  # noqa: E402
-from scipy import ndimage  # noqa: E402
-
-from ..results.maps import TauMapResult  # noqa: E402
+from ..results.maps import TauMapResult
 
 LABELS = {"sigma": "σ, membrane stiffness (dyn/cm)", "bpm": "beat rate (beats/min)",
           "omega": "ω, forcing frequency (rad/s)", "kappa": "κ, stiffness (dimensionless)",
@@ -54,8 +51,4 @@ def save(res: TauMapResult, path: str | Path, *,
     ax.set_ylabel(LABELS.get(res.y_name, f"{res.y_name} ({res.units[res.y_name]})"))
     ax.set_title(f"{res.model}: minimum τ over m = {res.degrees[0]}..{res.degrees[-1]} "
                  "(labels: m, H harmonic / S subharmonic)", fontsize=9)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=120)

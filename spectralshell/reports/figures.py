@@ -103,6 +103,167 @@ def _fibre_forcing_split(out: Path, **kw) -> list[Path]:
     return _diagrams("fig-4.2", out, cases, kappa="0.005:0.1:150", columns=3, model="fibre", **kw)
 
 
+#: Figs 4.3/4.4: integer wavenumbers shown, and the amplitude at which unstable m are highlighted
+#: (tau = 0.45, the forcing of the Table 4.1 simulations).
+FIBRE_DEGREES = (2, 10)
+FIBRE_TAU = 0.45
+
+
+def _fibre_against_m(name: str, cases: list[dict], out: Path, *, progress: bool,
+                     workers: int | None) -> list[Path]:
+    """Figs 4.3/4.4: marginal tau (tau <= 1) at each integer wavenumber m = 2..10 for the
+    (nu, kappa) sets compared with Cortez et al. 2004, m unstable at tau = 0.45 highlighted.
+
+    The thesis draws these diagrams against a continuous m; only integer m are fibre modes, and
+    the package evaluates those (see derivations/fibre_linear_result.md, Differences)."""
+    lo, hi = FIBRE_DEGREES
+    panels, data = [], []
+    for case in cases:
+        by_degree = {m: api.floquet("fibre", m=m, tau_max=1.0, **case) for m in range(lo, hi + 1)}
+        stab = api.stability("fibre", tau=FIBRE_TAU, m=f"{lo}:{hi}", **case)
+        title = f"fibre: ν = {case['nu']:g}, κ = {case['kappa']:g} (abscissa: wavenumber m)"
+        panels.append((title, by_degree, stab))
+        data.append({"params": case, "stability": stab.to_dict(),
+                     "floquet": {m: r.to_dict() for m, r in by_degree.items()}})
+    png = degree_stability.save(panels, out / f"{name}.png", x_label="m, Fourier mode number")
+    return [png, _write_json(out / f"{name}.json", data)]
+
+
+# ---------------------------------------------------------------------------------------------
+# Cochlea (thesis chapter 5); Table 5.1 physical parameters, omega in rad/s
+# ---------------------------------------------------------------------------------------------
+
+def _cochlea_det_contours(out: Path, **_) -> list[Path]:
+    """Fig 5.7: zero contours of Re/Im det T(s), s = gamma/sqrt(kappa), alpha = 1.56, M = 20,
+    zeta = 2e-5 and 1e-2, with the modes of api.natural_modes marked."""
+    from ..models.cochlea import coupling_matrix, transfer
+    from ..plots import cochlea as cochlea_plots
+
+    M, modes = 20, np.arange(1, 21)
+    C = coupling_matrix(modes, 1.56)
+    panels, data = [], {}
+    for zeta, (re_lim, im_lim) in ((2e-5, ((-0.08, 0.01), (0.0, 1.2))), (1e-2, ((-1.0, 0.05), (0.0, 1.2)))):
+        re, im = np.meshgrid(np.linspace(*re_lim, 400), np.linspace(*im_lim, 400))
+        s = (re + 1j * im).ravel()
+        T = np.broadcast_to(C, (s.size, M, M)).astype(complex)
+        T[:, modes - 1, modes - 1] += transfer(s[:, None], modes[None, :], zeta)
+        det = (np.linalg.det(T) / np.linalg.det(C)).reshape(re.shape)
+        res = api.natural_modes("cochlea", zeta=zeta, alpha=1.56, n_spatial=M)
+        panels.append((f"ζ = {zeta:g}, α = 1.56, M = {M}", re, im, det, res.gamma))
+        data[str(zeta)] = res.to_dict()
+    png = cochlea_plots.save_det_contours(panels, out / "fig-5.7.png")
+    return [png, _write_json(out / "fig-5.7.json", data)]
+
+
+COCHLEA_RESPONSE_MODES = 64
+
+
+def _cochlea_profiles(out: Path, **_) -> list[Path]:
+    """Fig 5.8: normalised BM envelope and profile of the harmonic (solid) and subharmonic
+    (dashed) solutions at tau_min, omega = 400, 800, 1200, 1600 rad/s (M = 64)."""
+    from ..plots import cochlea as cochlea_plots
+
+    panels, data = [], []
+    for omega in (400.0, 800.0, 1200.0, 1600.0):
+        res = [api.response("cochlea", omega=omega, kind=k, n_spatial=COCHLEA_RESPONSE_MODES)
+               for k in ("harmonic", "subharmonic")]
+        panels.append((f"ω = {omega:g} rad/s", res))
+        data.append({"omega": omega, "responses": [r.to_dict() for r in res]})
+    png = cochlea_plots.save_responses(panels, out / "fig-5.8.png")
+    return [png, _write_json(out / "fig-5.8.json", data)]
+
+
+def _cochlea_peaks(out: Path, **_) -> list[Path]:
+    """Fig 5.9: envelope peak against response frequency for the harmonic (+, at omega) and
+    subharmonic (o, at omega/2) solutions at tau_min and the passive tone, with the WKB line."""
+    from ..models.cochlea import wkb_peak
+    from ..params.physical import TABLE_5_1, cochlea_forced
+    from ..plots import cochlea as cochlea_plots
+
+    omegas = np.array([400.0, 600.0, 800.0, 1000.0, 1200.0, 1400.0, 1600.0])
+    series, data = [], {}
+    for kind, marker, factor in (("harmonic", "+", 1.0), ("subharmonic", "o", 0.5), ("tone", "x", 1.0)):
+        res = [api.response("cochlea", omega=om, kind=kind, n_spatial=COCHLEA_RESPONSE_MODES)
+               for om in omegas]
+        peak = np.array([r.to_cm(r.peak_x) for r in res])
+        err = np.array([r.to_cm(r.peak_error) for r in res])
+        series.append((kind, marker, factor * omegas, peak, err))
+        data[kind] = {"response_frequency": (factor * omegas).tolist(), "peak_cm": peak.tolist(),
+                      "error_cm": err.tolist(), "tau": [r.tau for r in res]}
+    f = np.geomspace(150.0, 2000.0, 50)
+    base = {k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
+    line = np.array([wkb_peak(**cochlea_forced(**base, omega=w)) for w in f]) * base["length"] / np.pi
+    data["wkb"] = {"response_frequency": f.tolist(), "peak_cm": line.tolist()}
+    png = cochlea_plots.save_peaks(series, (f, line), out / "fig-5.9.png")
+    return [png, _write_json(out / "fig-5.9.json", data)]
+
+
+def _tau_points(results: list, omegas: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    points = {}
+    for kind in ("harmonic", "subharmonic"):
+        om = [np.full(getattr(r, kind).tau.size, w) for r, w in zip(results, omegas)]
+        points[kind] = (np.concatenate(om), np.concatenate([getattr(r, kind).tau for r in results]))
+    return points
+
+
+def _cochlea_uniform(out: Path, **_) -> list[Path]:
+    """Fig 5.12: marginal tau against omega for the single modes k = 1..6, alpha = 0 (Table 5.1)."""
+    from ..plots import cochlea as cochlea_plots
+
+    omegas = np.linspace(200.0, 2000.0, 181)
+    panels, data = [], {}
+    for k in range(1, 7):
+        res = [api.floquet("cochlea", omega=w, alpha=0.0, spatial_mode=k, tau_max=1.0) for w in omegas]
+        panels.append((f"k = {k}, α = 0", _tau_points(res, omegas)))
+        data[k] = [r.to_dict() for r in res]
+    png = cochlea_plots.save_tau_against_omega(panels, out / "fig-5.12.png", columns=2,
+                                               omega_range=(omegas[0], omegas[-1]))
+    return [png, _write_json(out / "fig-5.12.json", {"omega": omegas.tolist(), "modes": data})]
+
+
+def _cochlea_graded(out: Path, **_) -> list[Path]:
+    """Fig 5.14: marginal tau against omega, alpha = 1.56, M = 5, 10 and 64 (the thesis: 250), N
+    converged to 1e-10; each point's error estimate includes |tau(M) - tau(M/2)|."""
+    from ..plots import cochlea as cochlea_plots
+
+    omegas = np.linspace(400.0, 1600.0, 61)
+    panels, data = [], {}
+    for M in (5, 10, 64):
+        res = [api.floquet("cochlea", omega=w, n_spatial=M, tau_max=1.0) for w in omegas]
+        panels.append((f"α = 1.56, M = {M}", _tau_points(res, omegas)))
+        data[M] = [r.to_dict() for r in res]
+    png = cochlea_plots.save_tau_against_omega(panels, out / "fig-5.14.png",
+                                               omega_range=(omegas[0], omegas[-1]))
+    return [png, _write_json(out / "fig-5.14.json", {"omega": omegas.tolist(), "n_spatial": data})]
+
+
+def _cochlea_convergence(out: Path, **_) -> list[Path]:
+    """Figs 5.5-5.6: |tau_min(2n) - tau_min(n)| at omega = 1600 rad/s (Table 5.1), in N = 4 2^j
+    at M = 64 and in M = 16 2^j at N = 20 (the thesis: M = 100, and M up to 256)."""
+    from ..models.cochlea import hill_system
+    from ..params.physical import TABLE_5_1, cochlea_forced
+    from ..plots import cochlea as cochlea_plots
+    from ..solvers.marginal import marginal_tau
+
+    d = cochlea_forced(**{k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")},
+                       omega=1600.0)
+
+    def tau(M: int, N: int, kind: str) -> float:
+        system = hill_system(kappa=d["kappa"], nu=d["nu"], alpha=d["alpha"], n_spatial=M)
+        return marginal_tau(system, kind, n_temporal=N).tau_min
+
+    Ns, Ms = np.array([4, 8, 16, 32]), np.array([16, 32, 64])
+    kinds = ("harmonic", "subharmonic")
+    in_n = {k: np.array([abs(tau(64, 2 * n, k) - tau(64, n, k)) for n in Ns]) for k in kinds}
+    in_m = {k: np.array([abs(tau(2 * m, 20, k) - tau(m, 20, k)) for m in Ms]) for k in kinds}
+    png = cochlea_plots.save_convergence([("N (temporal modes), M = 64", Ns, in_n),
+                                          ("M (spatial modes), N = 20", Ms, in_m)],
+                                         out / "fig-5.5.png")
+    data = {"N": Ns.tolist(), "error_in_N": {k: v.tolist() for k, v in in_n.items()},
+            "M": Ms.tolist(), "error_in_M": {k: v.tolist() for k, v in in_m.items()}}
+    return [png, _write_json(out / "fig-5.5.json", data)]
+
+
 FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
     "fig-2.2": ("Ince-Strutt diagram of the undamped Mathieu equation (nu = 0)",
                 lambda out, **kw: _diagrams("fig-2.2", out, [{"nu": 0.0}], kappa="0:3:301",
@@ -113,6 +274,12 @@ FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
     "fig-4.1": ("fibre: Ince-Strutt diagrams for m = 2, 3, 4 at nu = 2e-4 and 1e-3", _fibre_grid),
     "fig-4.2": ("fibre, m = 3, nu = 2e-4: stiffness pumped in both jumps, pressure only, tangential only",
                 _fibre_forcing_split),
+    "fig-4.3": ("fibre: marginal tau against wavenumber m = 2..10, nu = 2e-4, kappa = 0.02, 0.04, 0.08",
+                lambda out, **kw: _fibre_against_m(
+                    "fig-4.3", [{"nu": 2e-4, "kappa": k} for k in (0.02, 0.04, 0.08)], out, **kw)),
+    "fig-4.4": ("fibre: marginal tau against wavenumber m = 2..10, kappa = 0.04, nu = 5e-5, 1e-3, 5e-3",
+                lambda out, **kw: _fibre_against_m(
+                    "fig-4.4", [{"nu": n, "kappa": 0.04} for n in (5e-5, 1e-3, 5e-3)], out, **kw)),
     "fig-6.2": ("sphere, inviscid: Ince-Strutt diagrams for m = 2, 3, 4",
                 lambda out, **kw: _sphere_grid("fig-6.2", (0.0,), out, **kw)),
     "fig-6.3": ("sphere, viscous: Ince-Strutt diagrams for m = 2, 3, 4 at nu = 1e-3 and 6e-3",
@@ -125,6 +292,18 @@ FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
                  _cardiac_map),
     "fig-7.1": ("sphere: decay rate and frequency of the least-damped natural mode against zeta",
                 _natural_modes_against_zeta),
+    "fig-5.5": ("cochlea: convergence of tau_min in N and M at omega = 1600 rad/s (Figs 5.5-5.6)",
+                _cochlea_convergence),
+    "fig-5.7": ("cochlea: zero contours of det T and the natural modes, zeta = 2e-5 and 1e-2",
+                _cochlea_det_contours),
+    "fig-5.8": ("cochlea: BM envelopes at tau_min, harmonic and subharmonic, omega = 400..1600",
+                _cochlea_profiles),
+    "fig-5.9": ("cochlea: envelope peak against response frequency, with the WKB place map",
+                _cochlea_peaks),
+    "fig-5.12": ("cochlea, uniform stiffness: marginal tau against omega for modes k = 1..6",
+                 _cochlea_uniform),
+    "fig-5.14": ("cochlea, graded stiffness: marginal tau against omega for M = 5, 10, 64",
+                 _cochlea_graded),
 }
 
 

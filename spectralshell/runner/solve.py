@@ -33,7 +33,7 @@ from ..models.base import HillSystem
 from ..models.registry import hill_system
 from ..params.registry import make_params
 from ..params.sweep_grid import SolverOptions, SweepSpec
-from ..solvers.marginal import N_MAX, MarginalTau, marginal_tau, solve_truncation
+from ..solvers.marginal import N_MAX, MarginalTau, marginal_tau, truncation_taus
 from .layout import Chunk, block_index, block_shape, chunk_points
 
 #: Result variables of the ask 'tau_min' and their dtypes.
@@ -99,8 +99,8 @@ def continuation_start(system: HillSystem, hint: tuple[int, int] | None) -> int 
 
 
 def _capped(system: HillSystem, kind: str, n: int, tau_max: float) -> tuple[np.ndarray, float]:
-    tau, _, spread = solve_truncation(system, kind, n)
-    return tau[tau <= tau_max], spread
+    found = truncation_taus(system, kind, n, tau_max=tau_max)  # Arnoldi for big blocks
+    return found.tau[found.tau <= tau_max], found.spread
 
 
 def solve_continued(system: HillSystem, kind: str, options: SolverOptions,

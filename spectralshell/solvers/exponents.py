@@ -25,6 +25,7 @@ from ..errors import ConvergenceError
 from ..models.base import HillSystem
 
 N_MAX = 200
+SIZE_MAX = 6000  # largest dense companion-form eigenproblem attempted
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -70,6 +71,10 @@ def _fold(gamma: np.ndarray) -> np.ndarray:
 def _exponents_at(system: HillSystem, tau: float, n: int) -> np.ndarray:
     C0, C1 = companion(system)
     d = C0.shape[0]
+    if d * (2 * n + 1) > SIZE_MAX:  # dense eig with vectors: memory ~ size^2, time ~ size^3
+        raise ConvergenceError(f"Floquet exponents at n_temporal={n} need a dense eigenproblem of size "
+                               f"{d * (2 * n + 1)} (limit {SIZE_MAX}): lower n_temporal, kappa or |tau|, "
+                               "or use fewer spatial modes")
     k = np.arange(-n, n + 1)
     H = np.kron(np.eye(len(k)), C0) - 1j * np.kron(np.diag(k), np.eye(d))
     S = np.diag(np.ones(len(k) - 1), -1) - np.diag(np.ones(len(k) - 1), 1)
@@ -119,6 +124,9 @@ def floquet_exponents(system: HillSystem, tau: float, *, tol: float = 1e-10,
         gamma = _exponents_at(system, tau, n_temporal)
         return Exponents(gamma=gamma, n_temporal=n_temporal,
                          error_estimate=_distance(gamma, _exponents_at(system, tau, n_prev)))
+    if start >= N_MAX:  # the resonant Fourier index alone exceeds the limit: nothing to converge
+        raise ConvergenceError(f"Floquet exponents need a truncation above n_temporal={N_MAX} here "
+                               f"(resonant Fourier index ~{start - 8}): lower kappa or |tau|")
     n = start
     previous = _exponents_at(system, tau, n)
     while n < N_MAX:

@@ -1,17 +1,43 @@
 """Marginal forcing amplitudes tau of a Hill pencil A v = tau B v, and their convergence in N.
 
-Structured fast path
---------------------
+Structured path
+---------------
 A is block diagonal, so T = A^{-1} B costs O(N b^3) and its eigenvalues are mu = 1/tau. When B
 couples only Fourier indices of opposite parity (``HillMatrices.bipartite``: no self-coupling),
-T = [[0, X], [Y, 0]] in an even/odd ordering and mu^2 are the eigenvalues of the half-size product W = X Y. Real tau
-correspond to real positive mu^2 (tau and -tau, a time shift by pi, always come together).
+T = [[0, X], [Y, 0]] in an even/odd ordering and mu^2 are the eigenvalues of the half-size
+product W = X Y (:mod:`spectralshell.solvers.half_product`). Real tau correspond to real
+positive mu^2 (tau and -tau, a time shift by pi, always come together). Two ways to solve a
+truncation:
 
-* harmonic: the real form is bipartite, so W is real and a real tau is an exactly real
-  eigenvalue of W (LAPACK returns zero imaginary part for it): classification is exact.
-* subharmonic: the real form has an n = 0 self-coupling and is not bipartite; the two-sided form
-  is. Its W is complex with real-or-conjugate-pair spectrum (the reality condition (2.8) makes
-  W = Z conj(Z)), and mu^2 counts as real when |Im mu^2| <= 1e-9 |mu^2|.
+* ``method = "dense"`` (the reference): every eigenvalue of the dense W, O((N b)^3); reports
+  every real tau of the truncation (``method = "structured"`` in the result). Real mu^2 by kind:
+
+  - harmonic: the real form is bipartite, so W is real and a real tau is an exactly real
+    eigenvalue of W (LAPACK returns zero imaginary part for it): classification is exact.
+  - subharmonic: the real form has an n = 0 self-coupling and is not bipartite; the two-sided
+    form is. Its W is complex with real-or-conjugate-pair spectrum (the reality condition (2.8)
+    makes W = Z conj(Z)), and mu^2 counts as real when |Im mu^2| <= 1e-9 |mu^2|.
+
+* ``method = "krylov"``: the eigenvalues of largest modulus of W (harmonic) or T (subharmonic)
+  of the real form by Arnoldi iteration, in real arithmetic, so that real tau are exactly real
+  for both kinds (:func:`~spectralshell.solvers.half_product.smallest_taus`): O(N b^3) once,
+  O(N b^2) per step. It reports the smallest real tau with a completeness radius
+  (``MarginalTau.complete_to``): every real tau up to it is listed. When the Arnoldi space
+  would need more than a third of the operator (a short truncation, or many eigenvalues with
+  |tau| below the wanted ones) or A is ill conditioned, the truncation is solved by the dense
+  path instead, and the Arnoldi work is lost.
+* ``method = "auto"`` (default): Krylov for truncations with (N + 1) b >= KRYLOV_MIN_ORDER
+  (= 600; (N + 1) b is the order of W), dense below. Measured in
+  validation/bench_hill_large.py (one BLAS thread): where Arnoldi succeeds it is about as fast
+  as dense eig of W at order ~200 (sphere, N = 80) and 5-10x faster at ~400-600 (M = 20, 30
+  coupled oscillators); but the sphere at low beat rate (Fig 6.13, order up to ~350, with
+  70-80 eigenvalues inside |tau| < 1/2 and none real) makes Arnoldi give up, at 4-10x the
+  dense cost. The threshold keeps Mathieu (b = 1) and sphere and fibre (b = 2) truncations
+  dense up to N = 298 and sends block models (b >~ 30) to Arnoldi.
+
+Truncations of one solve share their pencils and block inverses (:class:`Pencils`): a smaller
+truncation is cut out of a larger one, a larger one reuses the inverses of the blocks it shares
+(blocks of size >= 32).
 
 Infinite tau (mu = 0: B is singular, and the harmonic Im u_0 slot is a zero row) are removed as
 mu^2 <= 64 eps ||W_bal||_F, W_bal the diagonally balanced W that the eigen-solver works on: such
@@ -21,10 +47,10 @@ requiring each reported tau to reappear at the previous truncation.
 If a diagonal block of A is singular or ill conditioned, in itself (1-norm condition > 1e8) or
 against the coupling (||A_k^{-1}|| ||B_k|| > 1e8: some tau ~< 1e-8, e.g. undamped Mathieu at
 sqrt(kappa) = k/2, where tau = 0 is an eigenvalue), squaring would lose the small tau and the
-solver falls back to QZ on the real form (``method = "qz"``), which handles singular A and B. A singular A makes tau = 0
-an exact eigenvalue, often defective (two fingers leave the axis together), which rounding
-spreads by ~eps^(1/2); such a cluster within ZERO_CLUSTER = 1e-6 of 0 is reported as one tau = 0
-whose uncertainty is its largest magnitude (:func:`qz_taus`).
+solver falls back to QZ on the real form (``method = "qz"``), which handles singular A and B.
+A singular A makes tau = 0 an exact eigenvalue, often defective (two fingers leave the axis
+together), which rounding spreads by ~eps^(1/2); such a cluster within ZERO_CLUSTER = 1e-6 of 0
+is reported as one tau = 0 whose uncertainty is its largest magnitude (:func:`qz_taus`).
 """
 
 from __future__ import annotations
@@ -37,11 +63,13 @@ import scipy.linalg as sla
 from ..discretise.hill import HillMatrices, assemble
 from ..errors import ConvergenceError
 from ..models.base import HillSystem
+from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
+                           smallest_taus, tau_from_squares)
 
-COND_LIMIT = 1e8
 ZERO_CLUSTER = 1e-6
-REAL_RTOL = 1e-9
 N_MAX = 400
+METHODS = ("auto", "dense", "krylov")
+KRYLOV_MIN_ORDER = 600
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -58,7 +86,10 @@ class MarginalTau:
     n_previous : the truncation it was compared with.
     error_estimate : max(|tau_min(N) - tau_min(previous N)|, spread of a reported tau = 0,
         8 eps max(1, tau_min)) (None if there is no tau_min).
-    method : 'structured' or 'qz' (the fallback), at the final truncation.
+    method : 'structured', 'krylov' or 'qz' (the fallback), at the final truncation.
+    complete_to : ``tau`` is complete up to this value: every real tau <= complete_to (and
+        <= tau_max) of both truncations was computed, and beyond it none was looked for; inf
+        when both were solved completely (dense), else the smaller Krylov radius.
     """
 
     kind: str
@@ -68,59 +99,22 @@ class MarginalTau:
     n_previous: int
     error_estimate: float | None
     method: str
+    complete_to: float = np.inf
 
 
-def _tau_from_squares(lam: np.ndarray, floor: float, exact_real: bool) -> np.ndarray:
-    """tau = 1/sqrt(mu^2) for the real eigenvalues mu^2 of W above ``floor``."""
-    if exact_real:
-        real = lam.imag == 0.0
-    else:
-        real = np.abs(lam.imag) <= REAL_RTOL * np.abs(lam)
-    keep = real & (lam.real > floor)
-    return np.sort(1.0 / np.sqrt(lam.real[keep]))
-
-
-def _half_product(hill: HillMatrices) -> np.ndarray | None:
-    """W = X Y of a bipartite pencil, from the blocks C-_k = A_k^{-1} B_{k,k-1} and
-    C+_k = A_k^{-1} B_{k,k+1}: on even block positions p,
-    W_{p,p} = C-_p C+_{p-1} + C+_p C-_{p+1}, W_{p,p+2} = C+_p C+_{p+1}, W_{p,p-2} = C-_p C-_{p-1}.
-    Returns None when a block of A is singular or ill conditioned (module notes)."""
-    K, s, _ = hill.diag.shape
-    try:
-        inv = np.linalg.inv(hill.diag)
-    except np.linalg.LinAlgError:
-        return None
-    inv_norm = np.abs(inv).sum(axis=1).max(axis=-1)
-    cond = np.abs(hill.diag).sum(axis=1).max(axis=-1) * inv_norm
-    coupling = np.abs(hill.lower).sum(axis=1).max(axis=-1).max() + \
-        np.abs(hill.upper).sum(axis=1).max(axis=-1).max()
-    if not np.all(np.isfinite(cond)) or max(cond.max(), inv_norm.max() * coupling) > COND_LIMIT:
-        return None
-    zero = np.zeros((1, s, s), dtype=inv.dtype)
-    cm = np.concatenate([zero, inv[1:] @ hill.lower, zero])    # cm[k] = C-_k, k = 0..K (0 at ends)
-    cp = np.concatenate([zero, inv[:-1] @ hill.upper, zero])   # cp[k + 1] = C+_k, k = -1..K-1
-    p = np.arange(0, K, 2)
-    m = len(p)
-    W = np.zeros((m, s, m, s), dtype=np.result_type(inv, hill.lower))
-    i = np.arange(m)
-    W[i, :, i, :] = cm[p] @ cp[p] + cp[p + 1] @ cm[p + 1]
-    W[i[:-1], :, i[1:], :] = cp[p[:-1] + 1] @ cp[p[:-1] + 2]
-    W[i[1:], :, i[:-1], :] = cm[p[1:]] @ cm[p[1:] - 1]
-    return W.reshape(m * s, m * s)
-
-
-def structured_taus(hill: HillMatrices) -> np.ndarray | None:
-    """Real tau >= 0 of a bipartite pencil via the half-size product W (None if A is ill
-    conditioned; see the module notes)."""
+def structured_taus(hill: HillMatrices, inv: BlockInverses | None = None) -> np.ndarray | None:
+    """Every real tau >= 0 of a bipartite pencil by dense eig of the half-size product W (None if
+    A is ill conditioned; see the module notes). ``inv``: the block inverses, if already known."""
     if not hill.bipartite:
         raise ValueError("structured_taus needs a bipartite pencil (no self-coupling in B)")
-    W = _half_product(hill)
-    if W is None:
+    inv = block_inverses(hill) if inv is None else inv
+    if inv is None:
         return None
+    W = dense_half_product(hill, inv)
     balanced = sla.matrix_balance(W, permute=False, separate=False)[0]
     floor = 64 * np.finfo(float).eps * np.linalg.norm(balanced)
-    return _tau_from_squares(sla.eigvals(balanced, overwrite_a=True, check_finite=False),
-                             floor, exact_real=hill.is_real)
+    return tau_from_squares(sla.eigvals(balanced, overwrite_a=True, check_finite=False),
+                            floor, exact_real=hill.is_real)
 
 
 def _finite_eigenvalues(hill: HillMatrices) -> np.ndarray:
@@ -168,15 +162,86 @@ def preferred_form(kind: str) -> str:
     return "real" if kind == "harmonic" else "two-sided"
 
 
-def solve_truncation(system: HillSystem, kind: str, n_temporal: int) -> tuple[np.ndarray, str, float]:
-    """All real tau >= 0 of one truncation: (ascending tau, method, uncertainty of a reported 0)."""
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Truncation:
+    """Real tau >= 0 of one truncation: ascending ``tau``, the ``method`` that found them, the
+    uncertainty ``spread`` of a reported tau = 0 (QZ path), and ``complete_to``: every real
+    tau <= complete_to is listed (inf: the whole real spectrum)."""
+
+    tau: np.ndarray
+    method: str
+    spread: float = 0.0
+    complete_to: float = np.inf
+
+
+def half_order(system: HillSystem, n_temporal: int) -> int:
+    """(N + 1) b: the order of W, the dense problem of one truncation (real for harmonic, complex
+    for subharmonic); the switch rule of ``method = "auto"`` compares it with KRYLOV_MIN_ORDER."""
+    return (int(n_temporal) + 1) * system.block_size
+
+
+class Pencils:
+    """The Hill pencils of one system and kind, with their block inverses, reused across
+    truncations: per form, the largest truncation assembled so far is kept; a smaller one is cut
+    out of it (:meth:`HillMatrices.truncated`, its inverses likewise), and a larger one reuses the
+    inverses of the blocks it shares with it (after checking those blocks are bitwise equal)."""
+
+    def __init__(self, system: HillSystem, kind: str):
+        self.system, self.kind = system, kind
+        self._largest: dict[str, tuple[HillMatrices, BlockInverses | None]] = {}
+
+    def get(self, n_temporal: int, form: str) -> tuple[HillMatrices, BlockInverses | None]:
+        """(pencil, block inverses or None if ill conditioned) of truncation ``n_temporal``."""
+        cached = self._largest.get(form)
+        if cached is not None and cached[0].n_temporal >= n_temporal:
+            big, inv = cached
+            hill = big.truncated(n_temporal)
+            if inv is None:  # the larger pencil's bad block may lie outside this one
+                return hill, block_inverses(hill)
+            return hill, inv.subset(big.block_range(n_temporal))
+        hill = assemble(self.system, self.kind, n_temporal, form)
+        known = None
+        if cached is not None and cached[1] is not None:
+            rows = hill.block_range(cached[0].n_temporal)
+            if np.array_equal(hill.diag[rows], cached[0].diag):
+                known = (rows, cached[1])
+        inv = block_inverses(hill, known)
+        self._largest[form] = (hill, inv)
+        return hill, inv
+
+
+def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
+                    tau_max: float = np.inf, method: str = "auto",
+                    pencils: Pencils | None = None) -> Truncation:
+    """Real tau >= 0 of one truncation by ``method`` (module notes): 'dense' lists all of them;
+    'krylov' (and 'auto' when ``half_order`` >= KRYLOV_MIN_ORDER) at least every real
+    tau <= min(tau_min, tau_max), on the real form, falling back to 'dense' when it cannot; QZ
+    when A is ill conditioned. ``pencils``: a cache shared by the truncations of one solve."""
+    if method not in METHODS:
+        raise ValueError(f"method = {method!r} is invalid: must be one of {METHODS}")
     if not np.any(system.forcing):
-        return np.empty(0), "structured", 0.0  # no forcing: no finite marginal amplitude
-    taus = structured_taus(assemble(system, kind, n_temporal, preferred_form(kind)))
-    if taus is not None:
-        return taus, "structured", 0.0
-    taus, spread = qz_taus(assemble(system, kind, n_temporal, "real"))
-    return taus, "qz", spread
+        return Truncation(tau=np.empty(0), method="structured")  # no finite marginal amplitude
+    pencils = Pencils(system, kind) if pencils is None else pencils
+    krylov = method == "krylov" or (method == "auto" and
+                                    half_order(system, n_temporal) >= KRYLOV_MIN_ORDER)
+    if krylov:
+        hill, inv = pencils.get(n_temporal, "real")
+        found = None if inv is None else smallest_taus(hill, tau_max=tau_max, inverses=inv)
+        if found is not None:
+            return Truncation(tau=found.tau, method="krylov", complete_to=found.complete_to)
+    hill, inv = pencils.get(n_temporal, preferred_form(kind))
+    if inv is None:
+        taus, spread = qz_taus(pencils.get(n_temporal, "real")[0])
+        return Truncation(tau=taus, method="qz", spread=spread)
+    return Truncation(tau=structured_taus(hill, inv), method="structured")
+
+
+def solve_truncation(system: HillSystem, kind: str,
+                     n_temporal: int) -> tuple[np.ndarray, str, float]:
+    """All real tau >= 0 of one truncation (dense): (ascending tau, method, uncertainty of a
+    reported 0)."""
+    found = truncation_taus(system, kind, n_temporal, method="dense")
+    return found.tau, found.method, found.spread
 
 
 def _start(system: HillSystem) -> int:
@@ -198,7 +263,8 @@ def _matched(tau: np.ndarray, previous: np.ndarray, tol: float) -> np.ndarray:
     return tau[dist <= tol * np.maximum(1.0, tau)]
 
 
-def _result(kind, tau, prev, n, n_prev, tol, method, spread) -> MarginalTau:
+def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_max) -> MarginalTau:
+    tau, prev, spread = _capped(found.tau, tau_max), _capped(previous.tau, tau_max), found.spread
     if tau.size and prev.size:
         err = max(abs(float(tau[0] - prev[0])), spread, 8 * np.finfo(float).eps * max(1.0, tau[0]))
     elif tau.size:
@@ -209,7 +275,8 @@ def _result(kind, tau, prev, n, n_prev, tol, method, spread) -> MarginalTau:
     if tau.size and (not kept.size or kept[0] != tau[0]):
         kept = np.concatenate([tau[:1], kept[kept > tau[0]]])
     return MarginalTau(kind=kind, tau=kept, tau_min=float(tau[0]) if tau.size else None,
-                       n_temporal=n, n_previous=n_prev, error_estimate=err, method=method)
+                       n_temporal=n, n_previous=n_prev, error_estimate=err, method=found.method,
+                       complete_to=min(found.complete_to, previous.complete_to))
 
 
 def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
@@ -218,7 +285,7 @@ def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
 
 def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                  n_temporal: int | None = None, n_max: int = N_MAX,
-                 tau_max: float = np.inf) -> MarginalTau:
+                 tau_max: float = np.inf, method: str = "auto") -> MarginalTau:
     """Marginal amplitudes tau of one Floquet kind, converged in the truncation N.
 
     Parameters
@@ -233,28 +300,34 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         truncation before the convergence test, so the truncation is raised only as far as the
         wanted values need. ``tau_min`` is None when no tau <= tau_max exists at two successive
         truncations.
+    method : 'auto' (default), 'dense' or 'krylov', per truncation (module notes). tau_min and
+        its error estimate do not depend on it; ``tau`` lists every real tau <= tau_max with
+        'dense', and those up to ``complete_to`` (at least tau_min) with 'krylov'.
 
     Raises
     ------
     ConvergenceError : tau_min has not converged to ``tol`` by N = ``n_max``.
     """
+    pencils = Pencils(system, kind)
+
+    def solve(n: int) -> Truncation:
+        return truncation_taus(system, kind, n, tau_max=tau_max, method=method, pencils=pencils)
+
     if n_temporal is not None:
         n_prev = _previous(n_temporal)
-        tau, method, spread = solve_truncation(system, kind, n_temporal)
-        prev = _capped(solve_truncation(system, kind, n_prev)[0], tau_max)
-        return _result(kind, _capped(tau, tau_max), prev, n_temporal, n_prev, tol, method, spread)
+        return _result(kind, solve(n_temporal), solve(n_prev), n_temporal, n_prev, tol, tau_max)
     n_prev = min(_start(system), _previous(n_max))
-    prev = _capped(solve_truncation(system, kind, n_prev)[0], tau_max)
+    previous = solve(n_prev)
     while True:
         n = min(_next(n_prev), n_max)
-        tau, method, spread = solve_truncation(system, kind, n)
-        tau = _capped(tau, tau_max)
+        found = solve(n)
+        tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
         both_empty = not tau.size and not prev.size
         if both_empty or (tau.size and prev.size and abs(tau[0] - prev[0]) < tol):
-            return _result(kind, tau, prev, n, n_prev, tol, method, spread)
+            return _result(kind, found, previous, n, n_prev, tol, tau_max)
         if n >= n_max:
             change = abs(tau[0] - prev[0]) if tau.size and prev.size else float("nan")
             raise ConvergenceError(
                 f"{kind} tau_min did not converge to tol={tol:g} by n_temporal={n} "
                 f"(last change {change:.3g}); relax --tol or raise the truncation limit")
-        prev, n_prev = tau, n
+        previous, n_prev = found, n

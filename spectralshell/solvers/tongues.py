@@ -115,7 +115,7 @@ def refine_tip(factory: SystemFactory, kind: str, lo: float, hi: float, tau_gues
         left = _bisect(lambda k: tracked(k) == 0.0, lo, kappa)
         right = _bisect(lambda k: tracked(k) != 0.0, kappa, hi)
         kappa, kappa_error = 0.5 * (left + right), max(kappa_error, 0.5 * (right - left))
-    res = marginal_tau(factory(kappa), kind, tol=tol)
+    res = marginal_tau(factory(kappa), kind, tol=tol, method="dense")  # every tau, not the least
     tau = float(res.tau[np.argmin(np.abs(res.tau - tracked(kappa)))])
     # On a plateau the tip's tau is the merged zero; its error covers the converged solver's
     # nearest tau. Elsewhere tau inherits the kappa error through the finger's slope (one-sided

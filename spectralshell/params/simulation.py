@@ -1,0 +1,214 @@
+"""Simulation scenes of the sphere: validated input of ``spectralshell simulate`` / ``ss.simulate``.
+
+A scene (TOML file, TOML string or mapping)::
+
+    model = "sphere"
+    [params]
+    kappa = 0.06           # or an expression in theta (polar), phi (azimuth): non-uniform kappa
+    nu = 0.002             # 0: inviscid (the Mathieu equation per degree, no fluid grid)
+    tau = 0.25             # K = kappa (1 + 2 tau sin t)
+    [initial]
+    shape = "2:0"          # radial displacement: modes "m:k[:amplitude], ..." (real orthonormal
+                           # harmonics Yr_{m,k}, k = -m..m) or an expression in theta, phi
+    amplitude = 0.05       # amplitude of listed modes without one
+    twist = "3:1"          # optional tangential (toroidal X^Phi) displacement, same syntax
+    [simulate]
+    t_end = 200
+    scheme = "SBDF3"       # a name of spectralshell.solvers.imex.SCHEMES
+    dt = 0.01              # optional (default: from the fastest degree, aligned to 2 pi)
+    n_radial = 48          # optional radial nodes per side (default: chosen to reach tol)
+    tol = 1e-9             # target relative spatial error
+    l_max = 24             # degree cut-off of expressions (shape, kappa) and, when given, of the
+                           # degrees a non-uniform kappa couples (default there: two products)
+    [output]
+    dir = "simulate-output"
+
+Expressions use sympy syntax with the symbols theta and phi (e.g. "0.05*sin(theta)**2*cos(2*phi)").
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._validate import (require_choice, require_int_in_range, require_nonnegative,
+                         require_positive, require_real)
+from ..errors import ParameterError
+from .scene import load_scene
+
+KEYS = {"model", "params", "initial", "simulate", "output"}
+PARAM_KEYS = {"kappa", "nu", "tau"}
+INITIAL_KEYS = {"shape", "amplitude", "twist"}
+SIMULATE_KEYS = {"t_end", "scheme", "dt", "n_radial", "tol", "l_max"}
+DEFAULT_AMPLITUDE = 0.05
+L_MAX = 24
+_MODE = re.compile(r"^\s*(\d+)\s*:\s*([+-]?\d+)\s*(?::\s*([^,]+?))?\s*$")
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Expression:
+    """A real function of (theta, phi) given as text; ``function`` evaluates it with numpy."""
+
+    text: str
+    function: Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class SimulationScene:
+    """A validated simulation scene (see the module docstring).
+
+    kappa : a number (uniform) or an :class:`Expression` (non-uniform kappa(theta, phi)).
+    shape, twist : {(m, k): amplitude} of the radial (X^Y) and toroidal (X^Phi) displacement,
+        or an :class:`Expression` (shape only).
+    """
+
+    model: str
+    kappa: float | Expression
+    nu: float
+    tau: float
+    shape: dict[tuple[int, int], float] | Expression
+    twist: dict[tuple[int, int], float]
+    t_end: float
+    scheme: str
+    dt: float | None
+    n_radial: int | None
+    tol: float
+    l_max: int
+    l_max_given: bool
+    output_dir: str
+    warnings: tuple[str, ...] = field(default=())
+
+    def params(self) -> dict[str, Any]:
+        """The physical parameters as JSON values."""
+        kappa = self.kappa.text if isinstance(self.kappa, Expression) else self.kappa
+        return {"kappa": kappa, "nu": self.nu, "tau": self.tau}
+
+
+def parse_expression(name: str, text: str) -> Expression:
+    """An expression in theta, phi (sympy syntax) as a numpy function.
+
+    Raises
+    ------
+    ParameterError : not parseable, or containing other symbols than theta and phi.
+    """
+    import sympy as sp  # lazy: sympy costs ~0.3 s to import
+
+    theta, phi = sp.symbols("theta phi", real=True)
+    try:
+        expr = sp.parse_expr(str(text), local_dict={"theta": theta, "phi": phi, "pi": sp.pi})
+    except (SyntaxError, TypeError, ValueError, sp.SympifyError, AttributeError) as exc:
+        raise ParameterError(f"{name} = {text!r} is invalid: not an expression in theta, phi "
+                             f"({exc})") from None
+    extra = sorted(str(s) for s in expr.free_symbols - {theta, phi})
+    if extra:
+        raise ParameterError(f"{name} = {text!r} is invalid: unknown symbol {extra[0]!r} (only "
+                             "theta (polar) and phi (azimuth) are allowed)")
+    return Expression(text=str(text), function=sp.lambdify((theta, phi), expr, "numpy"))
+
+
+def parse_modes(name: str, spec: Any, amplitude: float) -> dict[tuple[int, int], float]:
+    """{(m, k): amplitude} from "m:k[:a], ..." or a list of [m, k] / [m, k, a]."""
+    items = []
+    if isinstance(spec, str):
+        for part in spec.split(","):
+            match = _MODE.match(part)
+            if not match:
+                raise ParameterError(f"{name} = {spec!r} is invalid: must be modes 'm:k[:amplitude]' "
+                                     "separated by commas, e.g. '2:0' or '2:0, 3:1:0.02'")
+            m, k, a = match.groups()
+            items.append((m, k, amplitude if a is None else a))
+    elif isinstance(spec, (list, tuple)):
+        for entry in spec:
+            if not isinstance(entry, (list, tuple)) or len(entry) not in (2, 3):
+                raise ParameterError(f"{name} = {spec!r} is invalid: each mode must be [m, k] or "
+                                     "[m, k, amplitude]")
+            items.append((entry[0], entry[1], entry[2] if len(entry) == 3 else amplitude))
+    else:
+        raise ParameterError(f"{name} = {spec!r} is invalid: must be a mode list or an expression")
+    out: dict[tuple[int, int], float] = {}
+    for m, k, a in items:
+        m = require_int_in_range(f"{name} degree m", m, 2, 200)
+        k = int(require_int_in_range(f"{name} order k", k, -m, m))
+        out[(m, k)] = out.get((m, k), 0.0) + require_real(f"{name} amplitude", a)
+    return out
+
+
+def _is_mode_list(spec: Any) -> bool:
+    return not isinstance(spec, str) or all(_MODE.match(p) for p in spec.split(","))
+
+
+def _table(data: Mapping, key: str, allowed: set) -> dict:
+    table = data.get(key, {})
+    if not isinstance(table, Mapping):
+        raise ParameterError(f"{key} = {table!r} is invalid: must be a table")
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise ParameterError(f"{key}.{unknown[0]} is unknown: expected {', '.join(sorted(allowed))}")
+    return dict(table)
+
+
+def simulation_scene(scene: str | Path | Mapping) -> SimulationScene:
+    """Validate a simulation scene; nothing is computed.
+
+    Raises
+    ------
+    ParameterError : unknown keys, missing or out-of-range values.
+    """
+    data = load_scene(scene)
+    unknown = sorted(set(data) - KEYS)
+    if unknown:
+        raise ParameterError(f"scene key {unknown[0]!r} is unknown: expected {', '.join(sorted(KEYS))}")
+    model = require_choice("model", data.get("model", "sphere"), ("sphere",))
+    params = _table(data, "params", PARAM_KEYS)
+    initial = _table(data, "initial", INITIAL_KEYS)
+    sim = _table(data, "simulate", SIMULATE_KEYS)
+    output = _table(data, "output", {"dir"})
+    for key in ("kappa", "nu"):
+        if key not in params:
+            raise ParameterError(f"params.{key} is missing: the sphere needs kappa and nu")
+    kappa_spec = params["kappa"]
+    kappa: float | Expression
+    try:
+        kappa = require_positive("kappa", kappa_spec)
+    except ParameterError:
+        if not isinstance(kappa_spec, str):
+            raise
+        kappa = parse_expression("kappa", kappa_spec)
+    nu = require_nonnegative("nu", params["nu"])
+    tau = require_real("tau", params.get("tau", 0.0))
+    warnings = []
+    if abs(tau) > 0.5:
+        warnings.append("tau > 1/2: the stiffness kappa (1 + 2 tau sin t) becomes negative during "
+                        "the cycle")
+    amplitude = require_real("initial.amplitude", initial.get("amplitude", DEFAULT_AMPLITUDE))
+    if "shape" not in initial:
+        raise ParameterError("initial.shape is missing: give modes, e.g. '2:0', or an expression "
+                             "in theta, phi")
+    spec = initial["shape"]
+    shape = (parse_modes("initial.shape", spec, amplitude) if _is_mode_list(spec)
+             else parse_expression("initial.shape", spec))
+    twist = parse_modes("initial.twist", initial["twist"], amplitude) if "twist" in initial else {}
+    if "t_end" not in sim:
+        raise ParameterError("simulate.t_end is missing: the end time of the run")
+    t_end = require_positive("simulate.t_end", sim["t_end"])
+    scheme = sim.get("scheme", "SBDF3")
+    if not isinstance(scheme, str):
+        raise ParameterError(f"simulate.scheme = {scheme!r} is invalid: must be a scheme name")
+    scheme = scheme.upper()   # checked against the scheme registry by the solver
+    dt = None if sim.get("dt") is None else require_positive("simulate.dt", sim["dt"])
+    n_radial = (None if sim.get("n_radial") is None
+                else require_int_in_range("simulate.n_radial", sim["n_radial"], 14, 2000))
+    tol = require_positive("simulate.tol", sim.get("tol", 1e-9))
+    l_max = require_int_in_range("simulate.l_max", sim.get("l_max", L_MAX), 2, 200)
+    out_dir = output.get("dir", "simulate-output")
+    if not isinstance(out_dir, str):
+        raise ParameterError(f"output.dir = {out_dir!r} is invalid: must be a string")
+    return SimulationScene(model=model, kappa=kappa, nu=nu, tau=tau, shape=shape, twist=twist,
+                           t_end=t_end, scheme=scheme, dt=dt, n_radial=n_radial, tol=tol,
+                           l_max=l_max, l_max_given="l_max" in sim, output_dir=out_dir,
+                           warnings=tuple(warnings))

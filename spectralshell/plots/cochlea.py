@@ -1,0 +1,130 @@
+"""Cochlea plots (thesis 5.4-5.5): membrane envelopes (Figs 5.8, 5.10), envelope peak against
+frequency (Fig 5.9) and the zero contours of det T (Fig 5.7)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from ._canvas import plt, save_figure
+import numpy as np
+
+from ..results.response import ResponseResult
+
+KIND_STYLE = {"tone": "-", "harmonic": "-", "subharmonic": "--"}
+
+
+def _axis(res: ResponseResult):
+    if res.length is not None:
+        return res.to_cm(res.x), "distance from the base x (cm)", res.to_cm
+    return res.x, "distance from the base x (dimensionless, [0, π])", lambda v: v
+
+
+def draw_response(ax, res: ResponseResult, *, label: str | None = None, envelope_only: bool = False) -> None:
+    """Profile h(x, t_peak) and envelope (normalised), with the peak and the WKB peak marked."""
+    x, xlabel, conv = _axis(res)
+    style = KIND_STYLE[res.kind]
+    freq = (f"{res.response_frequency * res.physical['omega']:g} rad/s" if res.physical
+            else f"{res.response_frequency:g} (units of ω)")
+    label = label or f"{res.kind}, response frequency {freq}"
+    line = ax.plot(x, res.envelope, style, linewidth=1.6, label=f"{label}: envelope")[0]
+    if not envelope_only:
+        ax.plot(x, res.profile, style, color=line.get_color(), linewidth=0.7, alpha=0.7,
+                label="profile at t_peak")
+    ax.axvline(conv(res.peak_x), color=line.get_color(), linewidth=0.8)
+    if res.wkb_peak_x is not None and 0 <= res.wkb_peak_x <= np.pi:
+        ax.axvline(conv(res.wkb_peak_x), color=line.get_color(), linestyle=":", linewidth=1.2,
+                   label="WKB peak (LeVeque, Peskin & Lax)")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("normalised BM displacement")
+    ax.grid(alpha=0.3)
+
+
+def save_responses(panels: Sequence[tuple[str, Sequence[ResponseResult]]], path: str | Path) -> Path:
+    """One panel per (title, results), responses overlaid (Fig 5.8)."""
+    fig, axes = plt.subplots(len(panels), 1, figsize=(8.0, 2.8 * len(panels)), squeeze=False)
+    for ax, (title, results) in zip(axes[:, 0], panels):
+        for res in results:
+            draw_response(ax, res)
+        ax.set_title(title, fontsize=9)
+        ax.legend(fontsize=6, loc="upper left")
+    return save_figure(fig, path, dpi=120)
+
+
+def save_peaks(series: Sequence[tuple[str, str, np.ndarray, np.ndarray, np.ndarray]],
+               wkb: tuple[np.ndarray, np.ndarray], path: str | Path) -> Path:
+    """Envelope peak (cm) against response frequency (rad/s, log axis), Fig 5.9: ``series`` of
+    (label, marker, frequency, peak, error); ``wkb`` = (frequency, peak) of the WKB line."""
+    fig, ax = plt.subplots(figsize=(7.0, 4.5))
+    for label, marker, f, peak, err in series:
+        ax.errorbar(f, peak, yerr=err, fmt=marker, mfc="none", label=label)
+    ax.semilogx(*wkb, "k-", linewidth=1, label="WKB, slope −7/(4 λ_c) per e-fold")
+    ax.set_xlabel("response frequency (rad/s)")
+    ax.set_ylabel("envelope peak, distance from base (cm)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    return save_figure(fig, path, dpi=120)
+
+
+def save_det_contours(panels: Sequence[tuple[str, np.ndarray, np.ndarray, np.ndarray, np.ndarray]],
+                      path: str | Path) -> Path:
+    """Zero contours of Re det T (thick, blue) and Im det T (thin, red) over the s = gamma/sqrt(kappa)
+    plane, with the computed modes marked (Fig 5.7). ``panels``: (title, re grid, im grid,
+    det values, modes)."""
+    fig, axes = plt.subplots(1, len(panels), figsize=(6.0 * len(panels), 4.6), squeeze=False)
+    for ax, (title, re, im, det, modes) in zip(axes[0], panels):
+        ax.contour(re, im, det.real, levels=[0.0], colors="tab:blue", linewidths=1.8)
+        ax.contour(re, im, det.imag, levels=[0.0], colors="tab:red", linewidths=0.7)
+        ax.plot(modes.real, modes.imag, "ko", mfc="none", markersize=6, label="computed modes")
+        ax.set_xlim(re.min(), re.max())
+        ax.set_ylim(im.min(), im.max())
+        ax.set_xlabel("Re γ/√κ (decay rate)")
+        ax.set_ylabel("Im γ/√κ (frequency)")
+        ax.set_title(title, fontsize=9)
+        ax.legend(fontsize=7)
+    return save_figure(fig, path, dpi=120)
+
+
+TAU_STYLE = {"harmonic": dict(marker="+", color="tab:blue", linestyle="none", label="harmonic"),
+             "subharmonic": dict(marker="o", mfc="none", color="tab:red", linestyle="none",
+                                 label="subharmonic")}
+
+
+def save_tau_against_omega(panels: Sequence[tuple[str, dict[str, tuple[np.ndarray, np.ndarray]]]],
+                           path: str | Path, *, tau_max: float = 1.0, columns: int = 1,
+                           omega_range: tuple[float, float] | None = None) -> Path:
+    """Ince-Strutt diagrams against the forcing frequency (Figs 5.12, 5.14): per panel
+    (title, {kind: (omega points, tau points)}), harmonic '+', subharmonic 'o', tau = 1/2 line."""
+    rows = -(-len(panels) // columns)
+    fig, axes = plt.subplots(rows, columns, figsize=(6.0 * columns, 3.6 * rows), squeeze=False)
+    for ax, (title, points) in zip(axes.flat, panels):
+        for kind, (om, tau) in points.items():
+            keep = tau <= tau_max
+            ax.plot(om[keep], tau[keep], markersize=3, **TAU_STYLE[kind])
+        ax.axhline(0.5, color="0.4", linestyle="--", linewidth=1, label="τ = 1/2")
+        ax.set_ylim(0, tau_max)
+        if omega_range is not None:
+            ax.set_xlim(*omega_range)
+        ax.set_xlabel("forcing frequency ω (rad/s)")
+        ax.set_ylabel("τ, forcing amplitude")
+        ax.set_title(title, fontsize=9)
+        ax.legend(fontsize=7, loc="upper left")
+    for ax in list(axes.flat)[len(panels):]:
+        ax.set_visible(False)
+    return save_figure(fig, path, dpi=120)
+
+
+def save_convergence(series: Sequence[tuple[str, np.ndarray, dict[str, np.ndarray]]],
+                     path: str | Path) -> Path:
+    """Error estimates |tau(2n) - tau(n)| against the truncation n (Figs 5.5, 5.6): per panel
+    (x label, n values, {kind: errors}), log-log."""
+    fig, axes = plt.subplots(1, len(series), figsize=(5.5 * len(series), 4.0), squeeze=False)
+    for ax, (xlabel, n, errors) in zip(axes[0], series):
+        for kind, err in errors.items():
+            ax.loglog(n, np.maximum(err, 1e-17), TAU_STYLE[kind]["marker"] + "-",
+                      color=TAU_STYLE[kind]["color"], mfc="none", label=kind)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("|τ_min(2n) − τ_min(n)|")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=8)
+    return save_figure(fig, path, dpi=120)

@@ -1,0 +1,69 @@
+"""Basilar-membrane response to a pure tone or at a parametric resonance (thesis 5.5)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class ResponseResult:
+    """Displacement envelope along the membrane for one tone frequency.
+
+    Attributes
+    ----------
+    model, params : the model and its dimensionless parameters (n_spatial is the one used).
+    kind : 'tone' (passive response to a load at the base oscillating at the forcing frequency),
+        'harmonic' or 'subharmonic' (the Floquet solution at tau_min of that kind, thesis 5.5).
+    response_frequency : angular frequency of the response in units of the forcing frequency
+        (1 for tone and harmonic, 1/2 for subharmonic).
+    x : positions in [0, pi] (dimensionless; x L / pi in cm).
+    envelope : max over time of |h(x, t)|, normalised to maximum 1.
+    profile : h(x, t_peak) at the time of the largest displacement, same normalisation.
+    peak_x : envelope peak (dimensionless x), from a parabola through the three grid points
+        around the maximum; peak_error : |peak_x(M) - peak_x(M // 2)| plus the grid spacing / 10.
+    wkb_peak_x : the leading-order WKB peak (LeVeque, Peskin & Lax; models.cochlea.wkb_peak), or
+        None (nu = 0 or alpha = 0, where it does not exist).
+    tau : the marginal amplitude (parametric kinds), else None.
+    length : BM length L (cm) when given physically, else None (then no cm values).
+    physical : the cgs inputs, or None.
+    """
+
+    model: str
+    params: dict[str, Any]
+    kind: str
+    response_frequency: float
+    x: np.ndarray
+    envelope: np.ndarray
+    profile: np.ndarray
+    peak_x: float
+    peak_error: float
+    wkb_peak_x: float | None
+    tau: float | None
+    length: float | None
+    physical: dict[str, float] | None
+    provenance: dict[str, Any]
+    warnings: tuple[str, ...] = ()
+
+    def to_cm(self, x):
+        """Dimensionless x in cm (x L / pi), or None without a physical length."""
+        return None if self.length is None else np.asarray(x) * self.length / np.pi
+
+    def to_dict(self) -> dict[str, Any]:
+        out = {"model": self.model, "params": dict(self.params), "kind": self.kind,
+               "response_frequency": self.response_frequency, "tau": self.tau,
+               "peak_x": self.peak_x, "peak_error": self.peak_error, "wkb_peak_x": self.wkb_peak_x,
+               "x": self.x.tolist(), "envelope": self.envelope.tolist(),
+               "profile": self.profile.tolist()}
+        if self.length is not None:
+            out["peak_cm"] = float(self.to_cm(self.peak_x))
+            out["peak_error_cm"] = float(self.to_cm(self.peak_error))
+            out["wkb_peak_cm"] = None if self.wkb_peak_x is None else float(self.to_cm(self.wkb_peak_x))
+            out["response_frequency_rad_s"] = self.response_frequency * self.physical["omega"]
+        if self.physical is not None:
+            out["physical"] = dict(self.physical)
+        out["warnings"] = list(self.warnings)
+        out["provenance"] = self.provenance
+        return out

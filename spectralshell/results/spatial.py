@@ -1,0 +1,38 @@
+"""Floquet result of a model with a spatial truncation (number of spatial modes, e.g. the cochlea)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from .floquet import FloquetResult
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class SpatialFloquetResult(FloquetResult):
+    """Marginal amplitudes at a spatial truncation, with the spatial part of the error estimate.
+
+    Attributes (besides those of :class:`FloquetResult`)
+    ----------------------------------------------------
+    n_spatial : number of spatial modes of the reported values (1 for a single-mode run).
+    n_spatial_previous : the coarser truncation they were compared with (None: no comparison, a
+        single decoupled mode, which is exact in space).
+    spatial_change : per kind, |tau_min(n_spatial) - tau_min(n_spatial_previous)| (None when
+        there is no comparison or a kind has no tau_min at one of the two). Each kind's
+        ``error_estimate`` is the larger of this and the temporal estimate.
+    physical : the cgs inputs the dimensionless parameters were converted from, or None.
+    """
+
+    n_spatial: int
+    n_spatial_previous: int | None
+    spatial_change: dict[str, float | None]
+    physical: dict[str, float] | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        out = super().to_dict()
+        out["n_spatial"] = self.n_spatial
+        out["n_spatial_previous"] = self.n_spatial_previous
+        out["spatial_change"] = dict(self.spatial_change)
+        if self.physical is not None:
+            out["physical"] = dict(self.physical)
+        return out

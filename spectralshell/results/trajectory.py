@@ -1,0 +1,98 @@
+"""A time-stepped trajectory of the sphere's membrane: mode amplitudes, fitted rates, provenance."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..solvers.rate_fit import RateFit
+
+
+@dataclass(frozen=True, kw_only=True)
+class ModeFit:
+    """Fitted dominant behaviour of one mode (m, k): X ~ exp(growth_rate t) times an oscillation
+    of angular frequency ``frequency``; ``error_estimate`` bounds both (absolute, per unit time).
+    ``multiplier``: the Floquet multiplier over 2 pi (forced) or exp(gamma h) (unforced)."""
+
+    m: int
+    k: int
+    growth_rate: float
+    frequency: float
+    error_estimate: float
+    multiplier: complex
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"m": self.m, "k": self.k, "growth_rate": self.growth_rate,
+                "frequency": self.frequency, "error_estimate": self.error_estimate}
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Trajectory:
+    """Membrane displacement coefficients against time, per real harmonic mode (m, k).
+
+    Attributes
+    ----------
+    model : 'sphere'. params : kappa, nu, tau and the run settings (t_end, scheme, dt).
+    times : (n_t,) saved times.
+    modes : ((m, k), ...) the allocated modes (real orthonormal harmonics Yr_{m,k},
+        :mod:`spectralshell.discretise.shtns_adapter`).
+    radial : (n_t, n_modes) X^Y coefficients (the radial displacement).
+    tangential : (n_t, n_modes) X^Psi (spheroidal) coefficients, 0 when inviscid.
+    toroidal_modes, toroidal : the same for the toroidal X^Phi (empty unless excited).
+    fits : one :class:`ModeFit` per excited mode (radial first, then toroidal).
+    provenance : package version, scheme, step, radial resolution and spatial error per degree,
+        wall time.
+    """
+
+    model: str
+    params: dict[str, Any]
+    times: np.ndarray
+    modes: tuple[tuple[int, int], ...]
+    radial: np.ndarray
+    tangential: np.ndarray
+    toroidal_modes: tuple[tuple[int, int], ...]
+    toroidal: np.ndarray
+    fits: tuple[ModeFit, ...]
+    provenance: dict[str, Any]
+    warnings: tuple[str, ...] = field(default=())
+
+    @staticmethod
+    def fit_of(m: int, k: int, fit: RateFit, extra_error: float) -> ModeFit:
+        """A ModeFit from a rate fit, with ``extra_error`` added to the fit's own estimate."""
+        return ModeFit(m=m, k=k, growth_rate=fit.growth_rate, frequency=fit.frequency,
+                       error_estimate=float(fit.error_estimate + extra_error),
+                       multiplier=complex(fit.multiplier))
+
+    def coefficient(self, m: int, k: int) -> np.ndarray:
+        """X^Y(t) of mode (m, k)."""
+        try:
+            return self.radial[:, self.modes.index((m, k))]
+        except ValueError:
+            raise KeyError(f"mode ({m}, {k}) is not in the trajectory: {self.modes}") from None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON of ``spectralshell simulate --json``: model, params, modes (fits)."""
+        return {"model": self.model, "params": dict(self.params),
+                "modes": [f.to_dict() for f in self.fits]}
+
+    def write_npz(self, path: str | Path) -> None:
+        """Arrays times, m, k, radial, tangential (and toroidal_*), fits, plus JSON metadata."""
+        arrays = {"times": self.times,
+                  "m": np.array([m for m, _ in self.modes], dtype=int),
+                  "k": np.array([k for _, k in self.modes], dtype=int),
+                  "radial": self.radial, "tangential": self.tangential,
+                  "toroidal_m": np.array([m for m, _ in self.toroidal_modes], dtype=int),
+                  "toroidal_k": np.array([k for _, k in self.toroidal_modes], dtype=int),
+                  "toroidal": self.toroidal,
+                  "fit_growth_rate": np.array([f.growth_rate for f in self.fits]),
+                  "fit_frequency": np.array([f.frequency for f in self.fits]),
+                  "fit_error_estimate": np.array([f.error_estimate for f in self.fits]),
+                  "metadata": np.array(json.dumps({**self.to_dict(),
+                                                   "provenance": self.provenance,
+                                                   "warnings": list(self.warnings)}))}
+        with open(path, "wb") as handle:
+            np.savez_compressed(handle, **arrays)

@@ -1,0 +1,219 @@
+"""Run a simulation scene: build the per-degree systems, step them, fit rates -> Trajectory.
+
+Time grid. The step is dt = ``DT_FACTOR`` / max(1, |s|), s the fastest degree's leading natural
+mode (its inviscid frequency lambda0 when nu = 0), unless the scene gives dt. With forcing
+(tau != 0) the step is then reduced so that one period 2 pi is a whole number of steps, a multiple
+of ``SAMPLES_PER_PERIOD``, and the run ends at the first step >= t_end. Samples are saved
+``SAMPLES_PER_PERIOD`` times per forcing period, or per period 2 pi / |s| of the leading mode when
+unforced.
+
+Fits and their error. Each excited mode's coefficient is fitted by
+:func:`spectralshell.solvers.rate_fit.fit_rate` on the window [t_a, t_b]: t_a leaves out the
+initial transient (two periods of the leading mode, or of the forcing, and at most 20 % of the
+run); for a decaying mode t_b is where it has decayed by e^-25, beyond which the run holds the
+algebraic long-time tail of the unbounded fluid (the discretised continuous spectrum) rather than
+the mode. The error estimate adds (1) the fit's own (sub-window) spread, (2) the change of the
+fit when the whole run is repeated at step 2 dt (time discretisation; conservative, the error at
+dt being smaller by 2^p) and (3) the radial discretisation error of the degree's leading mode
+times |gamma|.
+
+A uniform kappa steps one system per degree (its orders k as columns) and fits every mode of the
+shape; a kappa(theta, phi) steps the coupled system of :mod:`spectralshell.discretise.sphere_coupled`
+and fits every mode reaching ``EXCITED`` times the largest amplitude.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from .._version import __version__
+from ..discretise.sphere_stepping import scene_blocks, shape_coefficients
+from ..errors import ParameterError, SpectralShellError
+from ..params.simulation import Expression, SimulationScene, simulation_scene
+from ..results.trajectory import ModeFit, Trajectory
+from ..solvers.imex import scheme as get_scheme
+from ..solvers.rate_fit import fit_rate
+from ..solvers.stepper import Run, integrate
+
+DT_FACTOR = 0.02
+SAMPLES_PER_PERIOD = 32
+TRANSIENT_PERIODS = 2.0
+DECAY_WINDOW = 25.0      # e-folds of a decaying mode kept in the fit window
+EXCITED = 1e-3           # coupled runs: modes above this fraction of the largest are fitted
+
+
+def time_grid(*, dt: float | None, rate: float, tau: float, t_end: float) -> tuple[float, int, int, float]:
+    """(step, save every, steps, end time) of a run (see the module docstring); steps is a
+    multiple of 2 every."""
+    step = dt if dt is not None else DT_FACTOR / max(1.0, rate)
+    if tau != 0.0:
+        per_period = int(np.ceil(2 * np.pi / step - 1e-9))
+        samples = min(SAMPLES_PER_PERIOD, per_period)
+        per_period = int(np.ceil(per_period / samples)) * samples
+        step = 2 * np.pi / per_period
+        every = per_period // samples
+    else:
+        every = max(1, int(round(2 * np.pi / max(rate, 1e-12) / SAMPLES_PER_PERIOD / step)))
+    steps = int(np.ceil(t_end / step - 1e-9))
+    every = min(every, max(1, steps // 24))
+    steps = int(np.ceil(steps / (2 * every))) * 2 * every     # even: the check run takes 2 dt
+    return step, every, steps, steps * step
+
+
+def _window(t_end: float, leading: complex, forced: bool) -> tuple[float, float]:
+    period = 2 * np.pi if forced else 2 * np.pi / max(abs(leading), 1e-12)
+    t_a = min(TRANSIENT_PERIODS * period, 0.2 * t_end)
+    t_b = t_end
+    if not forced and leading.real < 0:
+        t_b = min(t_end, t_a + DECAY_WINDOW / -leading.real)
+    return t_a, t_b
+
+
+def _fit_mode(mode: tuple[int, int], fine: tuple, coarse: tuple, leading: complex,
+              spatial_error: float, forced: bool, warnings: list[str]) -> list[ModeFit]:
+    """The fit of one mode's coefficient (fine and coarse (times, values)), with its error."""
+    t_a, t_b = _window(fine[0][-1], leading, forced)
+    period = 2 * np.pi if forced else None
+    try:
+        f = fit_rate(*fine, period=period, window=(t_a, t_b))
+        c = fit_rate(*coarse, period=period, window=(t_a, t_b))
+    except SpectralShellError as exc:
+        warnings.append(f"mode {mode}: no rate fitted ({exc})")
+        return []
+    time_error = max(abs(f.growth_rate - c.growth_rate), abs(f.frequency - c.frequency))
+    space_error = spatial_error * abs(complex(f.growth_rate, f.frequency))
+    return [Trajectory.fit_of(mode[0], mode[1], f, time_error + space_error)]
+
+
+def _runs(systems: list, initials: list, scheme: str, step: float, steps: int, every: int,
+          progress: bool) -> tuple[list[Run], list[Run]]:
+    """Every system stepped at dt and, for the error estimate, at 2 dt (same saved times when
+    ``every`` is even, every other one otherwise)."""
+    coarse_every = every // 2 if every % 2 == 0 else every
+    total = len(systems) * (steps + steps // 2)
+    with tqdm(total=total, desc="simulate", unit="step", disable=not progress,
+              file=sys.stderr) as bar:
+        fine = [integrate(s, y0, scheme=scheme, dt=step, t_end=steps * step, every=every,
+                          observe=s.displacement, progress=bar.update)
+                for s, y0 in zip(systems, initials)]
+        coarse = [integrate(s, y0, scheme=scheme, dt=2 * step, t_end=steps * step,
+                            every=coarse_every, observe=s.displacement, progress=bar.update)
+                  for s, y0 in zip(systems, initials)]
+    return fine, coarse
+
+
+def _provenance(scheme, step, steps, every, degrees, method, started) -> dict:
+    return {"package": "spectralshell", "version": __version__, "scheme": scheme, "dt": step,
+            "steps": steps, "samples_every": every, "degrees": degrees, "method": method,
+            "seconds": time.perf_counter() - started}
+
+
+def _degrees(systems) -> list[dict]:
+    return [{"m": s.m, "component": s.component, "n_radial": s.n_inner,
+             "exterior_scale": s.exterior_scale, "spatial_error": s.spatial_error}
+            for s in systems]
+
+
+def _decoupled(sc: SimulationScene, shape: dict, scheme: str, warnings: list[str],
+               progress: bool, started: float) -> Trajectory:
+    blocks = scene_blocks(shape=shape, twist=sc.twist, kappa=sc.kappa, nu=sc.nu, tau=sc.tau,
+                          n_radial=sc.n_radial, tol=sc.tol)
+    rate = max(abs(b.system.leading) for b in blocks)
+    step, every, steps, t_end = time_grid(dt=sc.dt, rate=rate, tau=sc.tau, t_end=sc.t_end)
+    fine, coarse = _runs([b.system for b in blocks], [b.initial for b in blocks], scheme, step,
+                         steps, every, progress)
+    times = fine[0].times
+    columns: dict[str, list] = {"radial": [], "tangential": [], "toroidal": []}
+    modes, toroidal_modes, fits = [], [], []
+    for b, f, c in zip(blocks, fine, coarse):
+        for j, mk in enumerate(b.modes):
+            if b.system.component == "poloidal":
+                modes.append(mk)
+                columns["radial"].append(f.values[:, 0, j])
+                columns["tangential"].append(f.values[:, 1, j] if b.system.nu > 0
+                                             else np.zeros(times.size))
+            else:
+                toroidal_modes.append(mk)
+                columns["toroidal"].append(f.values[:, 0, j])
+            fits += _fit_mode(mk, (times, f.values[:, 0, j]), (c.times, c.values[:, 0, j]),
+                              b.system.leading, b.system.spatial_error, sc.tau != 0.0, warnings)
+    arrays = {k: np.column_stack(v) if v else np.zeros((times.size, 0))
+              for k, v in columns.items()}
+    prov = _provenance(scheme, step, steps, every, _degrees(b.system for b in blocks),
+                       "IMEX time stepping of the radial Chebyshev system per degree "
+                       "(discretise/sphere_stepping.py)", started)
+    return Trajectory(model="sphere", params={**sc.params(), "t_end": t_end, "scheme": scheme,
+                                              "dt": step},
+                      times=times, modes=tuple(modes), toroidal_modes=tuple(toroidal_modes),
+                      fits=tuple(fits), provenance=prov, warnings=tuple(warnings), **arrays)
+
+
+def _coupled(sc: SimulationScene, shape: dict, scheme: str, warnings: list[str], progress: bool,
+             started: float) -> Trajectory:
+    from ..discretise.sphere_coupled import coupled_system
+
+    if sc.twist:
+        raise ParameterError("initial.twist is not supported with a non-uniform kappa")
+    system = coupled_system(kappa=sc.kappa.function, shape=shape, nu=sc.nu, tau=sc.tau,
+                            l_max=sc.l_max, max_degree=sc.l_max if sc.l_max_given else None,
+                            n_radial=sc.n_radial, tol=sc.tol)
+    warnings += system.warnings
+    rate = max(abs(g.system.leading) for g in system.groups)
+    step, every, steps, t_end = time_grid(dt=sc.dt, rate=rate, tau=sc.tau, t_end=sc.t_end)
+    (fine,), (coarse,) = _runs([system], [system.initial_state(shape)], scheme, step, steps,
+                               every, progress)
+    n = len(system.modes)
+    radial, tangential, toroidal = fine.values[:, :n], fine.values[:, n:2 * n], fine.values[:, 2 * n:]
+    by_degree = {g.m: g.system for g in system.groups if g.component == "poloidal"}
+    scale = np.max(np.abs(radial))
+    fits = []
+    for j, mk in enumerate(system.modes):   # modes carrying at least 1e-3 of the largest amplitude
+        if np.max(np.abs(radial[:, j])) >= EXCITED * scale:
+            deg = by_degree[mk[0]]
+            fits += _fit_mode(mk, (fine.times, radial[:, j]), (coarse.times, coarse.values[:, j]),
+                              deg.leading, deg.spatial_error, sc.tau != 0.0, warnings)
+    prov = _provenance(scheme, step, steps, every, _degrees(g.system for g in system.groups),
+                       "IMEX time stepping, degrees coupled by kappa(theta, phi) through products "
+                       "on an SHTns grid (discretise/sphere_coupled.py)", started)
+    prov["kappa_mean"] = system.kappa_mean
+    return Trajectory(model="sphere", params={**sc.params(), "t_end": t_end, "scheme": scheme,
+                                              "dt": step},
+                      times=fine.times, modes=system.modes, radial=radial, tangential=tangential,
+                      toroidal_modes=system.toroidal_modes, toroidal=toroidal, fits=tuple(fits),
+                      provenance=prov, warnings=tuple(warnings))
+
+
+def simulate(scene: str | Path | Mapping | SimulationScene, *, progress: bool = False) -> Trajectory:
+    """Simulate a scene (see :mod:`spectralshell.params.simulation`) -> :class:`Trajectory`."""
+    started = time.perf_counter()
+    sc = scene if isinstance(scene, SimulationScene) else simulation_scene(scene)
+    scheme = get_scheme(sc.scheme).name
+    warnings = list(sc.warnings)
+    shape = sc.shape
+    if isinstance(shape, Expression):
+        shape, more = shape_coefficients(shape.function, sc.l_max)
+        warnings += more
+    run = _coupled if isinstance(sc.kappa, Expression) else _decoupled
+    return run(sc, dict(shape), scheme, warnings, progress, started)
+
+
+SNAPSHOTS = 4
+
+
+def shape_snapshots(traj: Trajectory, count: int = SNAPSHOTS):
+    """(theta, phi, [X^Y on the grid], times) at ``count`` evenly spaced saved times, for the
+    membrane-shape figure (synthesis on an SHTns grid)."""
+    from ..discretise.shtns_adapter import Grid
+
+    l_max = max([m for m, _ in traj.modes] + [2])
+    grid = Grid(l_max, n_theta=max(32, 2 * l_max), n_phi=max(64, 4 * l_max))
+    picks = np.unique(np.linspace(0, traj.times.size - 1, count).round().astype(int))
+    fields = [grid.synthesise({mk: traj.radial[i, j] for j, mk in enumerate(traj.modes)})
+              for i in picks]
+    return grid.theta, grid.phi, fields, traj.times[picks]

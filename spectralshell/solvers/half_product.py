@@ -1,0 +1,383 @@
+"""T = A^{-1} B of a Hill pencil and its half-size product W, dense or as operators for Arnoldi.
+
+Structure
+---------
+A Hill pencil A v = tau B v (thesis (2.6); :mod:`spectralshell.discretise.hill`) has A block
+diagonal and B block tridiagonal, so T = A^{-1} B, whose eigenvalues are mu = 1/tau, is applied
+block by block: (T x)_k = A_k^{-1} (B_{k,k-1} x_{k-1} + B_{k,k} x_k + B_{k,k+1} x_{k+1}), O(K s^2)
+once the block inverses are known. When the pencil is bipartite (no B_{k,k}), in an even/odd
+ordering T = [[0, X], [Y, 0]] and the eigenvalues of the half-size product W = X Y (acting on
+the even block positions) are mu^2, each standing for the pair +-tau. Real tau are the real
+mu > 0 of T, or the real mu^2 > 0 of W.
+
+Block inverses
+--------------
+K inverses of s x s blocks, O(K s^3). Two exact properties of the Hill forms halve that work
+(each is checked on the data, never assumed): in the two-sided form the blocks satisfy
+A_{K-1-k} = conj(A_k), since D(conj s) = conj D(s) and the index reflection maps s_k to conj(s_k)
+(harmonic k -> -k, subharmonic k -> -k-1), so only half are inverted; in the real form the
+blocks [[D_r, -D_i], [D_i, D_r]] are realifications of a complex b x b block D, whose complex
+inverse (8 b^3 real flops instead of 16 b^3, and half the memory traffic when applied)
+realifies to A_k^{-1}. Blocks smaller than SMALL_BLOCK are inverted plainly: there the checks
+cost more than they save. Inverses of a smaller truncation's blocks can be reused (``known``).
+
+Arnoldi fast path (:func:`smallest_taus`)
+----------------------------------------
+On the real form (so that ARPACK runs in real arithmetic and real eigenvalues come out exactly
+real): W when the pencil is bipartite (harmonic), else T (subharmonic: the n = 0 self-coupling);
+applied as above, no product of blocks is formed. ARPACK's implicitly restarted Arnoldi method
+(``scipy.sparse.linalg.eigs``, ``which='LM'``, ``tol=0``: residuals at machine precision) returns
+the k eigenvalues lambda_1, ..., lambda_k of largest modulus (lambda = mu^2 or mu).
+Completeness: every eigenvalue of modulus above |lambda_k|, i.e. every tau with |tau| < r
+(r = |lambda_k|^(-1/2) for W, |lambda_k|^(-1) for T), is among them. So
+
+* if a real tau <= r is among them, the smallest real tau of the truncation is the smallest one
+  found, and all real tau <= r are listed;
+* if none is, and r >= tau_max, the truncation has no real tau <= tau_max;
+* otherwise k is doubled (from K_START), and once the Krylov space would exceed
+  1/KRYLOV_FRACTION of the operator's order (dense eig is then cheaper) the fast path gives up
+  (returns None).
+
+Eigenvalues with |lambda| <= 64 eps |lambda_1| are zero to working precision (infinite tau);
+reaching one means every other eigenvalue was found (r = inf). The argument rests on ARPACK
+returning the k dominant eigenvalues, all converged (it raises otherwise, and the dense path
+answers). Like any Krylov method it could in principle miss an eigenvalue whose eigenvector the
+starting vector (fixed, pseudo-random: reproducible results) barely contains; this is not a
+proof, and it is checked against the dense solve on random block models in the tests. ARPACK's
+real Ritz values of a real operator have an exactly zero imaginary part, so real tau are
+classified exactly, as on the dense harmonic path.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from ..discretise.hill import HillMatrices, _realify
+
+COND_LIMIT = 1e8
+REAL_RTOL = 1e-9
+K_START = 8
+SMALL_BLOCK = 32  # below this block size A_k^{-1} are plainly inverted and never reused
+KRYLOV_FRACTION = 3  # give up when the Krylov space would exceed (operator order) / KRYLOV_FRACTION
+
+
+def tau_from_squares(lam: np.ndarray, floor: float, exact_real: bool) -> np.ndarray:
+    """tau = 1/sqrt(mu^2) for the real eigenvalues mu^2 of W above ``floor``, ascending."""
+    if exact_real:
+        real = lam.imag == 0.0
+    else:
+        real = np.abs(lam.imag) <= REAL_RTOL * np.abs(lam)
+    keep = real & (lam.real > floor)
+    return np.sort(1.0 / np.sqrt(lam.real[keep]))
+
+
+def _realified(diag: np.ndarray) -> np.ndarray:
+    """Mask of the real blocks that are exactly [[D_r, -D_i], [D_i, D_r]]."""
+    b = diag.shape[1] // 2
+    if diag.shape[1] % 2 or np.iscomplexobj(diag):
+        return np.zeros(len(diag), dtype=bool)
+    tl, tr, bl, br = diag[:, :b, :b], diag[:, :b, b:], diag[:, b:, :b], diag[:, b:, b:]
+    return np.all(tl == br, axis=(1, 2)) & np.all(tr == -bl, axis=(1, 2))
+
+
+@dataclass(frozen=True, eq=False)
+class BlockInverses:
+    """A_k^{-1} of every diagonal block of a pencil with K blocks of size s: for the realified
+    blocks ``complex_rows`` as the complex b x b inverse ``complex_inv`` (half the storage and
+    memory traffic of the real 2b x 2b one), for the other ``rows`` as ``inv``."""
+
+    size: int
+    rows: np.ndarray
+    inv: np.ndarray
+    complex_rows: np.ndarray
+    complex_inv: np.ndarray
+
+    def norms(self) -> np.ndarray:
+        """1-norm of each A_k^{-1}, k = 0..K-1."""
+        out = np.empty(len(self.rows) + len(self.complex_rows))
+        out[self.rows] = np.abs(self.inv).sum(axis=1).max(axis=-1, initial=0.0)
+        c = self.complex_inv
+        out[self.complex_rows] = (np.abs(c.real) + np.abs(c.imag)).sum(axis=1).max(axis=-1,
+                                                                                  initial=0.0)
+        return out
+
+    def full(self) -> np.ndarray:
+        """All A_k^{-1} as a (K, s, s) array."""
+        K = len(self.rows) + len(self.complex_rows)
+        out = np.empty((K, self.size, self.size), dtype=self.inv.dtype)
+        out[self.rows] = self.inv
+        if self.complex_rows.size:
+            out[self.complex_rows] = _realify(self.complex_inv)
+        return out
+
+    def subset(self, rows: slice) -> BlockInverses:
+        """The inverses of the contiguous blocks ``rows``, numbered from 0."""
+        keep = (self.rows >= rows.start) & (self.rows < rows.stop)
+        keep_c = (self.complex_rows >= rows.start) & (self.complex_rows < rows.stop)
+        return BlockInverses(size=self.size, rows=self.rows[keep] - rows.start,
+                             inv=self.inv[keep],
+                             complex_rows=self.complex_rows[keep_c] - rows.start,
+                             complex_inv=self.complex_inv[keep_c])
+
+    def solver(self, targets: np.ndarray):
+        """r -> (A_k^{-1} r_j)_j for k = targets[j], r of shape (len(targets), s)."""
+        position = np.full(len(self.rows) + len(self.complex_rows), -1)
+        position[self.complex_rows] = np.arange(len(self.complex_rows))
+        in_complex = position[targets] >= 0
+        c_inv = self.complex_inv[position[targets[in_complex]]]
+        position[self.rows] = np.arange(len(self.rows))
+        r_inv = self.inv[position[targets[~in_complex]]]
+        b = self.size // 2
+
+        def solve(r: np.ndarray) -> np.ndarray:
+            out = np.empty(r.shape, dtype=np.result_type(r, self.inv))
+            if c_inv.size:
+                rc = r[in_complex]
+                c = (c_inv @ (rc[:, :b] + 1j * rc[:, b:])[:, :, None])[:, :, 0]
+                out[in_complex] = np.concatenate([c.real, c.imag], axis=1)
+            if r_inv.size:
+                out[~in_complex] = (r_inv @ r[~in_complex][:, :, None])[:, :, 0]
+            return out
+
+        return solve
+
+
+def _inverses(diag: np.ndarray) -> BlockInverses:
+    """A_k^{-1} of every block, using the exact symmetries of the module notes."""
+    K, s, _ = diag.shape
+    every, none = np.arange(K), np.arange(0)
+    empty = np.zeros((0, s // 2, s // 2), dtype=complex)
+    if s < SMALL_BLOCK:  # the savings below do not pay for their own overhead
+        return BlockInverses(size=s, rows=every, inv=np.linalg.inv(diag), complex_rows=none,
+                             complex_inv=empty)
+    if np.iscomplexobj(diag) and np.array_equal(diag[::-1], diag.conj()):
+        inv = np.empty_like(diag)
+        upper = np.arange(K // 2, K)
+        inv[upper] = np.linalg.inv(diag[upper])
+        lower = np.arange(K // 2)
+        inv[lower] = inv[K - 1 - lower].conj()
+        return BlockInverses(size=s, rows=every, inv=inv, complex_rows=none, complex_inv=empty)
+    mask = _realified(diag)
+    if mask.sum() < 2:
+        return BlockInverses(size=s, rows=every, inv=np.linalg.inv(diag), complex_rows=none,
+                             complex_inv=empty)
+    b = s // 2
+    rows, complex_rows = np.flatnonzero(~mask), np.flatnonzero(mask)
+    inv = np.linalg.inv(diag[rows]) if rows.size else np.zeros((0, s, s))
+    complex_inv = np.linalg.inv(diag[mask, :b, :b] + 1j * diag[mask, b:, :b])
+    return BlockInverses(size=s, rows=rows, inv=inv, complex_rows=complex_rows,
+                         complex_inv=complex_inv)
+
+
+def _norm1(blocks: np.ndarray | None) -> float:
+    """Largest 1-norm of a stack of blocks (0 for None)."""
+    return 0.0 if blocks is None or not len(blocks) else float(np.abs(blocks).sum(axis=1).max())
+
+
+def _joined(parts: list[tuple[np.ndarray, BlockInverses]], size: int) -> BlockInverses:
+    """One BlockInverses from parts, each (its block positions, its inverses numbered from 0)."""
+    return BlockInverses(size=size,
+                         rows=np.concatenate([at[p.rows] for at, p in parts]),
+                         inv=np.concatenate([p.inv for _, p in parts]),
+                         complex_rows=np.concatenate([at[p.complex_rows] for at, p in parts]),
+                         complex_inv=np.concatenate([p.complex_inv for _, p in parts]))
+
+
+def block_inverses(hill: HillMatrices,
+                   known: tuple[slice, BlockInverses] | None = None) -> BlockInverses | None:
+    """A_k^{-1} for every diagonal block, or None when a block is singular or ill conditioned:
+    1-norm condition above COND_LIMIT, or ||A_k^{-1}|| ||B|| above it (then some tau ~< 1e-8,
+    which the squared eigenvalues mu^2 = 1/tau^2 would lose; the caller falls back to QZ).
+    ``known``: (block positions, their inverses), reused instead of inverting those blocks."""
+    K, s, _ = hill.diag.shape
+    done = np.zeros(K, dtype=bool)
+    parts = []
+    if known is not None and s >= SMALL_BLOCK:
+        done[known[0]] = True
+        parts.append((np.flatnonzero(done), known[1]))
+    todo = np.flatnonzero(~done)
+    try:
+        if todo.size:
+            parts.append((todo, _inverses(hill.diag[todo])))
+    except np.linalg.LinAlgError:
+        return None
+    inv = parts[0][1] if len(parts) == 1 and not done.any() else _joined(parts, s)
+    inv_norm = inv.norms()
+    cond = np.abs(hill.diag).sum(axis=1).max(axis=-1) * inv_norm
+    coupling = _norm1(hill.lower) + _norm1(hill.upper) + _norm1(hill.self_coupling)
+    if not np.all(np.isfinite(cond)) or max(cond.max(), inv_norm.max() * coupling) > COND_LIMIT:
+        return None
+    return inv
+
+
+def dense_half_product(hill: HillMatrices, inverses: BlockInverses) -> np.ndarray:
+    """W = X Y as a dense matrix, from the blocks C-_k = A_k^{-1} B_{k,k-1} and
+    C+_k = A_k^{-1} B_{k,k+1}: on even block positions p, W_{p,p} = C-_p C+_{p-1} + C+_p C-_{p+1},
+    W_{p,p+2} = C+_p C+_{p+1}, W_{p,p-2} = C-_p C-_{p-1}."""
+    if not hill.bipartite:
+        raise ValueError("the half product needs a bipartite pencil (no self-coupling in B)")
+    K, s, _ = hill.diag.shape
+    inv = inverses.full()
+    lower, upper = np.ascontiguousarray(hill.lower), np.ascontiguousarray(hill.upper)
+    zero = np.zeros((1, s, s), dtype=inv.dtype)
+    cm = np.concatenate([zero, inv[1:] @ lower, zero])    # cm[k] = C-_k, k = 0..K (0 at ends)
+    cp = np.concatenate([zero, inv[:-1] @ upper, zero])   # cp[k + 1] = C+_k, k = -1..K-1
+    p = np.arange(0, K, 2)
+    m = len(p)
+    W = np.zeros((m, s, m, s), dtype=np.result_type(inv, hill.lower))
+    i = np.arange(m)
+    W[i, :, i, :] = cm[p] @ cp[p] + cp[p + 1] @ cm[p + 1]
+    W[i[:-1], :, i[1:], :] = cp[p[:-1] + 1] @ cp[p[:-1] + 2]
+    W[i[1:], :, i[:-1], :] = cm[p[1:]] @ cm[p[1:] - 1]
+    return W.reshape(m * s, m * s)
+
+
+def _right_product(block: np.ndarray):
+    """x -> x @ block.T (block applied to each row of x); half the flops when the block is
+    [[0, P], [Q, 0]], as the real form's forcing kron(J, G) is."""
+    s = len(block)
+    b = s // 2
+    if s % 2 == 0 and not np.any(block[:b, :b]) and not np.any(block[b:, b:]):
+        P, Q = np.ascontiguousarray(block[:b, b:].T), np.ascontiguousarray(block[b:, :b].T)
+        return lambda x: np.concatenate([x[:, b:] @ P, x[:, :b] @ Q], axis=1)
+    M = np.ascontiguousarray(block.T)
+    return lambda x: x @ M
+
+
+def _equal_to(blocks: np.ndarray, idx: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """Mask of blocks[idx] == ref (a broadcast stack, stride 0, repeats one block)."""
+    if blocks.strides[0] == 0:
+        return np.full(idx.size, np.array_equal(blocks[0], ref))
+    return np.all(blocks[idx] == ref, axis=(1, 2))
+
+
+def _t_rows(hill: HillMatrices, inverses: BlockInverses, targets: np.ndarray):
+    """padded x -> blocks ``targets`` of T x, where padded[k + 1] = x_k (zero at both ends).
+
+    B repeats one lower and one upper block (the forcing), usually with upper = -lower:
+    those rows take one product, (T x)_k = A_k^{-1} B_low (x_{k-1} - x_{k+1}); rows with other
+    blocks (n = 0 of the real form) are done block by block."""
+    K, s, _ = hill.diag.shape
+    low, up = np.ascontiguousarray(hill.lower[-1]), np.ascontiguousarray(hill.upper[-1])
+    has_low, has_up = targets >= 1, targets + 1 < K
+    regular = np.ones(targets.size, dtype=bool)
+    regular[has_low] &= _equal_to(hill.lower, targets[has_low] - 1, low)
+    regular[has_up] &= _equal_to(hill.upper, targets[has_up], up)
+    if hill.self_coupling is not None:
+        regular &= ~np.any(hill.self_coupling[targets], axis=(1, 2))
+    reg, odd = targets[regular], targets[~regular]
+    zero = np.zeros((s, s), dtype=hill.lower.dtype)
+    odd_low = np.array([hill.lower[t - 1] if t >= 1 else zero for t in odd]).reshape(-1, s, s)
+    odd_up = np.array([hill.upper[t] if t + 1 < K else zero for t in odd]).reshape(-1, s, s)
+    odd_self = np.array([zero if hill.self_coupling is None else hill.self_coupling[t]
+                         for t in odd]).reshape(-1, s, s)
+    difference = np.array_equal(up, -low)
+    low_product, up_product = _right_product(low), _right_product(up)
+    solve = inverses.solver(targets)
+
+    def apply(padded: np.ndarray) -> np.ndarray:
+        r = np.empty((targets.size, s), dtype=padded.dtype)
+        if difference:
+            r[regular] = low_product(padded[reg] - padded[reg + 2])
+        else:
+            r[regular] = low_product(padded[reg]) + up_product(padded[reg + 2])
+        if odd.size:
+            r[~regular] = (odd_low @ padded[odd, :, None] + odd_up @ padded[odd + 2, :, None]
+                           + odd_self @ padded[odd + 1, :, None])[:, :, 0]
+        return solve(r)
+
+    return apply
+
+
+def krylov_operator(hill: HillMatrices,
+                    inverses: BlockInverses) -> tuple[spla.LinearOperator, bool]:
+    """(operator, squared): W on the even block positions if the pencil is bipartite
+    (eigenvalues mu^2, squared = True), else T (eigenvalues mu); O(K s^2) per product."""
+    K, s, _ = hill.diag.shape
+    dtype = np.result_type(inverses.inv, hill.lower)
+    if not hill.bipartite:
+        rows = _t_rows(hill, inverses, np.arange(K))
+
+        def t_matvec(v: np.ndarray) -> np.ndarray:
+            padded = np.zeros((K + 2, s), dtype=dtype)
+            padded[1:-1] = np.reshape(v, (K, s))
+            return rows(padded).ravel()
+
+        return spla.LinearOperator((K * s, K * s), matvec=t_matvec, dtype=dtype), False
+    even, odd = np.arange(0, K, 2), np.arange(1, K, 2)
+    to_odd, to_even = _t_rows(hill, inverses, odd), _t_rows(hill, inverses, even)
+
+    def w_matvec(v: np.ndarray) -> np.ndarray:
+        padded = np.zeros((K + 2, s), dtype=dtype)
+        padded[even + 1] = np.reshape(v, (len(even), s))
+        padded[odd + 1] = to_odd(padded)  # to_even reads only the odd positions
+        return to_even(padded).ravel()
+
+    n = len(even) * s
+    return spla.LinearOperator((n, n), matvec=w_matvec, dtype=dtype), True
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class SmallestTaus:
+    """Real tau >= 0 of one truncation found by :func:`smallest_taus`.
+
+    tau : ascending; every real tau <= ``complete_to`` of the pencil is listed, and only those.
+    complete_to : the radius r of the module notes (inf when every nonzero eigenvalue was found).
+    n_eigenvalues : number of eigenvalues computed (the final k).
+    """
+
+    tau: np.ndarray
+    complete_to: float
+    n_eigenvalues: int
+
+
+def _dominant(op: spla.LinearOperator, k: int, ncv: int) -> np.ndarray | None:
+    """The k (or k + 1, a conjugate pair) eigenvalues of largest modulus, by modulus descending."""
+    n = op.shape[0]
+    v0 = np.random.default_rng(20240611).standard_normal(n).astype(op.dtype)
+    try:
+        lam = spla.eigs(op, k=k, which="LM", v0=v0, tol=0.0, ncv=ncv,
+                        return_eigenvectors=False)
+    except spla.ArpackNoConvergence:
+        return None
+    return lam[np.argsort(-np.abs(lam), kind="stable")]
+
+
+def smallest_taus(hill: HillMatrices, *, tau_max: float = np.inf,
+                  inverses: BlockInverses | None = None) -> SmallestTaus | None:
+    """The smallest real tau >= 0 of a real-form Hill pencil by Arnoldi iteration.
+
+    Returns the real tau up to a radius r >= min(tau_min, tau_max), with every real tau <= r
+    (module notes), or None when A is ill conditioned (see :func:`block_inverses`) or the Krylov
+    space needed exceeds 1/KRYLOV_FRACTION of the operator's order (use dense eig then).
+    Cost: O(K s^3) for the block inverses (``inverses``, if already known), O(K s^2) per step.
+    """
+    if not hill.is_real:
+        raise ValueError("smallest_taus works on the real form (real arithmetic, exact real tau)")
+    inverses = block_inverses(hill) if inverses is None else inverses
+    if inverses is None:
+        return None
+    op, squared = krylov_operator(hill, inverses)
+    n = op.shape[0]
+    k = K_START if squared else 2 * K_START  # T has each +-mu pair, W one mu^2
+    while True:
+        ncv = max(2 * k + 1, 4 * K_START)
+        if KRYLOV_FRACTION * ncv > n:
+            return None
+        lam = _dominant(op, k, ncv)
+        if lam is None:
+            return None
+        floor = 64 * np.finfo(float).eps * abs(lam[0])
+        smallest = abs(lam[-1])
+        radius = np.inf if smallest <= floor else smallest ** (-0.5 if squared else -1.0)
+        if squared:
+            tau = tau_from_squares(lam, floor, exact_real=True)
+        else:
+            tau = np.sort(1.0 / lam.real[(lam.imag == 0.0) & (lam.real > floor)])
+        tau = tau[tau <= radius]
+        if tau.size or radius >= tau_max:
+            return SmallestTaus(tau=tau, complete_to=float(radius), n_eigenvalues=len(lam))
+        k *= 2

@@ -1,0 +1,94 @@
+"""The Floquet solution at a marginal amplitude: the null vector of the Hill pencil A - tau B.
+
+Model-agnostic. At a marginal tau (from :func:`spectralshell.solvers.marginal.marginal_tau`) the
+truncated pencil of the two-sided complex form (:mod:`spectralshell.discretise.hill`) has a null
+vector v = (u_k), k the two-sided Fourier indices; the periodic (harmonic) or antiperiodic
+(subharmonic) solution is u(t) = sum_k u_k exp(i (gamma + k) t), gamma = 0 or 1/2, real up to a
+constant complex factor (the reality conditions (2.7)/(2.8) map the null space onto itself).
+
+Method: inverse iteration with the sparse LU factors of A - tau B (scipy.sparse.linalg.splu),
+v <- (A - tau B)^{-1} B v, normalised, from a fixed pseudo-random start, until successive vectors
+agree (up to phase) to 1e-10; tau is the marginal value itself, so one or two steps suffice. The
+relative residual ||(A - tau B) v|| / (||A|| + |tau| ||B||) is reported.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from ..discretise.fourier import GAMMA, two_sided_indices
+from ..discretise.hill import assemble
+from ..errors import ConvergenceError
+from ..models.base import HillSystem
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class MarginalMode:
+    """Fourier coefficients of the solution at a marginal tau.
+
+    Attributes
+    ----------
+    kind, tau, n_temporal : what was solved.
+    indices : two-sided Fourier indices k; coefficients : (len(indices), block_size) complex u_k,
+        scaled so that the largest |u_k| entry is 1 and the solution is real.
+    gamma : 0 (harmonic) or 1/2 (subharmonic): u(t) = sum_k u_k exp(i (gamma + k) t).
+    residual : relative residual of the null vector.
+    """
+
+    kind: str
+    tau: float
+    n_temporal: int
+    indices: np.ndarray
+    coefficients: np.ndarray
+    gamma: float
+    residual: float
+
+    def evaluate(self, t: np.ndarray) -> np.ndarray:
+        """u(t) for times t, shape (len(t), block_size), real."""
+        t = np.asarray(t, dtype=float)
+        phase = np.exp(1j * np.outer(t, self.gamma + self.indices))
+        return (phase @ self.coefficients).real
+
+
+def marginal_mode(system: HillSystem, kind: str, tau: float, n_temporal: int, *,
+                  max_iter: int = 8) -> MarginalMode:
+    """The solution at the marginal amplitude ``tau`` of ``kind`` (see the module docstring).
+
+    Raises
+    ------
+    ConvergenceError : the inverse iteration did not settle (tau is not a simple marginal value
+        of this truncation).
+    """
+    hill = assemble(system, kind, n_temporal, "two-sided")
+    A, B = hill.A.tocsc().astype(complex), hill.B.tocsc().astype(complex)
+    lu = spla.splu((A - tau * B).tocsc())
+    v = np.random.default_rng(1).standard_normal(A.shape[0]) + 0j
+    v /= np.linalg.norm(v)
+    for _ in range(max_iter):
+        w = lu.solve(B @ v)
+        if not np.all(np.isfinite(w)) or not np.any(w):
+            raise ConvergenceError(f"inverse iteration at tau = {tau:g} failed (singular B v)")
+        w /= np.linalg.norm(w)
+        change = min(np.linalg.norm(w - v * (np.vdot(v, w) / abs(np.vdot(v, w)))), 2.0) \
+            if np.vdot(v, w) != 0 else 2.0
+        v = w
+        if change < 1e-10:
+            break
+    scale = spla.norm(A, 1) + abs(tau) * spla.norm(B, 1)
+    residual = float(np.linalg.norm(A @ v - tau * (B @ v)) / scale)
+    if residual > 1e-8:
+        raise ConvergenceError(f"no null vector of A - tau B at tau = {tau:g} (relative residual "
+                               f"{residual:.1e}): tau is not a marginal value of this truncation")
+    k = two_sided_indices(kind, n_temporal)
+    coef = v.reshape(len(k), system.block_size)
+    # make the solution real: rotate by the phase that maximises the real part's norm
+    t = np.linspace(0.0, 4 * np.pi, 64, endpoint=False)
+    field = np.exp(1j * np.outer(t, GAMMA[kind] + k)) @ coef
+    theta = 0.5 * np.angle(np.sum(field * field))
+    coef = coef * np.exp(-1j * theta)
+    coef /= np.abs(coef).max()
+    return MarginalMode(kind=kind, tau=float(tau), n_temporal=int(n_temporal), indices=k,
+                        coefficients=coef, gamma=GAMMA[kind], residual=residual)

@@ -1,0 +1,159 @@
+"""Benchmark: the structured tau_min paths on long and wide Hill pencils, against dense eig.
+
+Each line prints the package's time and the baseline's in the same run, and their agreement:
+
+* package: ``marginal_tau`` (method 'auto': dense eig of the half-size product W below
+  KRYLOV_MIN_ORDER, Arnoldi on the real form above), or one truncation by a named method;
+* dense eig: ``scipy.linalg.eigvals(A, B)`` (QZ) of the same real-form pencil at the package's
+  final truncation (issue 3's baseline), where feasible; else dense eig of W ('structured').
+
+Cases: damped Mathieu needing N >= 40 (kappa = 100, 400: 20 and 40 tongues below tau = 1/2); the
+sphere at N = 40, 80; coupled damped Mathieu oscillators with the cochlea's graded stiffness
+(block size M = 30, 60, 250; tests/test_marginal_fast.py builds them); one point of the Fig 6.13
+tau map (all m = 2..6, both kinds) with the dense path against 'auto'.
+BLAS runs single-threaded for both sides (the machine is shared: threaded OpenBLAS under load
+spends most of its time waiting); the M = 250 case is also timed with 2 threads.
+Run: python validation/bench_hill_large.py
+"""
+
+from __future__ import annotations
+
+import functools
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import scipy.linalg as sla
+from threadpoolctl import threadpool_limits
+
+from spectralshell import api
+from spectralshell.discretise.hill import assemble
+from spectralshell.models import sphere
+from spectralshell.models.mathieu import hill_system as mathieu
+from spectralshell.params.physical import CARDIAC
+from spectralshell.solvers.marginal import (dense_taus, marginal_tau, preferred_form,
+                                            structured_taus, truncation_taus)
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from test_marginal_fast import cochlea_like  # noqa: E402  (the test model, not a copy)
+
+KINDS = ("harmonic", "subharmonic")
+
+
+def best_time(fn, repeat: int = 3) -> tuple[float, object]:
+    best, out = np.inf, None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def qz_tau_min(system, kind: str, n: int) -> float:
+    taus = dense_taus(assemble(system, kind, n, "real"))
+    return float(taus[taus > 0].min())
+
+
+def equal_error_table() -> None:
+    print("damped Mathieu, tol = 1e-10: marginal_tau (all truncations) vs one QZ at its final N")
+    print(f"{'case':>22} {'kind':>12} {'N':>4} | {'package s':>10} {'QZ s':>9} {'ratio':>6} | "
+          f"{'|diff|':>8} {'error est':>9}")
+    for kappa, nu in ((100.0, 1e-3), (400.0, 1e-2)):
+        system = mathieu(kappa=kappa, nu=nu)
+        for kind in KINDS:
+            t_pkg, res = best_time(lambda: marginal_tau(system, kind, tol=1e-10))
+            t_qz, ref = best_time(lambda: qz_tau_min(system, kind, res.n_temporal))
+            print(f"{f'kappa={kappa:g} nu={nu:g}':>22} {kind:>12} {res.n_temporal:4d} | "
+                  f"{t_pkg:10.2e} {t_qz:9.2e} {t_qz / t_pkg:6.1f} | "
+                  f"{abs(res.tau_min - ref):8.1e} {res.error_estimate:9.1e}")
+
+
+def truncation_table() -> None:
+    print("\none truncation N: dense eig of W ('structured') and Arnoldi ('krylov') "
+          "vs QZ of (A, B)")
+    print(f"{'case':>24} {'N':>4} {'kind':>12} | {'W eig s':>9} {'krylov s':>9} {'QZ s':>9} | "
+          f"{'QZ/W':>6} {'QZ/kry':>6} | {'|diff| W':>8} {'|diff| kry':>10}")
+    cases = [("mathieu kappa=400 nu=.01", mathieu(kappa=400.0, nu=1e-2), (63, 160)),
+             ("sphere m=3 k=0.02 nu=.006", sphere.hill_system(m=3, kappa=0.02, nu=0.006), (40, 80)),
+             ("oscillators M=10", cochlea_like(10), (20,)),
+             ("oscillators M=20", cochlea_like(20), (20,)),
+             ("oscillators M=30", cochlea_like(30), (20,))]
+    for name, system, ns in cases:
+        for n in ns:
+            for kind in KINDS:
+                t_w, w = best_time(lambda: truncation_taus(system, kind, n, method="dense"))
+                t_k, k = best_time(lambda: truncation_taus(system, kind, n, method="krylov"))
+                t_qz, qz = best_time(lambda: qz_tau_min(system, kind, n), repeat=1)
+                krylov_ok = k.method == "krylov"
+                print(f"{name:>24} {n:4d} {kind:>12} | {t_w:9.2e} "
+                      f"{t_k if krylov_ok else np.nan:9.2e} {t_qz:9.2e} | {t_qz / t_w:6.1f} "
+                      f"{t_qz / t_k if krylov_ok else np.nan:6.1f} | {abs(w.tau[0] - qz):8.1e} "
+                      f"{abs(k.tau[0] - qz) if krylov_ok else np.nan:10.1e}"
+                      + ("" if krylov_ok else "  (Arnoldi not used: the Krylov space would "
+                                               "exceed a third of the operator)"))
+
+
+def block_table() -> None:
+    print("\ncoupled oscillators (graded stiffness kappa e^{-alpha|x|}, M spatial modes), "
+          "marginal_tau at n_temporal = 20 (and its N = 15 comparison)")
+    print(f"{'M':>4} {'kind':>12} | {'package s':>10} {'dense W s':>10} {'ratio':>6} | "
+          f"{'tau_min':>18} {'|diff|':>8} {'method':>8}")
+    with threadpool_limits(1):
+        system = cochlea_like(60)
+        for kind in KINDS:
+            t_pkg, res = best_time(lambda: marginal_tau(system, kind, n_temporal=20), repeat=2)
+            t_d, dense = best_time(lambda: marginal_tau(system, kind, n_temporal=20,
+                                                        method="dense"), repeat=1)
+            print(f"{60:4d} {kind:>12} | {t_pkg:10.2e} {t_d:10.2e} {t_d / t_pkg:6.1f} | "
+                  f"{res.tau_min:18.15f} {abs(res.tau_min - dense.tau_min):8.1e} {res.method:>8}")
+    system = cochlea_like(250)
+    for threads in (1, 2):
+        with threadpool_limits(threads):
+            for kind in KINDS:
+                t_pkg, res = best_time(lambda: marginal_tau(system, kind, n_temporal=20), repeat=2)
+                print(f" 250 {kind:>12} | {t_pkg:10.2e} {'-':>10} {'-':>6} | {res.tau_min:18.15f} "
+                      f"{'-':>8} {res.method:>8}  ({threads} BLAS thread{'s' * (threads > 1)}, "
+                      f"N = 20 vs 15: error estimate {res.error_estimate:.1e})")
+    print("M = 250 at a small truncation, Arnoldi against dense eig of W (agreement check):")
+    with threadpool_limits(1):
+        for kind in KINDS:
+            n = 4
+            t_k, k = best_time(lambda: truncation_taus(system, kind, n, method="krylov"), repeat=1)
+            t_d, d = best_time(lambda: structured_taus(assemble(system, kind, n,
+                                                                preferred_form(kind))), repeat=1)
+            print(f" 250 {kind:>12} N = {n}: krylov {t_k:.2e} s, dense W {t_d:.2e} s, "
+                  f"|diff tau_min| = {abs(k.tau[0] - d[0]):.1e}, real tau <= {k.complete_to:.3f} "
+                  f"listed: {k.tau.size} vs {np.sum(d <= k.complete_to * (1 + 1e-9))}")
+
+
+def cardiac_point() -> None:
+    print("\nFig 6.13 (sphere, cardiac): one tau-map point = m = 2..6 x both kinds, tau_max = 1/2, "
+          "tol = 1e-8")
+    phys = {k: CARDIAC[k] for k in ("rho", "mu", "radius")}
+    factory = functools.partial(api._map_system, "sphere", {}, phys, ("sigma", "bpm"))
+    for sigma, bpm in ((2e4, 50.0), (1e4, 412.0)):
+        systems = [factory((sigma, bpm, m)) for m in range(2, 7)]
+        row = {}
+        for method in ("dense", "auto"):
+            row[method] = best_time(lambda: [marginal_tau(s, k, tol=1e-8, tau_max=0.5,
+                                                          method=method)
+                                             for s in systems for k in KINDS], repeat=2)
+        (t_d, dense), (t_a, auto) = row["dense"], row["auto"]
+        same = all((a.tau_min == d.tau_min) or abs(a.tau_min - d.tau_min) < 1e-12
+                   for a, d in zip(auto, dense))
+        print(f"sigma = {sigma:g} dyn/cm, {bpm:g} bpm: dense path {t_d:.3f} s, auto {t_a:.3f} s "
+              f"(largest N {max(r.n_temporal for r in auto)}, methods "
+              f"{sorted({r.method for r in auto})}), same tau_min: {same}")
+
+
+def main() -> None:
+    with threadpool_limits(1):
+        equal_error_table()
+        truncation_table()
+        cardiac_point()
+    block_table()
+
+
+if __name__ == "__main__":
+    main()
