@@ -165,3 +165,9 @@ def test_error_estimate_bounds_the_true_error():
         for kind in ("harmonic", "subharmonic"):
             got, exact = getattr(res, kind), getattr(ref, kind)
             assert abs(got.tau_min - exact.tau_min) <= max(got.error_estimate, 1e-14)
+
+
+def test_resonance_beyond_the_truncation_limit_fails_at_once_saying_what_to_change():
+    """sqrt(kappa) = 500 forcing frequencies: no truncation N <= 400 reaches the resonance."""
+    with pytest.raises(ss.ConvergenceError, match="lower the stiffness"):
+        marginal_tau(hill_system(kappa=2.5e5, nu=0.1), "harmonic")

@@ -262,23 +262,26 @@ def test_tongues_slow(mp, spread):
 # ----------------------------------------------------------------- natural modes
 
 
-def _modes(params, count, precision):
-    params = {k: v for k, v in params.items()}
+def _modes(model, params, count, precision):
     zeta = params["nu"] / math.sqrt(params["kappa"])
-    call = lambda: ss.natural_modes("sphere", count=count, precision=precision, **params)  # noqa: E731
-    if params["nu"] == 0.0 and params["component"] == "toroidal":
+    call = lambda: ss.natural_modes(model, count=count, precision=precision, **params)  # noqa: E731
+    if params["nu"] == 0.0 and params.get("component") == "toroidal":
         with pytest.raises(ss.ParameterError, match="toroidal"):
             call()
         return
-    if params["nu"] > 0 and not 1e-10 <= zeta <= 1e3:  # the documented domain of the mode solver
+    if params["nu"] > 0 and not 1e-10 <= zeta <= 1e3:  # the documented domain of the mode solvers
         with pytest.raises(ss.ParameterError, match=r"^zeta = .* is invalid: must be in"):
             call()
         return
-    if params["nu"] == 0.0 and count == 2:
+    if params["nu"] == 0.0 and count == 2:  # the inviscid models have one mode
         with pytest.raises(ss.ParameterError, match="count"):
             call()
         return
-    res = attempt(call)
+    try:
+        res = attempt(call)
+    except ss.ParameterError as exc:  # the fibre's zeta domain narrows with m (modes coalesce)
+        assert model == "fibre" and re.match(r"^zeta = .* is invalid: must be in", str(exc)), exc
+        return
     if res is None:
         return
     _finite_json(res)
@@ -289,20 +292,21 @@ def _modes(params, count, precision):
 
 
 @FAST
-@given(mp=model_params(("sphere",)), count=st.sampled_from([None, 1, 2]),
+@given(mp=model_params(("sphere", "fibre")), count=st.sampled_from([None, 1, 2]),
        precision=st.sampled_from([None, 20]))
 def test_natural_modes(mp, count, precision):
-    params = mp[1]
-    if params["component"] == "toroidal" and count == 2:
+    model, params = mp
+    if params.get("component") == "toroidal" and count == 2:
         count = 1
-    _modes(params, count, precision)
+    _modes(model, params, count, precision)
 
 
 @pytest.mark.slow
 @SLOW
-@given(mp=model_params(("sphere",)), count=st.sampled_from([None, 1]), precision=st.sampled_from([None, 30]))
+@given(mp=model_params(("sphere", "fibre")), count=st.sampled_from([None, 1]),
+       precision=st.sampled_from([None, 30]))
 def test_natural_modes_slow(mp, count, precision):
-    _modes(mp[1], count, precision)
+    _modes(*mp, count, precision)
 
 
 # ----------------------------------------------------------------- nonlinear coefficients

@@ -316,6 +316,11 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
     if n_temporal is not None:
         n_prev = _previous(n_temporal)
         return _result(kind, solve(n_temporal), solve(n_prev), n_temporal, n_prev, tol, tau_max)
+    if system.n_resonant >= n_max:
+        raise ConvergenceError(
+            f"{kind} tau_min needs more than n_temporal={n_max} Fourier terms: the natural "
+            f"frequency is {system.n_resonant:.4g} forcing frequencies; lower the stiffness "
+            "(kappa) or the mode number m, or raise the forcing frequency")
     n_prev = min(_start(system), _previous(n_max))
     previous = solve(n_prev)
     while True:
@@ -329,5 +334,5 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
             change = abs(tau[0] - prev[0]) if tau.size and prev.size else float("nan")
             raise ConvergenceError(
                 f"{kind} tau_min did not converge to tol={tol:g} by n_temporal={n} "
-                f"(last change {change:.3g}); relax --tol or raise the truncation limit")
+                f"(last change {change:.3g}); relax --tol, or fix --n-temporal and read the error estimate")
         previous, n_prev = found, n
