@@ -150,6 +150,16 @@ def test_floquet_fixed_truncation(mp, n, kind):
 
 
 @pytest.mark.slow
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(kappa=KAPPA, nu=NU, alpha=_log(-2, 0.7), n_spatial=st.sampled_from([100, 200, 300]),
+       kind=st.sampled_from(["harmonic", "subharmonic"]))
+def test_floquet_cochlea_thesis_size_blocks(kappa, nu, alpha, n_spatial, kind):
+    """M up to 300 spatial modes (the thesis ran M = 250) at N = 20: finite or advised failure."""
+    params = {"kappa": kappa, "nu": nu, "alpha": alpha, "n_spatial": n_spatial}
+    _floquet("cochlea", params, kind, 1e-10, 20, None)
+
+
+@pytest.mark.slow
 @SLOW
 @given(mp=model_params(), kind=st.sampled_from(["both", "harmonic", "subharmonic"]),
        tol=st.sampled_from([1e-6, 1e-10]), tau_max=st.sampled_from([None, 0.5, 2.0]))
