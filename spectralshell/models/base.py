@@ -20,6 +20,7 @@ i kappa gives exactly the printed (2.6) -i((s^2 + nu s)/kappa + 1) u_n = tau (u_
 
 from __future__ import annotations
 
+import cmath
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
@@ -54,6 +55,34 @@ class HillSystem:
     forcing: np.ndarray
     polynomial: tuple[np.ndarray, ...] | None = None
     n_resonant: float = 0.0
+
+
+def damped_newton(residual: Callable[[complex], tuple[complex, complex]], x: complex, *,
+                  rtol: float, max_iter: int = 30,
+                  failures: tuple[type[Exception], ...] = ()) -> complex | None:
+    """Newton's method x <- x - f/f' for ``residual`` x -> (f, f'), each step capped at |x|/2,
+    until |step| <= rtol |x|. Used to refine the seeds of a :class:`ModalSystem` (in beta, where
+    the cap keeps an iterate from jumping across the origin onto another sheet).
+
+    Returns None when it does not converge in ``max_iter`` steps, an iterate reaches 0, the
+    residual is not finite or has zero derivative, or it raises one of ``failures``.
+    """
+    for _ in range(max_iter):
+        if x == 0:
+            return None
+        try:
+            f, fp = residual(x)
+        except failures:
+            return None
+        if fp == 0 or not (cmath.isfinite(f) and cmath.isfinite(fp)):
+            return None
+        step = f / fp
+        if abs(step) > 0.5 * abs(x):
+            step *= 0.5 * abs(x) / abs(step)
+        x -= step
+        if abs(step) <= rtol * abs(x):
+            return x
+    return None
 
 
 def _conjugate(x):

@@ -51,7 +51,7 @@ from ..errors import ParameterError
 from ..params.fibre import FibreParams
 from ..special.cylindrical import ratio_i, ratio_k
 from . import mathieu
-from .base import HillSystem, ModalSystem
+from .base import HillSystem, ModalSystem, damped_newton
 
 
 def lambda0_squared(m: int, kappa: float) -> float:
@@ -357,22 +357,10 @@ def modal_seeds(*, m: int, zeta: float) -> Iterator[complex]:
 
 
 def _newton_polish(m: int, zeta: float, beta: complex) -> complex | None:
-    """Newton's method on :func:`modal_residual` from beta (30 steps at most, step capped at
-    |beta|/2, relative tolerance 1e-10); None if it fails."""
-    for _ in range(30):
-        try:
-            f, fp = modal_residual(beta, m=m, zeta=zeta)
-        except (ParameterError, OverflowError, ZeroDivisionError):
-            return None
-        if fp == 0 or not (cmath.isfinite(f) and cmath.isfinite(fp)):
-            return None
-        step = f / fp
-        if abs(step) > 0.5 * abs(beta):
-            step *= 0.5 * abs(beta) / abs(step)
-        beta -= step
-        if abs(step) <= 1e-10 * abs(beta):
-            return beta
-    return None
+    """Damped Newton on :func:`modal_residual` from beta (relative tolerance 1e-10); None if it
+    fails."""
+    return damped_newton(lambda b: modal_residual(b, m=m, zeta=zeta), beta, rtol=1e-10,
+                         failures=(ParameterError, OverflowError, ZeroDivisionError))
 
 
 def _continued(m: int, zeta: float, start: float) -> Iterator[complex]:

@@ -81,7 +81,7 @@ import numpy as np
 from .._validate import require_choice, require_int_in_range, require_positive
 from ..errors import ParameterError
 from ..special.spherical_scalar import ratio_i_scalar
-from .base import ModalSystem
+from .base import ModalSystem, damped_newton
 from .sphere import lambda0_squared
 
 __all__ = ["ZETA_MIN", "ZETA_MAX", "poloidal_residual", "toroidal_residual",
@@ -356,20 +356,8 @@ def _uniform_model(beta: complex, m: int, zeta: float, component: str) -> tuple[
 
 
 def _refine_uniform(beta: complex, m: int, zeta: float, component: str) -> complex | None:
-    """Newton on :func:`_uniform_model` from beta (at most 30 steps, relative tolerance 1e-8)."""
-    for _ in range(30):
-        if beta == 0:
-            return None
-        f, fp = _uniform_model(beta, m, zeta, component)
-        if fp == 0 or not cmath.isfinite(f) or not cmath.isfinite(fp):
-            return None
-        step = f / fp
-        if abs(step) > 0.5 * abs(beta):
-            step *= 0.5 * abs(beta) / abs(step)
-        beta -= step
-        if abs(step) <= 1e-8 * abs(beta):
-            return beta
-    return None
+    """Damped Newton on :func:`_uniform_model` from beta (relative tolerance 1e-8)."""
+    return damped_newton(lambda b: _uniform_model(b, m, zeta, component), beta, rtol=1e-8)
 
 
 def _fold(beta: complex, offset: float = 0.0) -> complex:
