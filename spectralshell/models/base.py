@@ -21,6 +21,7 @@ i kappa gives exactly the printed (2.6) -i((s^2 + nu s)/kappa + 1) u_n = tau (u_
 from __future__ import annotations
 
 import cmath
+import functools
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
@@ -55,6 +56,22 @@ class HillSystem:
     forcing: np.ndarray
     polynomial: tuple[np.ndarray, ...] | None = None
     n_resonant: float = 0.0
+
+
+def modal_system_in_beta(name: str, *, nu: float, n_modes: int, residual, residual_mp, seeds,
+                         **fixed: Any) -> ModalSystem:
+    """A :class:`ModalSystem` whose variable is beta = sqrt(gamma/nu) (gamma = nu beta^2; the
+    physical sheet is Re beta > 0), from residual(beta, **fixed), residual_mp(beta, **fixed) and
+    seeds(**fixed)."""
+    return ModalSystem(
+        name=name,
+        residual=functools.partial(residual, **fixed),
+        residual_mp=functools.partial(residual_mp, **fixed),
+        seeds=functools.partial(seeds, **fixed),
+        to_gamma=lambda beta: nu * beta * beta,
+        sheet_margin=lambda beta: beta.real,
+        n_modes=n_modes,
+    )
 
 
 def damped_newton(residual: Callable[[complex], tuple[complex, complex]], x: complex, *,

@@ -38,7 +38,6 @@ from __future__ import annotations
 
 import cmath
 import dataclasses
-import functools
 import math
 from collections.abc import Iterator
 
@@ -51,7 +50,7 @@ from ..errors import ParameterError
 from ..params.fibre import FibreParams
 from ..special.cylindrical import ratio_i, ratio_k
 from . import mathieu
-from .base import HillSystem, ModalSystem, damped_newton
+from .base import HillSystem, ModalSystem, damped_newton, modal_system_in_beta
 
 
 def lambda0_squared(m: int, kappa: float) -> float:
@@ -427,13 +426,5 @@ def modal_system(*, m: int, kappa: float, nu: float) -> ModalSystem:
             f"zeta = nu/sqrt(kappa) = {zeta!r} is invalid: must be in [{ZETA_MIN:g}, {top:.4g}] "
             f"for m = {p.m} (above it the two overdamped modes, both near gamma = -kappa m/(4 nu), "
             "are closer than 1e-6 relative and cannot be told apart)")
-    m_, nu_ = p.m, p.nu
-    return ModalSystem(
-        name="fibre",
-        residual=functools.partial(modal_residual, m=m_, zeta=zeta),
-        residual_mp=functools.partial(modal_residual_mp, m=m_, zeta=zeta),
-        seeds=functools.partial(modal_seeds, m=m_, zeta=zeta),
-        to_gamma=lambda beta: nu_ * beta * beta,
-        sheet_margin=lambda beta: beta.real,
-        n_modes=N_MODES,
-    )
+    return modal_system_in_beta("fibre", nu=p.nu, n_modes=N_MODES, residual=modal_residual,
+                                residual_mp=modal_residual_mp, seeds=modal_seeds, m=p.m, zeta=zeta)

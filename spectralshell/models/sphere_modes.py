@@ -71,7 +71,6 @@ Im gamma >= 0 the physical sheet holds two poloidal modes and one toroidal mode:
 from __future__ import annotations
 
 import cmath
-import functools
 import math
 from collections.abc import Iterator
 
@@ -81,7 +80,7 @@ import numpy as np
 from .._validate import require_choice, require_int_in_range, require_positive
 from ..errors import ParameterError
 from ..special.spherical_scalar import ratio_i_scalar
-from .base import ModalSystem, damped_newton
+from .base import ModalSystem, damped_newton, modal_system_in_beta
 from .sphere import lambda0_squared
 
 __all__ = ["ZETA_MIN", "ZETA_MAX", "poloidal_residual", "toroidal_residual",
@@ -485,12 +484,5 @@ def modal_system(*, m: int, kappa: float, nu: float, component: str = "poloidal"
         residual, residual_mp, seeds, n_modes = toroidal_residual, toroidal_residual_mp, toroidal_seeds, 1
     else:
         residual, residual_mp, seeds, n_modes = poloidal_residual, poloidal_residual_mp, poloidal_seeds, 2
-    return ModalSystem(
-        name="sphere",
-        residual=functools.partial(residual, m=m, zeta=zeta),
-        residual_mp=functools.partial(residual_mp, m=m, zeta=zeta),
-        seeds=functools.partial(seeds, m=m, zeta=zeta),
-        to_gamma=lambda beta: nu * beta * beta,
-        sheet_margin=lambda beta: beta.real,
-        n_modes=n_modes,
-    )
+    return modal_system_in_beta("sphere", nu=nu, n_modes=n_modes, residual=residual,
+                                residual_mp=residual_mp, seeds=seeds, m=m, zeta=zeta)
