@@ -25,6 +25,7 @@ from .models.nonlinear_coefficients import lp_coefficient as lp_coefficient_floa
 from .models.nonlinear_coefficients import lp_coefficient_exact
 from .models.fibre import lambda0_squared as fibre_lambda0_squared
 from .models.sphere import lambda0_squared
+from .models import sphere_nonlinear
 from .models.sphere_nonlinear import lambda0_over_sqrt_kappa
 from .params.grid import parse_int_range, parse_range
 from .params.physical import PHYSICAL_UNITS, PhysicalSphere, sphere_forced_params
@@ -364,7 +365,7 @@ def natural_modes(model: str, *, count: int | None = None, precision: int | None
         result = _inviscid_modes(model, p, count, precision, options)
     else:
         roots = find_modes(modal_system(p), count=count, precision=precision)
-        result = NaturalModesResult.build(model=model, params=dataclasses.asdict(p), roots=roots,
+        result = NaturalModesResult.build(model=model, params=_unforced(p), roots=roots,
                                           options=options)
     if physical is None:
         return result
@@ -373,6 +374,12 @@ def natural_modes(model: str, *, count: int | None = None, precision: int | None
     return dataclasses.replace(result, gamma=result.gamma * scale,
                                error_estimate=result.error_estimate * scale, gamma_digits=digits,
                                params={**result.params, **physical, "units": "s^-1"})
+
+
+def _unforced(p) -> dict[str, Any]:
+    """Parameters of an unforced (tau = 0) computation: without the fibre's ``forcing`` (which
+    jumps are pumped), which has no effect on natural modes."""
+    return {k: v for k, v in dataclasses.asdict(p).items() if k != "forcing"}
 
 
 MODES_START = 1e-10  # continuation of the cochlea's modes starts at zeta = MODES_START * zeta
@@ -507,7 +514,7 @@ def _inviscid_modes(model, p, count, precision, options) -> NaturalModesResult:
         with mpmath.workdps(require_int_in_range("precision", precision, 16, 1000)):
             exact = mpmath.sqrt(squared(p.m, mpmath.mpf(p.kappa)))
             digits = (("0", mpmath.nstr(exact, precision)),)
-    return NaturalModesResult(model=model, params=dataclasses.asdict(p), gamma=np.array([1j * lam]),
+    return NaturalModesResult(model=model, params=_unforced(p), gamma=np.array([1j * lam]),
                               error_estimate=np.array([4 * np.finfo(float).eps * lam]),
                               principal_sheet=np.array([True]), on_cut=np.array([False]),
                               precision=precision, gamma_digits=digits,
@@ -775,7 +782,7 @@ def lp_summary(m: int, k: int = 0, *, volume: str = "reference", check: bool = F
                            "lambda0_over_sqrt_kappa": lambda0_over_sqrt_kappa(int(m)),
                            "volume": volume}
     if check:
-        fit = frequency_slope(int(m), int(k))
+        fit = frequency_slope(sphere_nonlinear, int(m), int(k))
         out["check"] = {"slope": fit.c, "uncertainty": fit.uncertainty,
                         "method": "Fourier x spherical-harmonic periodic orbit, Newton, "
                                   "fit of lambda/lambda0 - 1 against eps^2"}

@@ -245,6 +245,7 @@ def test_cli_modes_fibre_json(capsys):
     assert main(["modes", "fibre", "--m", "2", "--kappa", "1", "--nu", "0.01", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["model"] == "fibre" and len(data["modes"]) == 2
+    assert data["params"] == {"m": 2, "kappa": 1.0, "nu": 0.01}  # no pumping option at tau = 0
     g = complex(data["modes"][0]["gamma_re"], data["modes"][0]["gamma_im"])
     assert mp_distance(g, 2, 1.0, 0.01) <= 1e-12
 

@@ -128,7 +128,7 @@ def test_load_linearises_to_minus_m1_m2():
 
 
 def test_direct_solve_linear_limit():
-    orbit = periodic_orbit(2, eps=1e-4)
+    orbit = periodic_orbit(sphere_nonlinear, 2, eps=1e-4)
     assert abs(orbit.lambda_ratio - 1) < 1e-8  # c eps^2 = 2e-9
     assert orbit.residual < 1e-13
 
@@ -149,7 +149,7 @@ def test_real_harmonics_orthonormal_and_derivatives():
 
 @pytest.mark.parametrize("m, k, n_max, j_max", [(2, 0, 8, 4), (3, 0, 9, 3), (2, 2, 4, 2)])
 def test_analytic_jacobian_equals_complex_step(m, k, n_max, j_max):
-    prob = _Problem(make_grid(m=m, k=k, n_max=n_max, j_max=j_max), 0.05, "normal")
+    prob = _Problem(sphere_nonlinear, make_grid(m=m, k=k, n_max=n_max, j_max=j_max), 0.05, "normal")
     z = prob.initial()
     z[:-1] += 1e-3 * np.random.default_rng(1).standard_normal(z.size - 1)
     J_fast, J_ref = prob.jacobian(z), prob.jacobian_complex_step(z)
@@ -161,7 +161,7 @@ def test_analytic_jacobian_equals_complex_step(m, k, n_max, j_max):
 def test_direct_solve_slope_matches_lindstedt(m):
     """Fitted eps^2 slope of lambda/lambda0 from orbits at eps = 0.005..0.02 (achieved ~1e-9 relative;
     the requirement is 1e-4; 1e-6 leaves room for rounding in the fit)."""
-    fit = frequency_slope(m)
+    fit = frequency_slope(sphere_nonlinear, m)
     c = nc.lp_coefficient(m)
     assert abs(fit.c - c) <= 1e-6 * abs(c)
     assert fit.uncertainty <= 1e-6 * abs(c)
@@ -172,14 +172,14 @@ def test_direct_solve_radial_law_matches_lindstedt(gen):
     """The O(eps^3) force-law difference is seen by both methods (m = 2: -7451/(122304 pi))."""
     c_lp = float(gen.solve(2, force_law="radial")["c"])
     assert c_lp == pytest.approx(-7451 / (122304 * np.pi), rel=1e-14)
-    fit = frequency_slope(2, law="radial")
+    fit = frequency_slope(sphere_nonlinear, 2, law="radial")
     assert abs(fit.c - c_lp) <= 1e-6 * abs(c_lp)
 
 
 def test_direct_solve_slope_matches_lindstedt_quadrupole_k2():
     """Non-axisymmetric (2D angular grid) solve; c_{2,2} = c_{2,0} exactly (quadrupole invariance)."""
     c = nc.lp_coefficient(2, 2)
-    fit = frequency_slope(2, 2)
+    fit = frequency_slope(sphere_nonlinear, 2, 2)
     assert abs(fit.c - c) <= 1e-6 * abs(c)
 
 
@@ -187,5 +187,5 @@ def test_direct_solve_slope_matches_lindstedt_quadrupole_k2():
 @pytest.mark.parametrize("m, k", [(3, 3), (4, 3)])
 def test_direct_solve_slope_matches_lindstedt_non_axisymmetric(m, k):
     c = nc.lp_coefficient(m, k)
-    fit = frequency_slope(m, k)
+    fit = frequency_slope(sphere_nonlinear, m, k)
     assert abs(fit.c - c) <= 1e-6 * abs(c)

@@ -20,6 +20,7 @@ from pathlib import Path
 
 from _bench import best_time, row
 from spectralshell.models import nonlinear_coefficients as nc
+from spectralshell.models import sphere_nonlinear
 from spectralshell.solvers.nonlinear_orbit import frequency_slope
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -50,7 +51,7 @@ def main() -> int:
     cases = [(2, 0), (3, 0), (4, 0), (3, 3)] + ([(4, 2), (4, 3), (5, 0), (6, 0)] if full else [])
     for m, k in cases:
         t0 = time.perf_counter()
-        fit = frequency_slope(m, k)
+        fit = frequency_slope(sphere_nonlinear, m, k)
         dt = time.perf_counter() - t0
         c = nc.lp_coefficient(m, k)
         rel = abs(fit.c - c) / abs(c)

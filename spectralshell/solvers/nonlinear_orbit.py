@@ -4,7 +4,9 @@ Independent check of the Lindstedt-Poincare coefficients of thesis 7.3 (generate
 :mod:`spectralshell.models.nonlinear_coefficients`): it solves the full nonlinear equations of
 :mod:`spectralshell.models.sphere_nonlinear` (radial-only membrane, inviscid potential flow inside
 and outside, exact normal-stress law, exact kinematic condition on the displaced surface r = R)
-without expanding in eps.
+without expanding in eps. The pointwise laws (membrane load, kinematic residual, Bernoulli head,
+stress balance) come in as an argument ``physics`` (the caller passes that module), so this
+solver does not import the model.
 
 Discretisation (a Fourier-Galerkin x spherical-harmonic-Galerkin method, evaluated by collocation on
 the grid of :mod:`spectralshell.discretise.orbit_grid`)::
@@ -41,7 +43,6 @@ import numpy as np
 from .._validate import require_choice, require_int_in_range, require_positive
 from ..discretise.orbit_grid import OrbitGrid, allowed, make_grid
 from ..errors import ConvergenceError, ParameterError
-from ..models import sphere_nonlinear as phys
 
 _STATS = {"jacobians": 0}  # Jacobian evaluations (for benchmarks)
 
@@ -80,12 +81,13 @@ class SlopeFit:
 
 
 class _Problem:
-    """Unknown/equation index maps and the residual F(z) (vectorised over a batch of z)."""
+    """Unknown/equation index maps and the residual F(z) (vectorised over a batch of z) of the
+    pointwise ``physics`` (see :func:`periodic_orbit`)."""
 
-    def __init__(self, grid: OrbitGrid, eps: float, law: str):
-        self.grid, self.eps, self.law = grid, eps, law
+    def __init__(self, physics, grid: OrbitGrid, eps: float, law: str):
+        self.phys, self.grid, self.eps, self.law = physics, grid, eps, law
         m, k, J = grid.m, grid.k, grid.j_max
-        self.kp = phys.kappa_prime(m)
+        self.kp = physics.kappa_prime(m)
         ok = [[allowed(n, l, j, m=m, k=k) for j in range(J + 1)] for (n, l) in grid.modes]
         nm = len(grid.modes)
         self.x_idx = [(i, j) for i in range(nm) for j in range(J + 1) if ok[i][j]]
@@ -187,10 +189,10 @@ class _Problem:
             pr, pt, pth, pph = self._potential(Cf, R, inner)
             if inner:
                 pt = pt + (Q @ self.C.T)[:, :, None] * self.Y[0][None, None, :]
-            kins.append(phys.kinematic_residual(R_tau, pr, R_th * pth + R_ph * pph, R))
-            heads.append(phys.bernoulli_head(pt, pr, pth * pth + pph * pph, R))
-        load = phys.membrane_load(R, lap_R, g, law=self.law)
-        stress = phys.stress_residual(Lam[:, None, None], heads[0], heads[1], load, self.kp)
+            kins.append(self.phys.kinematic_residual(R_tau, pr, R_th * pth + R_ph * pph, R))
+            heads.append(self.phys.bernoulli_head(pt, pr, pth * pth + pph * pph, R))
+        load = self.phys.membrane_load(R, lap_R, g, law=self.law)
+        stress = self.phys.stress_residual(Lam[:, None, None], heads[0], heads[1], load, self.kp)
         out = np.empty((z.shape[0], self.size), dtype=z.dtype)
         row = 0
         for field_, proj, rows in ((kins[0], self.Ps, self.k_rows), (kins[1], self.Ps, self.k_rows),
@@ -259,9 +261,9 @@ class _Problem:
         lap_R = (Xt.T * (-self.nn * (self.nn + 1.0))) @ self.Y
         g = R_th * R_th + R_ph * R_ph
         h = 1e-30
-        L_R = phys.membrane_load(R + 1j * h, lap_R, g, law=self.law).imag / h
-        L_lap = phys.membrane_load(R, lap_R + 1j * h, g, law=self.law).imag / h
-        L_g = phys.membrane_load(R, lap_R, g + 1j * h, law=self.law).imag / h
+        L_R = self.phys.membrane_load(R + 1j * h, lap_R, g, law=self.law).imag / h
+        L_lap = self.phys.membrane_load(R, lap_R + 1j * h, g, law=self.law).imag / h
+        L_g = self.phys.membrane_load(R, lap_R, g + 1j * h, law=self.law).imag / h
         sides = [self._side(A, R, True), self._side(B, R, False)]
         sides[0]["t"] = sides[0]["t"] + np.outer(Q @ self.C.T, self.Y[0])
         Y, Yth, Yph, C, S, Ps, Pc = self.Y, self.Yth, self.Yph, self.C, self.S, self.Ps, self.Pc
@@ -298,8 +300,8 @@ class _Problem:
                   + self._block(sd["ph"] / R2, Pc, Y, S, E0 * Yph))
             dS_pot.append((1.0 if inner else -1.0) * Lam * dh)
         dSQ = Lam * np.einsum("tj,tk,a->ajk", Pc, C, (Y * self.w) @ Y[0])  # q(tau) Yr_00 in head_in
-        head_in = phys.bernoulli_head(sides[0]["t"], sides[0]["r"], sides[0]["th"] ** 2 + sides[0]["ph"] ** 2, R)
-        head_out = phys.bernoulli_head(sides[1]["t"], sides[1]["r"], sides[1]["th"] ** 2 + sides[1]["ph"] ** 2, R)
+        head_in = self.phys.bernoulli_head(sides[0]["t"], sides[0]["r"], sides[0]["th"] ** 2 + sides[0]["ph"] ** 2, R)
+        head_out = self.phys.bernoulli_head(sides[1]["t"], sides[1]["r"], sides[1]["th"] ** 2 + sides[1]["ph"] ** 2, R)
         dSL = np.einsum("tj,at->aj", Pc, (Y * self.w) @ (head_in - head_out).T)
         # assemble rows x columns
         Jm = np.zeros((self.size, self.size))
@@ -358,10 +360,10 @@ def _newton(prob: _Problem, jac, tol: float, max_iter: int):
                            f" residual {res:.2e} > tol {tol:.1e}; lower eps or raise n_max/j_max")
 
 
-def _check(m, k, law):
+def _check(physics, m, k, law):
     m = require_int_in_range("m", m, 2)
     k = abs(require_int_in_range("k", k, -m, m))
-    require_choice("law", law, phys.FORCE_LAWS)
+    require_choice("law", law, physics.FORCE_LAWS)
     return m, k
 
 
@@ -375,34 +377,38 @@ def _orbit(prob: _Problem, z, it, res, law) -> PeriodicOrbit:
                          newton_iterations=it, x_coefficients=coeffs)
 
 
-def periodic_orbit(m: int, k: int = 0, *, eps: float, n_max: int | None = None,
+def periodic_orbit(physics, m: int, k: int = 0, *, eps: float, n_max: int | None = None,
                    j_max: int | None = None, law: str = "normal", tol: float = 1e-13,
                    max_iter: int = 40) -> PeriodicOrbit:
     """Time-periodic orbit through 1 + eps Yr_{m,k} (radial-only membrane) by Newton's method.
 
+    ``physics``: the pointwise laws of the model (a namespace with FORCE_LAWS, kappa_prime(m),
+    membrane_load(R, lap_R, g, law=), kinematic_residual, bernoulli_head, stress_residual), e.g.
+    the module :mod:`spectralshell.models.sphere_nonlinear`; the solver knows only this interface.
     Raises ParameterError for m < 2, |k| > m, eps <= 0 or an unknown law;
     ConvergenceError if Newton does not reach ``tol`` (max-norm of the projected residual).
     """
-    m, k = _check(m, k, law)
+    m, k = _check(physics, m, k, law)
     eps = require_positive("eps", eps)
     n_max, j_max = _defaults(m, eps, n_max, j_max)
     if n_max < 2 * m or j_max < 2:
         raise ParameterError(f"n_max = {n_max} and j_max = {j_max} are invalid: must be >= 2m and >= 2")
-    prob = _Problem(make_grid(m=m, k=k, n_max=n_max, j_max=j_max), eps, law)
+    prob = _Problem(physics, make_grid(m=m, k=k, n_max=n_max, j_max=j_max), eps, law)
     z, _, it, res = _newton(prob, None, tol, max_iter)
     return _orbit(prob, z, it, res, law)
 
 
-def frequency_slope(m: int, k: int = 0, *, eps=(0.005, 0.01, 0.015, 0.02),
+def frequency_slope(physics, m: int, k: int = 0, *, eps=(0.005, 0.01, 0.015, 0.02),
                     law: str = "normal", n_max: int | None = None, j_max: int | None = None,
                     tol: float = 1e-13) -> SlopeFit:
     """Fit lambda/lambda0 = 1 + c eps^2 + d eps^4 + e eps^6 to direct orbit solves at ``eps``.
 
-    One truncation (the default for the largest eps) and one chord Jacobian serve every eps.
+    ``physics`` as in :func:`periodic_orbit`. One truncation (the default for the largest eps)
+    and one chord Jacobian serve every eps.
     The uncertainty is |c - c'|, c' from the fit with one power fewer on the smaller half of eps.
     Raises ParameterError for fewer than 4 amplitudes or a non-positive one.
     """
-    m, k = _check(m, k, law)
+    m, k = _check(physics, m, k, law)
     eps = tuple(sorted(require_positive("eps", e) for e in eps))
     if len(eps) < 4:
         raise ParameterError(f"eps = {eps!r} is invalid: must hold at least 4 amplitudes")
@@ -410,7 +416,7 @@ def frequency_slope(m: int, k: int = 0, *, eps=(0.005, 0.01, 0.015, 0.02),
     grid = make_grid(m=m, k=k, n_max=n_max, j_max=j_max)
     jac, orbits = None, []
     for e in eps:
-        prob = _Problem(grid, e, law)
+        prob = _Problem(physics, grid, e, law)
         z, jac, it, res = _newton(prob, jac, tol, 60)
         orbits.append(_orbit(prob, z, it, res, law))
     e = np.array(eps)
