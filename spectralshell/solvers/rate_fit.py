@@ -24,10 +24,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from threadpoolctl import threadpool_limits
 
 from .._validate import require_positive, require_real
 from ..errors import ConvergenceError, ParameterError
+from .stepper import one_blas_thread
 
 SUB_WINDOW = 0.7
 DEPTH = 40
@@ -126,7 +126,7 @@ def fit_rate(times, values, *, period: float | None = None, skip: float = 0.2,
 
     Runs with one BLAS thread (the matrices are small).
     """
-    with threadpool_limits(limits=1):
+    with one_blas_thread():
         return _fit_rate(times, values, period=period, skip=skip, window=window,
                          rank_tol=rank_tol)
 

@@ -8,16 +8,33 @@ only ``shape`` and ``@`` (e.g. a matrix-free operator). M may be singular (an in
 differential-algebraic system); no scheme needs M^{-1}.
 
 Every step solves (a M - h b L) v = rhs with one of a few fixed matrices per scheme and step
-size. Their LU factorisations are cached by content (a hash of M, L and the two coefficients), so
+size. They are factorised once and cached by content (a hash of M, L and the two coefficients), so
 repeated runs of the same degree at the same step, e.g. the columns of a monodromy matrix or the
-k = -m..m orders of one degree m, factorise once. The state v may be a matrix: its columns are
+k = -m..m orders of one degree m, factorise once. A dense matrix of size <= ``INVERSE_MAX`` is
+inverted explicitly (to working precision, see ``_inverse``), so that a solve is one
+matrix-vector product: the same n^2 multiply-adds as the two triangular solves of its LU factor,
+but 1.5 to 2 times faster per step on the sphere's systems (sizes 31..511, measured in
+validation/bench_stepper.py); its set-up costs 2 to 10 times the LU factor's, repaid after about
+100-400 steps at size 31 and 1000-4000 steps at sizes 255-383, so INVERSE_MAX covers the sizes the
+sphere's automatic radial resolution chooses (<= 319). Larger dense matrices keep their LU factor
+(LAPACK getrs), sparse ones a SuperLU factor. The state v may be a matrix: its columns are
 independent solutions stepped together.
+
+Per-step work. A multistep step keeps the last s values of M v (v itself when M = I), of L v (only
+for schemes with b_j != 0, j >= 1) and of F (only with explicit terms) as consecutive rows of one
+array each, so its right-hand side is one (s weights) x (s rows) product per kind, and the new
+state is written into the next row in place. Without explicit terms (tau = 0) nothing else is
+evaluated: SBDFk costs one small product and one solve per step. A Runge-Kutta stage obtains
+h AI_ii L v_i from its own implicit equation, h AI_ii L v_i = M v_i - rhs_i, instead of a
+product with L (equal in exact arithmetic; the rounding is that of the solve), and the last
+stage's value is carried into the next step's stage 0 (v_{n+1} = v_s, stiffly accurate schemes).
 """
 
 from __future__ import annotations
 
 import functools
 import hashlib
+import math
 from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -27,8 +44,8 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sparse
 import scipy.sparse.linalg as spla
-from scipy.linalg.lapack import dgetrs
-from threadpoolctl import threadpool_limits
+from scipy.linalg.lapack import dgetri, dgetrs
+from threadpoolctl import ThreadpoolController
 
 from .._validate import require_int_in_range, require_positive, require_real
 from ..errors import ConvergenceError, ParameterError
@@ -36,6 +53,9 @@ from .imex import STARTER, Multistep, RungeKutta, scheme as get_scheme
 
 CACHE_SIZE = 64
 MAX_STEPS = 50_000_000
+INVERSE_MAX = 320       # dense implicit matrices up to this size are inverted explicitly
+HISTORY_ROWS = 256      # multistep history rows written before the last s are moved to the front,
+HISTORY_BYTES = 1 << 22  # ... fewer for large states (matrix states): at most ~4 MB per history
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -59,8 +79,91 @@ class Run:
     scheme: str
 
 
+@functools.lru_cache(maxsize=1)
+def _controller() -> ThreadpoolController:
+    return ThreadpoolController()
+
+
+def one_blas_thread():
+    """Context limiting BLAS/OpenMP to one thread. The libraries are looked up once (a new
+    ``threadpoolctl.threadpool_limits`` scans the process's libraries on every call, ~3 ms)."""
+    return _controller().limit(limits=1)
+
+
+def _leading_bits(A: np.ndarray, bits: int, axis: int) -> np.ndarray:
+    """The part of A on a grid of 2^(e + 1 - bits), e the exponent (max |A| < 2^e) of each row
+    (axis=1) or column (axis=0): at most ``bits`` significant bits per entry. Extraction
+    fl(fl(A + sigma) - sigma), sigma = 2^(e + 53 - bits) (Rump, Ogita and Oishi 2008); A minus it
+    is exact."""
+    _, e = np.frexp(np.max(np.abs(A), axis=axis, keepdims=True))
+    sigma = np.ldexp(1.0, e + 53 - bits)
+    return (A + sigma) - sigma
+
+
+def _inverse(A: np.ndarray, lu: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """A^{-1} to working precision: X from LAPACK getri, then one correction X + X R with the
+    residual R = I - A X evaluated free of the cancellation that spoils it in double precision.
+
+    With A1, X1 the leading ``bits`` bits of A (row i: |A1| <= 2^a_i) and X (column j:
+    |X1| <= 2^x_j), 2 bits + log2 n <= 53, every product A1_ik X1_kj and every partial sum of
+    them in entry (i, j) is an integer multiple of 2^(a_i + x_j + 2 - 2 bits) and below 2^51 such
+    units, so the BLAS product A1 @ X1 is exact in any summation order; the rest,
+    A1 (X - X1) + (A - A1) X, is 2^-bits smaller and its rounding negligible. A plain getri
+    inverse is as accurate per solve as the LU factor, but its error is the same every step and
+    adds up: on a 31-unknown sphere system (tests) it moved an SBDF3 trajectory 1.5e-12 (relative)
+    from a 40-digit one, the corrected inverse 2e-15 and the LU solves 4e-13."""
+    X, info = dgetri(*lu)
+    if info != 0:                                  # pragma: no cover - singular A is refused before
+        raise ConvergenceError(f"LAPACK getri failed (info = {info})")
+    n = A.shape[0]
+    bits = (53 - int(np.ceil(np.log2(max(n, 2))))) // 2
+    A1, X1 = _leading_bits(A, bits, 1), _leading_bits(X, bits, 0)
+    R = (np.eye(n) - A1 @ X1) - (A1 @ (X - X1) + (A - A1) @ X)
+    corrected = X + X @ R
+    return np.ascontiguousarray(corrected if np.all(np.isfinite(corrected)) else X)
+
+
+class _Solver:
+    """x = A^{-1} rhs for one fixed implicit matrix A = a M - h b L (real), factorised once:
+    explicit inverse (dense, size <= INVERSE_MAX), LU factor (larger dense) or SuperLU (sparse)."""
+
+    def __init__(self, A, a: float, hb: float) -> None:
+        self.inverse = self.lu = self.sparse_lu = None
+        if sparse.issparse(A):
+            self.sparse_lu = spla.splu(sparse.csc_matrix(A))
+            return
+        lu = sla.lu_factor(np.asarray(A))
+        if not np.all(np.isfinite(lu[0])) or np.min(np.abs(np.diag(lu[0]))) == 0.0:
+            raise ConvergenceError(f"the implicit matrix a M - h b L (a = {a:g}, h b = {hb:g}) "
+                                   "is singular: the system is not an index-1 DAE at this step")
+        if lu[0].shape[0] <= INVERSE_MAX:
+            self.inverse = _inverse(np.asarray(A, dtype=float), lu)
+        else:
+            self.lu = lu
+
+    def __call__(self, rhs: np.ndarray) -> np.ndarray:
+        """A^{-1} rhs for rhs of shape (n,) or (n, k), real or complex (by parts)."""
+        if np.iscomplexobj(rhs):
+            return self(rhs.real) + 1j * self(rhs.imag)
+        if self.inverse is not None:
+            return np.dot(self.inverse, rhs)
+        if self.lu is not None:
+            x, info = dgetrs(self.lu[0], self.lu[1], rhs)
+            if info != 0:                          # pragma: no cover - LAPACK argument error
+                raise ConvergenceError(f"LAPACK getrs failed (info = {info})")
+            return x
+        return self.sparse_lu.solve(np.asarray(rhs, dtype=float))
+
+    def into(self, rhs: np.ndarray, out: np.ndarray) -> None:
+        """out = A^{-1} rhs for real C-contiguous rhs and out of shape (n,) or (n, k)."""
+        if self.inverse is not None:
+            np.dot(self.inverse, rhs, out=out)
+        else:
+            out[...] = self(rhs)
+
+
 class _Factorisations:
-    """LRU cache of LU factorisations of a M - h b L, keyed by content."""
+    """LRU cache of the solvers of a M - h b L, keyed by content."""
 
     def __init__(self, size: int) -> None:
         self.size = size
@@ -82,23 +185,14 @@ class _Factorisations:
             h.update(str((A.shape, A.dtype)).encode())
         return h.digest()
 
-    def solver(self, M, L, a: float, hb: float, digests: tuple[bytes, bytes]) -> Callable:
+    def solver(self, M, L, a: float, hb: float, digests: tuple[bytes, bytes]) -> _Solver:
         key = (digests, float(a), float(hb))
         if key in self.store:
             self.hits += 1
             self.store.move_to_end(key)
             return self.store[key]
         self.misses += 1
-        A = a * M - hb * L
-        if sparse.issparse(A):
-            lu = spla.splu(sparse.csc_matrix(A))
-            solve = lu.solve
-        else:
-            lu = sla.lu_factor(np.asarray(A))
-            if not np.all(np.isfinite(lu[0])) or np.min(np.abs(np.diag(lu[0]))) == 0.0:
-                raise ConvergenceError(f"the implicit matrix a M - h b L (a = {a:g}, h b = {hb:g}) "
-                                       "is singular: the system is not an index-1 DAE at this step")
-            solve = functools.partial(_lu_solve, lu)
+        solve = _Solver(a * M - hb * L, a, hb)
         self.store[key] = solve
         while len(self.store) > self.size:
             self.store.popitem(last=False)
@@ -108,20 +202,21 @@ class _Factorisations:
 _CACHE = _Factorisations(CACHE_SIZE)
 
 
-def _lu_solve(lu: tuple[np.ndarray, np.ndarray], rhs: np.ndarray) -> np.ndarray:
-    """LAPACK getrs with a real LU factor (complex right-hand sides by parts); calling it
-    directly saves most of scipy.linalg.lu_solve's per-call overhead on small systems."""
-    if np.iscomplexobj(rhs):
-        return _lu_solve(lu, rhs.real) + 1j * _lu_solve(lu, rhs.imag)
-    x, info = dgetrs(lu[0], lu[1], rhs)
-    if info != 0:                                  # pragma: no cover - LAPACK argument error
-        raise ConvergenceError(f"LAPACK getrs failed (info = {info})")
-    return x
-
-
 def cache_info() -> dict[str, int]:
     """Hits, misses (= factorisations computed) and current size of the factorisation cache."""
     return {"hits": _CACHE.hits, "misses": _CACHE.misses, "size": len(_CACHE.store)}
+
+
+def cache_clear() -> None:
+    """Drop every cached factorisation (e.g. to time runs that factorise afresh)."""
+    _CACHE.store.clear()
+
+
+def _is_identity(M) -> bool:
+    n = M.shape[0]
+    if sparse.issparse(M):
+        return (M != sparse.identity(n, format="csr")).nnz == 0
+    return np.array_equal(M, np.eye(n, dtype=np.asarray(M).dtype))
 
 
 class _Problem:
@@ -142,11 +237,10 @@ class _Problem:
                 raise ParameterError(f"system matrix N {N.shape} is invalid: must be {n} x {n}")
         self.terms = tuple(terms)
         self.n = n
-        self.identity_M = (not sparse.issparse(self.M)
-                           and np.array_equal(self.M, np.eye(n, dtype=np.asarray(self.M).dtype)))
+        self.identity_M = _is_identity(self.M)
         self.digests = (_Factorisations._digest(self.M), _Factorisations._digest(self.L))
 
-    def solver(self, a: float, hb: float) -> Callable:
+    def solver(self, a: float, hb: float) -> _Solver:
         return _CACHE.solver(self.M, self.L, a, hb, self.digests)
 
     def mass(self, v: np.ndarray) -> np.ndarray:
@@ -163,71 +257,176 @@ class _Problem:
 
 
 class _RungeKutta:
-    """One step of an IMEX Runge-Kutta scheme, with its stage solvers fetched once."""
+    """Steps of an IMEX Runge-Kutta scheme, with its stage solvers fetched once.
+
+    Stage i solves (M - h AI_ii L) v_i = rhs_i; then h L v_i = (M v_i - rhs_i) / AI_ii feeds the
+    later stages, and h L v_s (v_s = v_{n+1}) the next step's stage 0."""
 
     def __init__(self, prob: _Problem, sch: RungeKutta, h: float) -> None:
         self.prob, self.h = prob, h
-        self.AE, self.AI, self.c = sch.arrays()
-        self.solvers = [None] + [prob.solver(1.0, h * self.AI[i, i])
-                                 for i in range(1, self.AE.shape[0])]
+        AE, AI, self.c = sch.arrays()
+        self.s = AE.shape[0] - 1
+        self.solvers = [None] + [prob.solver(1.0, h * AI[i, i]) for i in range(1, self.s + 1)]
+        # per stage i, (j, weight) pairs: AI_ij on h L v_j, h AE_ij on F_j
+        self.implicit = [[(j, AI[i, j]) for j in range(i) if AI[i, j]] for i in range(self.s + 1)]
+        self.explicit = [[(j, h * AE[i, j]) for j in range(i) if AE[i, j]]
+                         for i in range(self.s + 1)]
+        self.diagonal = AI.diagonal()
+        self._last: tuple[np.ndarray, np.ndarray] | None = None     # (v_n, h L v_n)
 
     def step(self, t: float, v: np.ndarray) -> np.ndarray:
-        prob, h, AE, AI = self.prob, self.h, self.AE, self.AI
-        s = AE.shape[0]
+        prob = self.prob
         Mv0 = prob.mass(v)
-        Fs: list = [prob.explicit(t, v)]
-        Ls: list = [prob.L @ v]
+        hLv = [self._last[1] if self._last is not None and self._last[0] is v
+               else self.h * (prob.L @ v)]
+        F: list = [prob.explicit(t, v)]
         stage = v
-        for i in range(1, s):
+        for i in range(1, self.s + 1):
             rhs = Mv0.copy()
-            for j in range(i):
-                if AI[i, j]:
-                    rhs += (h * AI[i, j]) * Ls[j]
-                if AE[i, j] and Fs[j] is not None:
-                    rhs += (h * AE[i, j]) * Fs[j]
+            for j, w in self.implicit[i]:
+                rhs += w * hLv[j]
+            if F[0] is not None:
+                for j, w in self.explicit[i]:
+                    rhs += w * F[j]
             stage = self.solvers[i](rhs)
-            if i < s - 1:
-                Ls.append(prob.L @ stage)
-                Fs.append(prob.explicit(t + self.c[i] * h, stage))
+            hLv.append((prob.mass(stage) - rhs) / self.diagonal[i])
+            if i < self.s and F[0] is not None:
+                F.append(prob.explicit(t + self.c[i] * self.h, stage))
+        self._last = (stage, hLv[-1])
         return stage
+
+    def advance(self, t: float, v: np.ndarray, count: int) -> np.ndarray:
+        """The state after ``count`` steps from v(t)."""
+        for i in range(count):
+            v = self.step(t + i * self.h, v)
+        return v
+
+
+class _Rows:
+    """A history array (rows = flattened states) and, for the BLAS calls, each row viewed as a
+    real (n,) or (n, width) array (complex columns as pairs of real ones)."""
+
+    def __init__(self, rows: int, n: int, template: np.ndarray) -> None:
+        self.data = np.zeros((rows, template.size), dtype=template.dtype)
+        width = (1 if template.ndim == 1 else template.shape[1]) * (
+            2 if np.iscomplexobj(template) else 1)
+        flat = (n,) if width == 1 else (n, width)
+        self.real = [row.view(float).reshape(flat) for row in self.data]
+        self.shape = template.shape
+
+    def state(self, k: int) -> np.ndarray:
+        return self.data[k].reshape(self.shape)
+
+
+def _product(A, x: _Rows, out: _Rows) -> Callable[[int, int], None]:
+    """(k, j) -> (out row j = A x row k): in place for a real dense A, otherwise by A @ (sparse
+    matrix, operator)."""
+    if isinstance(A, np.ndarray) and A.dtype == float:
+        dot, xs, outs = np.dot, x.real, out.real
+        return lambda k, j: dot(A, xs[k], out=outs[j])
+    return lambda k, j: out.data.__setitem__(j, np.asarray(A @ x.state(k)).reshape(-1))
 
 
 class _Multistepper:
-    """Ring buffers of M v, L v and F of the last s steps, and one step of a multistep scheme:
-    rhs = sum_j (-a_j M v + h b_j L v + h c_j F)_{n+1-j} as one weighted sum per buffer."""
+    """A multistep scheme on a sliding history: rows k-s..k-1 of each history hold M v (the states
+    themselves when M = I), L v and F at t_{n+1-s}..t_n (oldest first), so that
 
-    def __init__(self, prob: _Problem, sch: Multistep, h: float) -> None:
-        self.prob = prob
+        rhs = sum_j (-a_j M v + h b_j L v + h c_j F)_{n+1-j}
+
+    is one (weights) x (rows) product per history, and v_{n+1} is solved into row k of the states.
+    After HISTORY_ROWS steps (fewer for states above HISTORY_BYTES / HISTORY_ROWS bytes) the last s
+    rows move to the front. The first s - 1 steps are taken by the STARTER Runge-Kutta scheme."""
+
+    def __init__(self, prob: _Problem, sch: Multistep, h: float, t0: float,
+                 v0: np.ndarray) -> None:
         a, b, c = sch.arrays()
-        self.s = len(a) - 1
+        s = self.s = len(a) - 1
+        self.prob, self.h, self.t0 = prob, h, t0
+        self.cap = s + max(1, min(HISTORY_ROWS, HISTORY_BYTES // v0.nbytes))
+        self.states = _Rows(self.cap, prob.n, v0)
         self.solve = prob.solver(a[0], h * b[0])
-        self.weights = {"M": -a[1:], "L": h * b[1:], "F": h * c[1:]}
-        if not np.any(b[1:]):
-            del self.weights["L"]
-        if not prob.terms:
-            del self.weights["F"]
-        # lags[p][q]: age (0 = newest) of buffer slot q when the newest value sits in slot p
-        self.lags = [(p - np.arange(self.s)) % self.s for p in range(self.s)]
-        self.buffers: dict[str, np.ndarray] = {}
-        self.count = 0
+        # weight of v_{n+1-j} at row position s - j (oldest first); each history: (weights, rows,
+        # what fills a row: None for the states themselves, a matrix, or "F")
+        histories = [(-a[:0:-1], None if prob.identity_M else prob.M)]
+        if np.any(b[1:]):
+            histories.append((h * b[:0:-1], prob.L))
+        if prob.terms:
+            histories.append((h * c[:0:-1], "F"))
+        self.histories = [(w.astype(v0.dtype), self.states if what is None
+                           else _Rows(self.cap, prob.n, v0), what) for w, what in histories]
+        self.rhs = _Rows(1, prob.n, v0)
+        self.tmp = _Rows(1, prob.n, v0)
+        self.writers = [self._writer(rows, what) for _, rows, what in self.histories
+                        if what is not None]
+        self.starter = _RungeKutta(prob, get_scheme(STARTER), h)
+        self.done = 0
+        self.k = 0
+        self.states.data[0] = v0.reshape(-1)
+        self._fill(0)
 
-    def push(self, t: float, v: np.ndarray) -> None:
-        """Record the newest value v = v(t)."""
-        p = self.count % self.s
-        if not self.buffers:
-            self.buffers = {k: np.zeros((self.s,) + v.shape, dtype=v.dtype) for k in self.weights}
-        for key, buf in self.buffers.items():
-            buf[p] = (self.prob.mass(v) if key == "M" else self.prob.L @ v if key == "L"
-                      else self.prob.explicit(t, v))
-        self.count += 1
+    def _writer(self, rows: _Rows, what) -> Callable[[int, float], None]:
+        """(k, t) -> row k of a history (M v, L v or F at time t) from state row k."""
+        if not isinstance(what, str):
+            product = _product(what, self.states, rows)
+            return lambda k, t: product(k, k)
+        (f, N), *more = self.prob.terms            # F = sum_j f_j(t) N_j v
+        first = _product(N, self.states, rows)
+        others = [(g, _product(B, self.states, self.tmp)) for g, B in more]
+        data, extra = rows.data, self.tmp.data[0]
 
-    def step(self) -> np.ndarray:
-        lag = self.lags[(self.count - 1) % self.s]
-        rhs = None
-        for key, buf in self.buffers.items():
-            term = np.tensordot(self.weights[key][lag], buf, axes=1)
-            rhs = term if rhs is None else rhs + term
-        return self.solve(rhs)
+        def write(k: int, t: float) -> None:
+            first(k, k)
+            data[k] *= f(t)
+            for g, product in others:
+                product(k, 0)                        # into the one row of tmp
+                data[k] += g(t) * extra
+        return write
+
+    def _fill(self, k: int) -> None:
+        """Rows k of the M v, L v and F histories from state row k (at t0 + done h)."""
+        t = self.t0 + self.done * self.h
+        for write in self.writers:
+            write(k, t)
+        self.k = k + 1
+
+    def current(self) -> np.ndarray:
+        """The newest state (a view into the history)."""
+        return self.states.state(self.k - 1)
+
+    def advance(self, count: int) -> np.ndarray:
+        """The state after ``count`` further steps."""
+        while count > 0 and self.done < self.s - 1:
+            v = self.starter.step(self.t0 + self.done * self.h, self.current())
+            self.done += 1
+            self.states.data[self.k] = v.reshape(-1)
+            self._fill(self.k)
+            count -= 1
+        if count > 0:
+            self._steps(count)
+        return self.current()
+
+    def _steps(self, count: int) -> None:
+        s, cap, dot = self.s, self.cap, np.dot
+        rhs, tmp, solve = self.rhs.data[0], self.tmp.data[0], self.solve.into
+        rhs_real, rows_real = self.rhs.real[0], self.states.real
+        (w0, first, _), *rest = self.histories
+        writers, t0, h, done = self.writers, self.t0, self.h, self.done
+        k = self.k
+        for _ in range(count):
+            if k == cap:                          # move the last s rows to the front
+                for _, rows, _ in self.histories:
+                    rows.data[:s] = rows.data[cap - s:]
+                k = s
+            dot(w0, first.data[k - s:k], out=rhs)
+            for w, rows, _ in rest:
+                dot(w, rows.data[k - s:k], out=tmp)
+                rhs += tmp
+            solve(rhs_real, rows_real[k])
+            done += 1
+            for write in writers:
+                write(k, t0 + done * h)
+            k += 1
+        self.k, self.done = k, done
 
 
 def integrate(system: Any, v0, *, scheme: str, dt: float, t_end: float, t0: float = 0.0,
@@ -244,7 +443,7 @@ def integrate(system: Any, v0, *, scheme: str, dt: float, t_end: float, t0: floa
     dt : requested step; the step used is (t_end - t0) / ceil((t_end - t0) / dt), so that the run
         ends exactly at t_end.
     every : save every ``every``-th step (t0 and t_end are always saved).
-    observe : what to save, a function of the state (default: the state).
+    observe : what to save, a function of the state (default: the state); its result is copied.
     progress : called with the number of steps done since the last call (e.g. tqdm.update).
 
     Notes
@@ -260,9 +459,14 @@ def integrate(system: Any, v0, *, scheme: str, dt: float, t_end: float, t0: floa
 
     The run uses one BLAS thread (the matrices are small: threads only add synchronisation).
     """
-    with threadpool_limits(limits=1), np.errstate(over="ignore", invalid="ignore"):
+    with one_blas_thread(), np.errstate(over="ignore", invalid="ignore"):
         return _integrate(system, v0, scheme=scheme, dt=dt, t_end=t_end, t0=t0, every=every,
                           observe=observe, progress=progress)   # overflow is checked, reported
+
+
+def _finite(v: np.ndarray) -> bool:
+    """All entries finite (sum |v_i|^2 first: one BLAS pass for the usual finite case)."""
+    return math.isfinite(abs(np.vdot(v, v))) or bool(np.all(np.isfinite(v)))
 
 
 def _integrate(system: Any, v0, *, scheme, dt, t_end, t0, every, observe, progress) -> Run:
@@ -280,33 +484,29 @@ def _integrate(system: Any, v0, *, scheme, dt, t_end, t0, every, observe, progre
     if v.shape[0] != prob.n or v.ndim > 2:
         raise ParameterError(f"v0 shape {v.shape} is invalid: must be ({prob.n},) or "
                              f"({prob.n}, columns)")
-    observe = observe or (lambda x: x.copy())
-    times, values = [t0], [observe(v)]
+    observe = observe or (lambda x: x)
+    times, values = [t0], [np.array(observe(v))]
     if isinstance(sch, RungeKutta):
         rk = _RungeKutta(prob, sch, h)
+        advance = lambda n, v, count: rk.advance(t0 + n * h, v, count)  # noqa: E731
     else:
-        starter = _RungeKutta(prob, get_scheme(STARTER), h)
-        ms = _Multistepper(prob, sch, h)
-        ms.push(t0, v)
+        ms = _Multistepper(prob, sch, h, t0, v)
+        advance = lambda n, v, count: ms.advance(count)                 # noqa: E731
     chunk = max(1, steps // 100)
-    for n in range(1, steps + 1):
-        t = t0 + (n - 1) * h
-        if isinstance(sch, RungeKutta):
-            v = rk.step(t, v)
-        elif n < sch.steps:
-            v = starter.step(t, v)
-            ms.push(t + h, v)
-        else:
-            v = ms.step()
-            ms.push(t + h, v)
+    n = 0
+    while n < steps:       # step to the next save or progress point
+        stop = min(steps, (n // every + 1) * every, (n // chunk + 1) * chunk)
+        v = advance(n, v, stop - n)
+        n = stop
         if n % every == 0 or n == steps:
-            if not np.all(np.isfinite(v)):
+            if not _finite(v):
                 raise ConvergenceError(
-                    f"the state is no longer finite at t = {t + h:.6g} ({sch.name}, dt = {h:.3g}): "
-                    "the step exceeds the stability limit of the explicit term; reduce dt")
+                    f"the state is no longer finite at t = {t0 + n * h:.6g} ({sch.name}, "
+                    f"dt = {h:.3g}): the step exceeds the stability limit of the explicit term; "
+                    "reduce dt")
             times.append(t0 + n * h)
-            values.append(observe(v))
+            values.append(np.array(observe(v)))
         if progress is not None and (n % chunk == 0 or n == steps):
             progress(chunk if n % chunk == 0 else n % chunk)
-    return Run(times=np.array(times), values=np.array(values), final=v, dt=h, steps=steps,
-               scheme=sch.name)
+    return Run(times=np.array(times), values=np.array(values), final=np.array(v), dt=h,
+               steps=steps, scheme=sch.name)
