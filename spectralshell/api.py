@@ -39,6 +39,8 @@ from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, T
                               provenance, tau_warnings)
 from .solvers.exponents import floquet_exponents
 from .solvers.marginal import N_MAX, marginal_tau
+from .solvers.spatial_refinement import (TOL_SPATIAL, refine_spatial, solve_at,
+                                           spatial_change, spatial_error)
 from .solvers.modes import find_modes
 from .solvers.nonlinear_orbit import frequency_slope
 from .runner import map_points
@@ -107,22 +109,8 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
                          provenance=provenance({"kind": kind, **options}), warnings=tuple(warnings))
 
 
-SPATIAL_START = 16    # first number of spatial modes of the automatic refinement
-SPATIAL_LIMIT = 512   # the automatic refinement stops (ConvergenceError) beyond this
-TOL_SPATIAL = 1e-3    # default absolute tolerance of tau_min in the number of spatial modes
-
-
-def _marginal_at(model: str, params: dict[str, Any], n_spatial: int | None, kinds, options):
-    p = make_params(model, {**params, "n_spatial": n_spatial})
-    return p, {k: marginal_tau(hill_system(p), k, **options) for k in kinds}
-
-
-def _spatial_change(fine, coarse) -> float | None:
-    if fine.tau_min is None and coarse.tau_min is None:
-        return 0.0
-    if fine.tau_min is None or coarse.tau_min is None:
-        return None
-    return abs(fine.tau_min - coarse.tau_min)
+def _spatial_factory(model: str, params: dict[str, Any], n_spatial: int) -> HillSystem:
+    return hill_system(make_params(model, {**params, "n_spatial": n_spatial}))
 
 
 def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dict[str, Any],
@@ -136,10 +124,13 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
       estimate.
     * ``n_spatial = None``: M = 16, 32, 64, ... until every asked kind's tau_min changes by at
       most ``tol_spatial`` between successive M (a kind without tau_min at both counts as
-      converged); ConvergenceError past M = SPATIAL_LIMIT.
+      converged once the coarser M reaches the kind's resonance); ConvergenceError past
+      M = SPATIAL_LIMIT (:func:`spectralshell.solvers.spatial_refinement.refine_spatial`).
 
-    Each kind's ``error_estimate`` becomes max(temporal estimate, spatial change); a missing
-    change (tau_min at one M only, or M = 1) makes it tau_min itself, as for the temporal one.
+    With ``tau_max`` the change is that of tau_min capped at tau_max (a missing tau_min counts
+    as tau_max). Each kind's ``error_estimate`` becomes max(temporal estimate, spatial change); a
+    missing change (tau_min at one M only without tau_max, or M = 1) makes it tau_min itself, as
+    for the temporal one.
     """
     kinds = expand_kind(kind)
     first = make_params(model, params)
@@ -148,38 +139,23 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
         raise ParameterError(f"tol_spatial = {tol_spatial!r} is invalid with a fixed n_spatial or "
                              "spatial_mode: it sets when the automatic refinement in n_spatial stops")
     tol_spatial = require_positive("tol_spatial", TOL_SPATIAL if tol_spatial is None else tol_spatial)
+    factory = functools.partial(_spatial_factory, model, params)
     if first.spatial_mode is not None:
         p, fine = first, {k: marginal_tau(hill_system(first), k, **options) for k in kinds}
-        m_fine, m_coarse, coarse = 1, None, None
+        m_fine, m_coarse, change = 1, None, {k: 0.0 for k in kinds}
     elif n_given is not None:
-        p, fine = _marginal_at(model, params, n_given, kinds, options)
+        p, fine = first, solve_at(factory, n_given, kinds, options)
         m_fine, m_coarse = n_given, (n_given // 2 or None)
-        coarse = None if m_coarse is None else _marginal_at(model, params, m_coarse, kinds, options)[1]
+        coarse = None if m_coarse is None else solve_at(factory, m_coarse, kinds, options)
+        cap = options.get("tau_max") or float("inf")
+        change = {k: None if coarse is None else spatial_change(fine[k], coarse[k], cap)
+                  for k in kinds}
     else:
-        m_coarse = SPATIAL_START
-        coarse = _marginal_at(model, params, m_coarse, kinds, options)[1]
-        while True:
-            m_fine = 2 * m_coarse
-            p, fine = _marginal_at(model, params, m_fine, kinds, options)
-            changes = [_spatial_change(fine[k], coarse[k]) for k in kinds]
-            if all(c is not None and c <= tol_spatial for c in changes):
-                break
-            if m_fine >= SPATIAL_LIMIT:
-                raise ConvergenceError(
-                    f"tau_min did not converge to tol_spatial={tol_spatial:g} by n_spatial={m_fine} "
-                    f"(last changes {changes}); relax tol_spatial or give n_spatial")
-            m_coarse, coarse = m_fine, fine
-    if first.spatial_mode is not None:
-        change = {k: 0.0 for k in kinds}
-    else:
-        change = {k: None if coarse is None else _spatial_change(fine[k], coarse[k]) for k in kinds}
-    res = {}
-    for k in kinds:
-        m = fine[k]
-        if m.tau_min is not None:
-            err = m.tau_min if change[k] is None else max(m.error_estimate, change[k])
-            m = dataclasses.replace(m, error_estimate=float(err))
-        res[k] = m
+        found = refine_spatial(factory, kinds, options=options, tol_spatial=tol_spatial)
+        p = make_params(model, {**params, "n_spatial": found.n_spatial})
+        fine, change = found.taus, found.change
+        m_fine, m_coarse = found.n_spatial, found.n_spatial_previous
+    res = {k: spatial_error(fine[k], change[k]) for k in kinds}
     warnings = tau_warnings(t for m in res.values() for t in m.tau)
     auto = n_given is None and first.spatial_mode is None
     opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
@@ -391,23 +367,35 @@ def _cochlea_natural_modes(*, count, precision, zeta, physical, params) -> Natur
 
     Method (model-agnostic solver :mod:`spectralshell.solvers.nonlinear_eigen`): the inviscid
     modes s = i w_j (w_j^2 the eigenvalues of diag(sqrt(k/2)) C diag(sqrt(k/2))) are continued in
-    zeta from MODES_START * zeta to zeta with step control (Newton on det T in trace form). Roots
-    are reported with Im s >= 0 (conjugate pairs), least damped first; the sheet margin
-    min_k Re sqrt(s/zeta + k^2) classifies them (near the cut at large zeta they become
-    nearly real decays, thesis Fig 5.7 right). An argument-principle count over the rectangle
-    enclosing the found modes with Im s >= 1e-3 max|s| checks that none was missed there.
+    zeta from MODES_START * zeta to zeta with step control (Newton on det T in trace form; the
+    branches advance together, so a branch is compared with its neighbours at the same zeta; a
+    conjugate pair that meets on the real axis in (-zeta, 0) is followed on as its two real roots).
+    Roots are reported with Im s >= 0 (conjugate pairs), least damped first; the sheet margin
+    min_k Re sqrt(s/zeta + k^2) classifies them. Near the cut s < -zeta (large zeta) the least
+    damped modes become nearly real decays just above the cut, thesis Fig 5.7 right: at
+    zeta = 1e-2, alpha = 1.56, M = 20 the three slowest have Im s = 2.5e-8, 1.6e-7, 7.5e-7; from
+    zeta ~ 0.013 they pass the branch point -zeta one by one and become real decays on (-zeta, 0)
+    (their mirror images leave through the branch point onto the other sheet).
+    Completeness: the winding number of det T around the upper half of the physical sheet (a box
+    of half-width 2 max|s| + 1 whose bottom edge runs along the upper edge of the cut, see
+    :func:`spectralshell.models.cochlea.upper_half_contour`) must equal the number of modes found
+    in it; otherwise the result warns.
+    ``precision`` (digits >= 16): every root is polished by Newton's method on det T in mpmath
+    at precision + 10 digits (:func:`spectralshell.solvers.modes.polish_root`,
+    :func:`spectralshell.models.cochlea.natural_mode_residual_mp`), error = max(last step,
+    10^-precision |s|), for the parameters as given in double precision (physical input is
+    converted in double precision).
     Units: with ``zeta`` 1/sqrt(kappa) (kappa = 1); with ``kappa``, ``nu`` the forcing period
     (gamma = sqrt(kappa) s); with ``physical`` (cgs: rho, mu, sigma, length, lambda_c, Table 5.1
     defaults for the missing ones) s^-1, gamma = s / T with T = sqrt(rho L/(pi sigma)).
     """
     from .models.cochlea import natural_frequencies, natural_mode_family, sheet_margin
     from .params.physical import TABLE_5_1, cochlea_forced, cochlea_time_scale
-    from .solvers.nonlinear_eigen import (SINGULAR_RTOL, continue_roots, count_in_contour, newton,
-                                          singular_ratio)
+    from .solvers.modes import PRECISION_MAX
+    from .solvers.nonlinear_eigen import SINGULAR_RTOL, continue_roots, newton, singular_ratio
 
     if precision is not None:
-        raise ParameterError(f"precision = {precision!r} is invalid for model 'cochlea': its modes "
-                             "are computed in double precision only")
+        precision = require_int_in_range("precision", precision, 16, PRECISION_MAX)
     params = dict(params)
     scale, extras = 1.0, {}
     if zeta is not None or physical is not None:
@@ -430,16 +418,17 @@ def _cochlea_natural_modes(*, count, precision, zeta, physical, params) -> Natur
         raise ParameterError(f"n_spatial = {p.n_spatial!r} is invalid for natural modes: give the "
                              "number of cosine modes M (e.g. 20, as in thesis Fig 5.7)")
     M = p.n_spatial
-    count = M if count is None else require_int_in_range("count", count, 1, M)  # at most M
+    count = None if count is None else require_int_in_range("count", count, 1, M)
     zeta = p.nu / np.sqrt(p.kappa)
-    scale *= np.sqrt(p.kappa)
+    unit, scale = scale, scale * np.sqrt(p.kappa)  # s^-1 per forcing-period unit; gamma = scale s
     start = 1j * natural_frequencies(1.0, p.alpha, np.arange(1, M + 1))
     warnings: list[str] = []
     if zeta == 0.0:
         roots, steps = start, 4 * np.finfo(float).eps * np.abs(start)
     else:
         family = natural_mode_family(alpha=p.alpha, n_spatial=M)
-        roots, steps, ok = continue_roots(family, MODES_START * zeta, zeta, start)
+        roots, steps, ok = continue_roots(family, MODES_START * zeta, zeta, start,
+                                          conjugate_symmetric=True)
         T, dT = family(zeta)
         lost = 0
         for i in np.flatnonzero(~ok):  # a lost branch (near-collision): deflated Newton at zeta
@@ -452,9 +441,8 @@ def _cochlea_natural_modes(*, count, precision, zeta, physical, params) -> Natur
             roots[i], steps[i] = out
             ok[i] = True
         if lost:
-            warnings.append(f"{lost} of the {M} inviscid mode branches could not be followed to "
-                            f"zeta = {zeta:g} and no further root was found near their last position "
-                            "(possibly it left the physical sheet through the branch cut)")
+            warnings.append(f"{lost} of the {roots.size} mode branches could not be followed to "
+                            f"zeta = {zeta:g} and no further root was found near their last position")
         roots, steps = roots[ok], steps[ok]
         roots = np.where(roots.imag < 0, roots.conj(), roots)
         keep = [i for i in range(roots.size)
@@ -462,35 +450,72 @@ def _cochlea_natural_modes(*, count, precision, zeta, physical, params) -> Natur
         if len(keep) < roots.size:
             warnings.append(f"{roots.size - len(keep)} branch(es) merged with a conjugate branch")
         roots, steps = roots[keep], steps[keep]
-        imag = np.sort(roots.imag)
-        small = imag[(imag > 1e-2 * imag[-1]) & (imag <= 0.5 * imag[-1])]
-        gaps = np.concatenate([[1e-2 * imag[-1]], small, [0.5 * imag[-1]]])
-        g = int(np.argmax(gaps[1:] / gaps[:-1]))
-        top = float(np.sqrt(gaps[g] * gaps[g + 1]))  # bottom edge: in the widest gap of Im s
-        inside = roots[roots.imag > top]
-        if inside.size:
-            lo, hi = inside.real.min(), inside.real.max()
-            pad = 0.1 * (hi - lo) + 0.05 * np.abs(inside).max()
-            left, right, height = lo - pad, hi + pad, 1.2 * inside.imag.max()
-            box = [left + 1j * top, right + 1j * top, right + 1j * height, left + 1j * height]
-            counted = count_in_contour(T, dT, box)
-            if counted != inside.size:
-                warnings.append(f"the argument principle counts {counted} modes with Im > {top:.3g} "
-                                f"where {inside.size} were found: some were missed")
+        warnings += _cochlea_completeness(T, dT, roots, steps, zeta, M)
     order = np.argsort(-roots.real)[:count]
-    gamma = roots[order] * scale
-    err = np.maximum(steps[order], 64 * np.finfo(float).eps * np.abs(roots[order])) * scale
-    margin = np.array([np.inf if zeta == 0.0 else sheet_margin(r, zeta, M) for r in roots[order]])
-    margin_err = err / scale / max(zeta, 1e-300) / np.maximum(margin, 1e-300)  # d(Re sqrt) ~ ds/(zeta sqrt)
+    roots, steps = roots[order], np.maximum(steps[order], 64 * np.finfo(float).eps * np.abs(roots[order]))
+    digits, double_error = None, None
+    if precision is not None:
+        roots, steps, digits, double_error = _cochlea_polish(roots, precision, p, M, unit)
+    gamma, err = roots * scale, steps * scale
+    margin = np.array([np.inf if zeta == 0.0 else sheet_margin(r, zeta, M) for r in roots])
+    margin_err = steps / max(zeta, 1e-300) / np.maximum(margin, 1e-300)  # d(Re sqrt) ~ ds/(zeta sqrt)
     on_cut = margin <= margin_err
     if on_cut.any():
         warnings.append(f"{int(on_cut.sum())} mode(s) lie on the branch cut to within their error")
-    options = {"count": count, "precision": None, "method": "continuation in zeta, Newton on "
+    options = {"count": count, "precision": precision, "method": "continuation in zeta, Newton on "
                "det T (trace form)", "zeta": float(zeta)}
+    if double_error is not None:
+        options["double_error"] = [float(e) for e in double_error]
     return NaturalModesResult(model="cochlea", params={**dataclasses.asdict(p), **extras},
                               gamma=gamma, error_estimate=err, principal_sheet=~on_cut,
-                              on_cut=on_cut, precision=None, provenance=provenance(options),
-                              warnings=tuple(warnings))
+                              on_cut=on_cut, precision=precision, provenance=provenance(options),
+                              gamma_digits=digits, warnings=tuple(warnings))
+
+
+def _cochlea_completeness(T, dT, roots: np.ndarray, steps: np.ndarray, zeta: float,
+                          M: int) -> list[str]:
+    """Warnings unless the winding number of det T around the upper half of the physical sheet
+    (:func:`spectralshell.models.cochlea.upper_half_contour`, half-width 2 max|s| + 1, dip
+    zeta/4 deep, capped by the half-width) equals the number of modes found inside it: each mode
+    with Im s > 0, plus, in the dip under (-zeta, 0), the mirror image of each complex mode there
+    (a real mode counts once)."""
+    from .models.cochlea import upper_half_contour
+    from .solvers.nonlinear_eigen import count_by_winding
+
+    radius = 2.0 * float(np.abs(roots).max(initial=0.0)) + 1.0
+    depth = min(zeta, radius) / 4.0
+    real = np.abs(roots.imag) <= steps
+    mirrored = (~real) & (roots.real > -zeta) & (roots.real < 0) & (roots.imag < depth)
+    expected = int(roots.size + mirrored.sum())
+    try:
+        counted = count_by_winding(T, upper_half_contour(zeta=zeta, n_spatial=M, radius=radius,
+                                                         depth=depth), dT=dT)
+    except ConvergenceError as exc:
+        return [f"completeness not checked: {exc}"]
+    if counted == expected:
+        return []
+    return [f"the winding number of det T counts {counted} modes with Im s >= 0 and |s| < "
+            f"{radius:.3g} on the physical sheet where {expected} were found: "
+            + ("some were missed" if counted > expected else "some found roots are spurious")]
+
+
+def _cochlea_polish(roots: np.ndarray, precision: int, p, M: int, unit: float):
+    """(roots, errors, gamma digits, |double - polished| in gamma): every root s of det T
+    polished to ``precision`` digits (:func:`spectralshell.solvers.modes.polish_root`); gamma =
+    unit sqrt(kappa) s, with sqrt(kappa) and zeta = nu/sqrt(kappa) in mpmath."""
+    from .models.cochlea import natural_mode_residual_mp
+    from .solvers.modes import polish_root
+
+    with mpmath.workdps(precision + 10):
+        zeta = mpmath.mpf(p.nu) / mpmath.sqrt(mpmath.mpf(p.kappa))
+        residual = functools.partial(natural_mode_residual_mp, zeta=zeta, alpha=p.alpha, n_spatial=M)
+        polished = [polish_root(residual, complex(r), precision=precision) for r in roots]
+        factor = mpmath.mpf(unit) * mpmath.sqrt(mpmath.mpf(p.kappa))
+        digits = tuple((mpmath.nstr(s.real * factor, precision), mpmath.nstr(s.imag * factor, precision))
+                       for s, _ in polished)
+        double_error = np.array([float(abs(s - r) * factor) for (s, _), r in zip(polished, roots)])
+        return (np.array([complex(s) for s, _ in polished]),
+                np.array([float(e) for _, e in polished]), digits, double_error)
 
 
 #: model -> (lambda0^2(m, kappa), its source): the inviscid natural frequency of each model.

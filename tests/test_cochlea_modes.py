@@ -15,7 +15,7 @@ import spectralshell as ss
 from spectralshell.cli import main
 from spectralshell.errors import ParameterError
 from spectralshell.models.cochlea import natural_frequencies, natural_mode_family
-from spectralshell.solvers.nonlinear_eigen import count_in_contour
+from spectralshell.solvers.nonlinear_eigen import count_by_winding
 
 
 def quartic_modes(k, zeta):
@@ -54,7 +54,7 @@ def test_coupled_modes_small_zeta():
     T, dT = natural_mode_family(alpha=1.56, n_spatial=20)(2e-5)
     left, height = 1.5 * g.real.min(), 1.2 * g.imag.max()
     box = [left + 0.05j, 0.01 + 0.05j, 0.01 + 1j * height, left + 1j * height]
-    assert count_in_contour(T, dT, box) == 20
+    assert count_by_winding(T, box, dT=dT) == 20
     w = natural_frequencies(1.0, 1.56, np.arange(1, 21))
     shift = {z: np.max(np.abs(np.sort(ss.natural_modes("cochlea", zeta=z, alpha=1.56,
                                                            n_spatial=20).gamma.imag) - w))

@@ -11,6 +11,11 @@ Cases: damped Mathieu needing N >= 40 (kappa = 100, 400: 20 and 40 tongues below
 sphere at N = 40, 80; coupled damped Mathieu oscillators with the cochlea's graded stiffness
 (block size M = 30, 60, 250; tests/test_marginal_fast.py builds them); one point of the Fig 6.13
 tau map (all m = 2..6, both kinds) with the dense path against 'auto'.
+Shift-invert cover (solvers/shift_invert.py): one truncation N = 16 of the cochlea at low forcing
+frequency (sigma = 1e7 dyn/cm, omega = 314 rad/s; M = 64, 128), where the smallest-|tau| Arnoldi
+gives up, against dense eig of W and against that Arnoldi followed by dense eig (the previous
+'auto' path); and a cochlea case where the smallest-|tau| Arnoldi answers (kappa = 0.5,
+nu = 1e-3, alpha = 1), against the cover alone. With --json-rows these print BENCH rows.
 BLAS runs single-threaded for both sides (the machine is shared: threaded OpenBLAS under load
 spends most of its time waiting); the M = 250 case is also timed with 2 threads.
 Run: python validation/bench_hill_large.py
@@ -27,13 +32,16 @@ import numpy as np
 import scipy.linalg as sla
 from threadpoolctl import threadpool_limits
 
+from _bench import row
 from spectralshell import api
 from spectralshell.discretise.hill import assemble
-from spectralshell.models import sphere
+from spectralshell.models import cochlea, sphere
 from spectralshell.models.mathieu import hill_system as mathieu
-from spectralshell.params.physical import CARDIAC
+from spectralshell.params.physical import CARDIAC, cochlea_params
+from spectralshell.solvers.half_product import smallest_taus
 from spectralshell.solvers.marginal import (dense_taus, marginal_tau, preferred_form,
                                             structured_taus, truncation_taus)
+from spectralshell.solvers.shift_invert import interval_taus
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from test_marginal_fast import cochlea_like  # noqa: E402  (the test model, not a copy)
@@ -147,11 +155,70 @@ def cardiac_point() -> None:
               f"{sorted({r.method for r in auto})}), same tau_min: {same}")
 
 
+def _cover_case(name: str, system, kind: str, n: int, previous_auto: bool) -> None:
+    """One truncation: package ('auto', tau_max = 1/2) against dense eig of W and, if
+    ``previous_auto``, against the smallest-|tau| Arnoldi run to its end plus dense eig."""
+    t_pkg, pkg = best_time(lambda: truncation_taus(system, kind, n, tau_max=0.5), repeat=2)
+    t_d, dense = best_time(lambda: truncation_taus(system, kind, n, tau_max=0.5,
+                                                   method="dense"), repeat=1)
+    ref = dense.tau[dense.tau <= 0.5]
+    err = abs(pkg.tau[0] - ref[0]) if pkg.tau.size and ref.size else (
+        0.0 if not pkg.tau.size and not ref.size else np.inf)
+    upper = min(0.5, pkg.complete_to)  # every real tau up to here must be listed, and only those
+    mine, listed = np.sum(pkg.tau <= upper), np.sum(ref <= upper)
+    task = f"{name}, one truncation M = {system.block_size}, N = {n}, {kind}, tau_max 1/2"
+    line = (f"{name:>26} M={system.block_size:3d} {kind:>12} | {pkg.method:>12} {t_pkg:8.2f} s | "
+            f"dense W {t_d:7.2f} s ({t_d / t_pkg:5.1f}x) | tau_min {pkg.tau[0] if pkg.tau.size else np.nan:.12f} "
+            f"|diff| {err:.1e} | real tau <= {upper:.3f}: {mine} (dense {listed})")
+    note = (f"method {pkg.method}; error = |tau_min - tau_min(dense eig of W, same pencil)|; "
+            f"real tau <= min(1/2, complete_to) = {upper:.4f} listed: {mine} (dense {listed})")
+    row(task=task, package_s=t_pkg, baseline="dense eig of W (method='dense'), same pencil",
+        baseline_s=t_d, error=err, baseline_error=0.0, note=note)
+    if previous_auto:
+        hill = assemble(system, kind, n, "real")
+        t_s, found = best_time(lambda: smallest_taus(hill, tau_max=0.5), repeat=1)
+        answered = found is not None
+        t_prev = t_s + (0.0 if answered else t_d)
+        line += f" | smallest-|tau| Arnoldi {t_s:.2f} s ({'answered' if answered else 'gave up'})"
+        row(task=task, package_s=t_pkg,
+            baseline="smallest-|tau| Arnoldi, then dense eig of W if it gives up (previous auto)",
+            baseline_s=t_prev, error=err, baseline_error=0.0 if not answered else None,
+            note=note + f"; the Arnoldi {'answered' if answered else 'gave up'} after {t_s:.2f} s")
+    print(line, flush=True)
+
+
+def cover_table() -> None:
+    print("\nshift-invert cover of [0, 1/2] (tau_max = 1/2), one truncation N = 16, against dense "
+          "eig of W of the same pencil and the smallest-|tau| Arnoldi (1 BLAS thread)")
+    low = cochlea_params({"sigma": 1e7, "omega": 314.0})
+    for m, kinds in ((64, KINDS), (128, KINDS)):
+        system = cochlea.hill_system(kappa=low["kappa"], nu=low["nu"], alpha=low["alpha"],
+                                     n_spatial=m)
+        for kind in kinds:  # at M = 128 the subharmonic Arnoldi runs > 90 s before giving up
+            _cover_case("cochlea omega=314", system, kind, 16,
+                        previous_auto=not (m == 128 and kind == "subharmonic"))
+    easy = cochlea.hill_system(kappa=0.5, nu=1e-3, alpha=1.0, n_spatial=64)
+    for kind in KINDS:
+        _cover_case("cochlea kappa=.5 nu=1e-3", easy, kind, 16, previous_auto=False)
+        hill = assemble(easy, kind, 16, "real")
+        t_pkg, pkg = best_time(lambda: truncation_taus(easy, kind, 16, tau_max=0.5), repeat=2)
+        t_c, cover = best_time(lambda: interval_taus(hill, 0.5, smallest_only=True), repeat=2)
+        err = abs(cover.tau[0] - pkg.tau[0])
+        print(f"{'':>26} M= 64 {kind:>12} | the cover alone {t_c:.2f} s ({len(cover.shifts)} "
+              f"shifts) against the package's {pkg.method} {t_pkg:.2f} s, |diff tau_min| {err:.1e}")
+        row(task=f"cochlea kappa=.5 nu=1e-3 alpha=1, one truncation M = 64, N = 16, {kind}, "
+                 "tau_max 1/2 (smallest-|tau| Arnoldi answers)",
+            package_s=t_pkg, baseline="shift-invert cover alone (interval_taus)", baseline_s=t_c,
+            error=0.0, baseline_error=err,
+            note=f"package method {pkg.method}; errors against the package's tau_min")
+
+
 def main() -> None:
     with threadpool_limits(1):
         equal_error_table()
         truncation_table()
         cardiac_point()
+        cover_table()
     block_table()
 
 

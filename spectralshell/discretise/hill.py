@@ -109,7 +109,7 @@ class HillMatrices:
                             upper=self.upper[couple], self_coupling=self_coupling)
 
 
-def _realify(d: np.ndarray) -> np.ndarray:
+def realify(d: np.ndarray) -> np.ndarray:
     """Real 2b x 2b blocks [[Re d, -Im d], [Im d, Re d]] of complex (k, b, b) blocks."""
     top = np.concatenate([d.real, -d.imag], axis=2)
     bottom = np.concatenate([d.imag, d.real], axis=2)
@@ -141,7 +141,7 @@ def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real")
         n = real_indices(n_temporal)
         D = np.asarray(system.unforced(frequencies(kind, n)), dtype=complex)
         JG = np.kron(np.array([[0.0, -1.0], [1.0, 0.0]]), G)
-        diag = _realify(D)
+        diag = realify(D)
         lower = np.broadcast_to(JG, (n_temporal, 2 * b, 2 * b))
         upper = np.array(np.broadcast_to(-JG, (n_temporal, 2 * b, 2 * b)))
         zero = np.zeros_like(G)

@@ -32,6 +32,7 @@ printed u_k^n has the opposite overall sign to continuity; the coefficient must 
 
 from __future__ import annotations
 
+import mpmath
 import numpy as np
 
 from .._validate import require_int_in_range, require_nonnegative, require_positive
@@ -153,15 +154,34 @@ def hill_system(*, kappa: float, nu: float, alpha: float, n_spatial: int | None 
         modes = np.array([require_int_in_range("spatial_mode", spatial_mode, 1)])
     else:
         modes = np.arange(1, require_int_in_range("n_spatial", n_spatial, 1) + 1)
-    C = coupling_matrix(modes, alpha)
+    return _modes_system(kappa, nu, modes, coupling_matrix(modes, alpha),
+                         float(natural_frequencies(kappa, alpha, modes)[0]))
+
+
+def _modes_system(kappa: float, nu: float, modes: np.ndarray, C: np.ndarray,
+                  n_resonant: float) -> HillSystem:
+    """The Hill system D(s) = diag(Z_k(s)) + kappa C, G = kappa C of the wavenumbers ``modes``."""
     G = kappa * C
     polynomial = None
     if nu == 0.0:
         polynomial = (G.copy(), np.zeros_like(G), np.diag(2.0 / modes))
     return HillSystem(name="cochlea", block_size=modes.size, forcing=G,
                       unforced=lambda s: unforced(s, kappa=kappa, nu=nu, modes=modes, coupling=C),
-                      polynomial=polynomial,
-                      n_resonant=float(natural_frequencies(kappa, alpha, modes)[0]))
+                      polynomial=polynomial, n_resonant=n_resonant)
+
+
+def wavenumber_system(wavenumber: float, *, kappa: float, nu: float) -> HillSystem:
+    """Uniform stiffness (alpha = 0): the scalar Hill system Z_k(s) + kappa of one cosine wave of
+    real wavenumber k > 0, D(s_n) h_n = i tau kappa (h_{n-1} - h_{n+1}).
+
+    The physical modes of the box are the integers k = 1, 2, ... (``hill_system(spatial_mode=k)``
+    is the same system); a real k treats the wavenumber as a continuous parameter, as in the
+    Ince-Strutt diagrams of tau against k (thesis Fig 5.11). Inviscid (nu = 0): the Mathieu
+    equation h'' + (kappa k / 2)(1 + 2 tau sin t) h = 0, natural frequency sqrt(kappa k / 2).
+    """
+    k = require_positive("wavenumber", wavenumber)
+    return _modes_system(require_positive("kappa", kappa), require_nonnegative("nu", nu),
+                         np.array([k]), np.eye(1), float(np.sqrt(kappa * k / 2.0)))
 
 
 def natural_mode_family(*, alpha: float, n_spatial: int):
@@ -188,6 +208,61 @@ def sheet_margin(s: complex, zeta: float, n_spatial: int) -> float:
     (the physical sheet), 0 on the branch cut s <= -zeta k^2 of some k."""
     k = np.arange(1, n_spatial + 1)
     return float(np.min(np.sqrt(s / zeta + k * k).real))
+
+
+def natural_mode_residual_mp(s, *, zeta, alpha, n_spatial: int) -> tuple:
+    """(det T(s), d det T/ds) in mpmath at the current ``mpmath.mp.dps``, T = diag(Z_k) + C of
+    :func:`natural_mode_family` (Z_k, dZ_k/ds, c_j all evaluated at that precision).
+
+    Notes
+    -----
+    d det T / ds = det T tr(T^{-1} T') (Jacobi's formula), T' = diag(dZ_k/ds); their ratio is the
+    Newton step of det T in trace form (one determinant and one inverse of the M x M matrix).
+    Where mpmath's LU factorisation finds T singular to working precision (det returned as 0),
+    the pair is (0, 1): a zero Newton step.
+    """
+    s, zeta, alpha = mpmath.mpmathify(s), mpmath.mpf(zeta), mpmath.mpf(alpha)
+    M = require_int_in_range("n_spatial", n_spatial, 1)
+    if alpha == 0:
+        c = [mpmath.mpf(1)] + [mpmath.mpf(0)] * (2 * M)
+    else:
+        odd, even = 1 + mpmath.exp(-alpha * mpmath.pi), -mpmath.expm1(-alpha * mpmath.pi)
+        c = [alpha * (odd if j % 2 else even) / (mpmath.pi * (alpha**2 + j * j))
+             for j in range(2 * M + 1)]
+    T = mpmath.matrix(M, M)
+    dZ = []
+    root_zeta = mpmath.sqrt(zeta)
+    for k in range(1, M + 1):
+        for j in range(1, M + 1):
+            T[k - 1, j - 1] = c[abs(k - j)] + c[k + j]
+        r = mpmath.sqrt(s + zeta * k * k)
+        T[k - 1, k - 1] += 2 * s * s / k + 2 * s * (zeta * k + root_zeta * r)
+        dZ.append(4 * s / k + 2 * zeta * k + (root_zeta * (2 * r + s / r) if zeta else 0))
+    det = mpmath.det(T)
+    if det == 0:  # mpmath's LU found T singular to working precision: s is a root
+        return det, mpmath.mpf(1)
+    inverse = mpmath.inverse(T)
+    return det, det * mpmath.fsum(inverse[k, k] * dZ[k] for k in range(M))
+
+
+def upper_half_contour(*, zeta: float, n_spatial: int, radius: float, depth: float) -> list[complex]:
+    """Counter-clockwise polygon around the modes with Im s >= 0 and |Re s|, Im s <= ``radius``.
+
+    Along the real axis it runs on the upper edge of the cut s < -zeta (points x + 0j: principal
+    roots give the limit from Im s > 0), with a vertex at each branch point -zeta k^2, and dips
+    to Im s = -``depth`` under (-zeta, 0), where T is analytic and real (real modes lie there;
+    the dip also holds the mirror images of the modes with 0 < Im s < depth there). For
+    :func:`spectralshell.solvers.nonlinear_eigen.count_by_winding`: the region holds every mode of
+    the physical sheet with Im s >= 0 inside the box.
+    """
+    k = np.arange(require_int_in_range("n_spatial", n_spatial, 1), 0, -1)
+    R = require_positive("radius", radius)
+    cuts = -require_positive("zeta", zeta) * k * k
+    depth = require_positive("depth", depth)
+    left = max(-zeta, -R)
+    return ([complex(-R, 0.0)] + [complex(x, 0.0) for x in cuts[cuts > -R]] +
+            [complex(left, -depth), complex(0.0, -depth), 0j, complex(R, 0.0), complex(R, R),
+             complex(-R, R)])
 
 
 #: Width (dimensionless, x in [0, pi]) of the Gaussian pressure load at the base that drives the

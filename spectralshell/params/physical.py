@@ -229,3 +229,25 @@ def convert_physical(model: str, values: dict) -> tuple[dict, dict | None]:
         base = {k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
         return cochlea_params(values), {**base, **phys}
     return dict(values), None
+
+
+def hz_to_rad_per_s(frequency: float) -> float:
+    """Angular frequency omega = 2 pi f in rad/s of a frequency f in Hz (cycles per second)."""
+    return 2.0 * math.pi * require_positive("frequency", frequency)
+
+
+#: The cgs inputs a cochlea sweep may fix or sweep: those of COCHLEA_UNITS and, in place of
+#: omega, the frequency f in Hz (omega = 2 pi f; the natural unit of an audible range).
+COCHLEA_SWEEP_UNITS = {**COCHLEA_UNITS, "frequency": "Hz"}
+
+
+def cochlea_sweep_params(values: dict) -> dict:
+    """:func:`cochlea_params` of ``values`` after converting a ``frequency`` (Hz) to omega (rad/s)
+    by :func:`hz_to_rad_per_s`; giving both is contradictory and refused."""
+    values = dict(values)
+    if "frequency" in values:
+        if "omega" in values:
+            raise ParameterError(f"frequency = {values['frequency']!r} is invalid together with "
+                                 f"omega = {values['omega']!r}: give one of them (omega = 2 pi f)")
+        values["omega"] = hz_to_rad_per_s(values.pop("frequency"))
+    return cochlea_params(values)

@@ -14,6 +14,7 @@ A sweep scene::
     tol = 1e-10                    # absolute tolerance on tau_min (or n_temporal = 40)
     tau_max = 0.5                  # only marginal tau <= tau_max (0.5: the stiffness stays > 0)
     continuation = true            # start each point from its neighbour's truncation
+    tol_spatial = 1e-3             # models with spatial modes (cochlea) without n_spatial only
     [sweep]
     chunk = 256                    # points per task along the line axis (the default)
 
@@ -21,6 +22,26 @@ Any value list (``[0.1, 0.2, 0.4]``) works for a real parameter too. With model 
 physical cgs quantities rho (g/cm^3), mu (g/(cm s)), radius (cm), sigma (dyn/cm) and omega
 (rad/s) or bpm (beats/min) may be fixed or swept instead of kappa and nu, which then follow from
 (6.4)-(6.5) (:class:`~spectralshell.params.physical.PhysicalSphere`).
+
+With model 'cochlea' the cgs inputs rho (g/cm^3), mu (g/(cm s)), sigma (g/(cm^2 s^2), a
+stiffness per unit area, = dyn/cm^3: the thesis's sigma of chapter 5), length (cm), lambda_c
+(1/cm) and omega (rad/s) or frequency (Hz, omega = 2 pi f) may be fixed or swept instead of
+kappa, nu and alpha (:func:`~spectralshell.params.physical.cochlea_forced`, thesis 5.2); exactly
+one of omega and frequency is needed, and rho, mu, sigma, length and lambda_c left out take
+their Table 5.1 values (written into the scene's fixed parameters, so they enter its hash),
+unless the dimensionless parameter they set (nu, kappa, alpha) is given instead. Angular
+frequencies are rad/s throughout (ERRATA); ``frequency`` in Hz is offered because audible ranges
+are ranges of f in Hz -- the thesis's Fig 5.18 labels its axis "omega in [50, 20000] Hz", which
+the packaged scenes spectralshell/scenes/fig-5.18-*.toml read as f in Hz (the figure's JSON
+states the shift, log10(2 pi) = 0.8 decade, that the reading omega in s^-1 would give).
+
+Models with spatial modes (the cochlea): with ``n_spatial`` fixed in [params] (or swept) every
+point is solved with that M, and error_estimate is the temporal one only; without it (and
+without spatial_mode) M is refined per point, M = 16, 32, ... <= 512, until each kind's tau_min
+changes by at most ``tol_spatial`` (default 1e-3; see
+:mod:`spectralshell.solvers.spatial_refinement`), and error_estimate includes that change. The
+result then has the variables n_spatial (the M of each value) and spatial_converged (False
+where M = 512 was reached first: the point is kept, with its values at M = 512, and flagged).
 
 The *line axis* is the last real-valued axis of the grid (else the last axis other than kind):
 points are solved along it in order, so each can start from its neighbour (continuation), and a
@@ -43,14 +64,15 @@ import numpy as np
 from .._validate import require_choice, require_int_in_range, require_positive, require_real
 from ..errors import ParameterError
 from .grid import parse_int_range, parse_range
-from .physical import PHYSICAL_UNITS, sphere_forced_params
+from .physical import (COCHLEA_SWEEP_UNITS, PHYSICAL_UNITS, TABLE_5_1, cochlea_sweep_params,
+                       sphere_forced_params)
 from .registry import PARAMS, check_model, make_params, param_names
 from .scene import load_scene
 
 ASKS = ("tau_min",)
 KINDS = ("harmonic", "subharmonic")
 SCENE_KEYS = ("model", "ask", "params", "grid", "tau_min", "sweep", "output")
-OPTION_KEYS = ("tol", "n_temporal", "tau_max", "continuation")
+OPTION_KEYS = ("tol", "n_temporal", "tau_max", "continuation", "tol_spatial")
 SWEEP_KEYS = ("chunk",)
 N_TEMPORAL_MAX = 400  # = solvers.marginal.N_MAX (a later stage: not importable here)
 #: Points per task along the line axis (lines longer than this are cut into equal pieces).
@@ -59,13 +81,28 @@ N_TEMPORAL_MAX = 400  # = solvers.marginal.N_MAX (a later stage: not importable 
 #: ~1 % of a 256-point chunk's compute on serial/processes and ~2-3 % on a Dask LocalCluster
 #: (a 128-point chunk: 3 % and 5-8 %); dearer models are far below.
 DEFAULT_CHUNK = 256
-PHYSICAL_MODELS = ("sphere",)
+TOL_SPATIAL = 1e-3  # = solvers.spatial_refinement.TOL_SPATIAL (a later stage: not importable here)
+#: The cgs quantities each model accepts in a sweep in place of its dimensionless parameters.
+PHYSICAL_NAMES = {"sphere": tuple(PHYSICAL_UNITS), "cochlea": tuple(COCHLEA_SWEEP_UNITS)}
+PHYSICAL_MODELS = tuple(PHYSICAL_NAMES)
 PHYSICAL = tuple(PHYSICAL_UNITS)
 UNITS = {"kappa": "1", "nu": "1", "m": "1", "component": "", "kind": "", **PHYSICAL_UNITS}
+MODEL_UNITS = {"cochlea": {"alpha": "1", "n_spatial": "1", "spatial_mode": "1",
+                           **COCHLEA_SWEEP_UNITS}}
 LONG_NAMES = {"kappa": "stiffness kappa", "nu": "viscosity nu", "m": "degree m",
               "component": "component", "kind": "Floquet kind", "rho": "fluid density",
               "mu": "dynamic viscosity", "radius": "radius", "sigma": "membrane stiffness",
-              "omega": "forcing angular frequency", "bpm": "beat rate"}
+              "omega": "forcing angular frequency", "bpm": "beat rate",
+              "frequency": "forcing frequency f", "length": "membrane length",
+              "lambda_c": "stiffness decay rate", "alpha": "stiffness grading alpha",
+              "n_spatial": "spatial modes M", "spatial_mode": "spatial mode"}
+#: Table 5.1 defaults of a physical cochlea sweep, and the dimensionless parameter each sets.
+_COCHLEA_DEFAULTS = {"rho": None, "length": None, "mu": "nu", "sigma": "kappa", "lambda_c": "alpha"}
+
+
+def units(model: str, name: str) -> str:
+    """Units of parameter or axis ``name`` of ``model`` ('1': dimensionless)."""
+    return MODEL_UNITS.get(model, UNITS).get(name, "1")
 
 
 @dataclass(frozen=True)
@@ -92,6 +129,7 @@ class SolverOptions:
     n_temporal: int | None = None
     tau_max: float = 0.5
     continuation: bool = True
+    tol_spatial: float | None = None
 
     def marginal_kwargs(self) -> dict[str, Any]:
         """Keyword arguments of ``marginal_tau``."""
@@ -147,21 +185,39 @@ class SweepSpec:
         real = [i for i in points if self.axes[i].is_real]
         return real[-1] if real else (points[-1] if points else None)
 
+    @property
+    def spatial(self) -> bool:
+        """The model has spatial modes (a parameter n_spatial): the result also stores
+        n_spatial and spatial_converged."""
+        return "n_spatial" in param_names(self.model)
+
+    @property
+    def refines_spatial(self) -> bool:
+        """M is refined per point (a spatial model with neither n_spatial nor spatial_mode)."""
+        given = set(dict(self.fixed)) | set(self.dims)
+        return self.spatial and not given & {"n_spatial", "spatial_mode"}
+
     def axis(self, name: str) -> Axis:
         """The axis called ``name``."""
         return next(a for a in self.axes if a.name == name)
 
     def params_at(self, values: Mapping[str, Any]) -> dict[str, Any]:
         """Model parameters at a grid point (``values``: the non-kind axis values), with the
-        physical quantities converted to kappa and nu."""
+        physical quantities converted to kappa and nu (and alpha, for the cochlea)."""
         merged = {**dict(self.fixed), **values}
-        return sphere_forced_params(merged) if self.physical else merged
+        if not self.physical:
+            return merged
+        return cochlea_sweep_params(merged) if self.model == "cochlea" else \
+            sphere_forced_params(merged)
 
     def canonical(self) -> dict[str, Any]:
         """JSON-able form of everything that determines the numbers (hashed into ``digest``)."""
+        options = dataclasses.asdict(self.options)
+        if options["tol_spatial"] is None:  # scenes without spatial modes keep their old hash
+            del options["tol_spatial"]
         return {"model": self.model, "ask": list(self.ask), "params": dict(self.fixed),
                 "grid": [[a.name, list(a.values), a.spacing] for a in self.axes],
-                "options": dataclasses.asdict(self.options), "chunk": self.chunk}
+                "options": options, "chunk": self.chunk}
 
 
 def scene_digest(canonical: Mapping[str, Any]) -> str:
@@ -176,6 +232,7 @@ def _field_types(model: str) -> dict[str, str]:
     out = {}
     for f in dataclasses.fields(PARAMS[model]):
         t = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", "float")
+        t = t.removesuffix(" | None")  # optional parameters (the cochlea's n_spatial)
         out[f.name] = t if t in ("int", "str") else "float"
     return out
 
@@ -188,8 +245,7 @@ def _value_type(model: str, name: str) -> str:
 
 def allowed_grid_names(model: str) -> tuple[str, ...]:
     """Parameters a sweep of ``model`` may put in its grid."""
-    extra = PHYSICAL if model in PHYSICAL_MODELS else ()
-    return param_names(model) + extra + ("kind",)
+    return param_names(model) + PHYSICAL_NAMES.get(model, ()) + ("kind",)
 
 
 def _distinct(name: str, values: list) -> None:
@@ -259,18 +315,20 @@ def parse_axis(model: str, name: str, spec: object) -> Axis:
     kind = _value_type(model, name)
     parse = {"float": _real_axis, "int": _int_axis, "str": _str_axis}[kind]
     values, spacing = parse(name, spec)
-    return Axis(name=name, values=values, units=UNITS.get(name, "1"), spacing=spacing)
+    return Axis(name=name, values=values, units=units(model, name), spacing=spacing)
 
 
 def _check_physical(model: str, names: set[str]) -> bool:
     """Whether the sweep uses physical quantities; refuses an incomplete or mixed set."""
-    used = names & set(PHYSICAL)
+    used = names & set(PHYSICAL_NAMES.get(model, PHYSICAL))
     if not used:
         return False
     if model not in PHYSICAL_MODELS:
         name = sorted(used)[0]
         raise ParameterError(f"{name} is not a parameter of model {model!r}: physical quantities "
                              f"need model {' or '.join(repr(m) for m in PHYSICAL_MODELS)}")
+    if model == "cochlea":
+        return _check_cochlea_physical(names, used)
     for derived in ("kappa", "nu"):
         if derived in names:
             raise ParameterError(f"{derived} is given together with physical quantities "
@@ -284,6 +342,50 @@ def _check_physical(model: str, names: set[str]) -> bool:
         raise ParameterError("omega/bpm is invalid: give exactly one of omega (rad/s) or bpm "
                              "(beats/min)")
     return True
+
+
+def _check_cochlea_physical(names: set[str], used: set[str]) -> bool:
+    """The cochlea's cgs inputs: exactly one of omega and frequency, and no dimensionless
+    parameter together with the quantity it follows from."""
+    if len(names & {"omega", "frequency"}) != 1:
+        both = names >= {"omega", "frequency"}
+        raise ParameterError(f"{'omega/frequency' if both else 'omega'} is invalid: give exactly "
+                             "one of omega (rad/s) or frequency (Hz, omega = 2 pi f) with the "
+                             f"cochlea's physical quantities ({', '.join(sorted(used))})")
+    for source, derived in _COCHLEA_DEFAULTS.items():
+        if derived and derived in names and source in names:
+            raise ParameterError(f"{derived} is given together with {source}: it follows from "
+                                 f"{source} (thesis 5.2); remove one of the two")
+    return True
+
+
+def _with_cochlea_defaults(fixed: Mapping[str, Any], grid: Mapping[str, Any]) -> dict[str, Any]:
+    """``fixed`` plus the Table 5.1 value of every cgs input of a physical cochlea sweep that is
+    neither given nor replaced by its dimensionless parameter."""
+    given = set(fixed) | set(grid)
+    extra = {name: TABLE_5_1[name] for name, derived in _COCHLEA_DEFAULTS.items()
+             if name not in given and derived not in given}
+    return {**fixed, **extra}
+
+
+def _spatial_options(model: str, options: SolverOptions, fixed: Mapping,
+                     grid: Mapping) -> SolverOptions:
+    """``options`` with tol_spatial resolved: TOL_SPATIAL by default when M is refined per
+    point; refused (ParameterError) when M is fixed or the model has no spatial modes."""
+    given = options.tol_spatial is not None
+    if "n_spatial" not in param_names(model):
+        if given:
+            raise ParameterError(f"tau_min.tol_spatial = {options.tol_spatial!r} is invalid for "
+                                 f"model {model!r}: it has no spatial modes")
+        return options
+    fixed_m = sorted((set(fixed) | set(grid)) & {"n_spatial", "spatial_mode"})
+    if fixed_m:
+        if given:
+            raise ParameterError(f"tau_min.tol_spatial = {options.tol_spatial!r} is invalid with "
+                                 f"{fixed_m[0]} given: it sets when the refinement in n_spatial "
+                                 "stops, and there is none")
+        return options
+    return options if given else dataclasses.replace(options, tol_spatial=TOL_SPATIAL)
 
 
 def _checked_table(name: str, table: object, keys: tuple[str, ...]) -> Mapping:
@@ -311,6 +413,8 @@ def _options(table: object) -> SolverOptions:
             raise ParameterError(f"tau_min.continuation = {table['continuation']!r} is invalid: "
                                  "must be true or false")
         out["continuation"] = table["continuation"]
+    if "tol_spatial" in table:
+        out["tol_spatial"] = require_positive("tau_min.tol_spatial", table["tol_spatial"])
     return SolverOptions(**out)
 
 
@@ -386,12 +490,15 @@ def sweep_spec(scene: str | Path | Mapping) -> SweepSpec:
         raise ParameterError("kind is invalid in [params]: sweep kinds in [grid], e.g. "
                              "kind = ['harmonic']")
     physical = _check_physical(model, set(fixed) | set(grid))
+    if physical and model == "cochlea":
+        fixed = _with_cochlea_defaults(fixed, grid)
     axes = [parse_axis(model, name, spec) for name, spec in grid.items()]
     if "kind" not in grid:
         axes.append(Axis(name="kind", values=KINDS, units="", spacing="list"))
+    options = _spatial_options(model, _options(data.get("tau_min", {})), fixed, grid)
     spec = SweepSpec(model=model,
                      fixed=tuple((k, _normalised(model, k, v)) for k, v in fixed.items()),
-                     axes=tuple(axes), ask=ask, options=_options(data.get("tau_min", {})),
+                     axes=tuple(axes), ask=ask, options=options,
                      chunk=_chunk(data.get("sweep", {})), physical=physical)
     _validate_points(spec)
     return dataclasses.replace(spec, digest=scene_digest(spec.canonical()),

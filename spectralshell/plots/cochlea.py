@@ -1,5 +1,6 @@
-"""Cochlea plots (thesis 5.4-5.5): membrane envelopes (Figs 5.8, 5.10), envelope peak against
-frequency (Fig 5.9) and the zero contours of det T (Fig 5.7)."""
+"""Cochlea plots (thesis 5.4-5.6): membrane envelopes (Figs 5.8, 5.10), envelope peak against
+frequency (Fig 5.9), the zero contours of det T (Fig 5.7) and Ince-Strutt diagrams against the
+forcing frequency (Figs 5.12, 5.14) and the wavenumber (Fig 5.11)."""
 
 from __future__ import annotations
 
@@ -90,6 +91,22 @@ TAU_STYLE = {"harmonic": dict(marker="+", color="tab:blue", linestyle="none", la
                                  label="subharmonic")}
 
 
+def _fingers(ax, title: str, points, *, tau_max: float, x_range, xlabel: str) -> None:
+    """One Ince-Strutt panel: {kind: (x points, tau points)} with harmonic '+', subharmonic 'o',
+    the tau = 1/2 line, labels and legend."""
+    for kind, (x, tau) in points.items():
+        keep = tau <= tau_max
+        ax.plot(x[keep], tau[keep], markersize=3, **TAU_STYLE[kind])
+    ax.axhline(0.5, color="0.4", linestyle="--", linewidth=1, label="τ = 1/2")
+    ax.set_ylim(0, tau_max)
+    if x_range is not None:
+        ax.set_xlim(*x_range)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("τ, forcing amplitude")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7, loc="upper left")
+
+
 def save_tau_against_omega(panels: Sequence[tuple[str, dict[str, tuple[np.ndarray, np.ndarray]]]],
                            path: str | Path, *, tau_max: float = 1.0, columns: int = 1,
                            omega_range: tuple[float, float] | None = None) -> Path:
@@ -98,17 +115,8 @@ def save_tau_against_omega(panels: Sequence[tuple[str, dict[str, tuple[np.ndarra
     rows = -(-len(panels) // columns)
     fig, axes = plt.subplots(rows, columns, figsize=(6.0 * columns, 3.6 * rows), squeeze=False)
     for ax, (title, points) in zip(axes.flat, panels):
-        for kind, (om, tau) in points.items():
-            keep = tau <= tau_max
-            ax.plot(om[keep], tau[keep], markersize=3, **TAU_STYLE[kind])
-        ax.axhline(0.5, color="0.4", linestyle="--", linewidth=1, label="τ = 1/2")
-        ax.set_ylim(0, tau_max)
-        if omega_range is not None:
-            ax.set_xlim(*omega_range)
-        ax.set_xlabel("forcing frequency ω (rad/s)")
-        ax.set_ylabel("τ, forcing amplitude")
-        ax.set_title(title, fontsize=9)
-        ax.legend(fontsize=7, loc="upper left")
+        _fingers(ax, title, points, tau_max=tau_max, x_range=omega_range,
+                 xlabel="forcing frequency ω (rad/s)")
     for ax in list(axes.flat)[len(panels):]:
         ax.set_visible(False)
     return save_figure(fig, path, dpi=120)
@@ -128,3 +136,61 @@ def save_convergence(series: Sequence[tuple[str, np.ndarray, dict[str, np.ndarra
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=8)
     return save_figure(fig, path, dpi=120)
+
+
+def save_tau_against_wavenumber(panels: Sequence[tuple[str, dict[str, tuple[np.ndarray, np.ndarray]],
+                                                       Sequence[tuple[str, float, float]],
+                                                       dict[int, float]]],
+                                path: str | Path, *, tau_max: float = 1.0,
+                                k_range: tuple[float, float] | None = None) -> Path:
+    """Ince-Strutt diagrams against the spatial wavenumber k (Fig 5.11): per panel (title,
+    {kind: (k points, tau points)}, finger tips [(kind, k, tau)], {integer k: tau_min <= 1/2}),
+    harmonic '+', subharmonic 'o', the tips as filled markers, the tau = 1/2 line, and at each
+    integer (physical) wavenumber unstable below it a vertical green segment from tau_min to 1/2."""
+    fig, axes = plt.subplots(1, len(panels), figsize=(6.0 * len(panels), 4.2), squeeze=False)
+    for ax, (title, points, tips, unstable) in zip(axes[0], panels):
+        for kind, k, tau in tips:
+            ax.plot(k, tau, marker=TAU_STYLE[kind]["marker"], color="k", markersize=7, linestyle="none")
+        for k, tau in unstable.items():
+            ax.plot([k, k], [tau, 0.5], color="tab:green", linewidth=2.2)
+        ax.plot([], [], color="tab:green", linewidth=2.2, label="integer k unstable for τ ≤ 1/2")
+        _fingers(ax, title, points, tau_max=tau_max, x_range=k_range,
+                 xlabel="spatial wavenumber k (cosine mode cos kx; physical modes: integers)")
+    return save_figure(fig, path, dpi=120)
+
+
+def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, *,
+                  caption: str = "") -> Path:
+    """Minimum-tau maps of cochlea sweeps over (frequency in Hz, sigma), Fig 5.18: one panel per
+    (title, Dataset), frequency horizontal (log, with omega = 2 pi f in rad/s on the top axis),
+    sigma vertical (log), one colour bar (viridis: dark blue small tau, through green to yellow
+    at tau_max, so that white -- no tau <= tau_max -- stands apart), cells whose M refinement
+    did not converge grey hatched (counted in the panel title)."""
+    from . import sweep_plot
+
+    fig, axes = plt.subplots(len(panels), 1, figsize=(7.6, 3.9 * len(panels) + 1.4), squeeze=False)
+    mesh, tau_max = None, 0.5
+    for ax, (title, ds) in zip(axes[:, 0], panels):
+        tau_max = float(ds.attrs.get("tau_max", tau_max))
+        mesh, hatched = sweep_plot.draw_map(ax, ds, "frequency", "sigma", labels=False,
+                                            cmap="viridis")
+        ax.set_xlabel("forcing frequency f (Hz)")
+        ax.set_ylabel("BM stiffness σ (g cm⁻² s⁻² = dyn/cm³)")
+        top = ax.secondary_xaxis("top", functions=(lambda f: 2 * np.pi * f,
+                                                   lambda w: w / (2 * np.pi)))
+        top.set_xlabel("ω = 2πf (rad/s)", fontsize=8)
+        cells = ds.sizes["frequency"] * ds.sizes["sigma"]
+        note = sweep_plot.hatch_note(hatched, cells).removeprefix("; ")
+        ax.set_title(title + (f"\n{note}" if note else ""), fontsize=8)
+    bottom, top = (0.14 if caption else 0.07), 0.89
+    fig.subplots_adjust(left=0.12, right=0.82, top=top, bottom=bottom, hspace=0.7)
+    cax = fig.add_axes((0.86, bottom + 0.1, 0.025, top - bottom - 0.2))
+    fig.colorbar(mesh, cax=cax, label=sweep_plot.colour_label(tau_max))
+    if caption:
+        import textwrap
+
+        fig.text(0.02, 0.01, textwrap.fill(caption, 150), fontsize=6.5, va="bottom", ha="left")
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

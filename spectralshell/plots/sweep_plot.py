@@ -4,7 +4,9 @@ The real-valued axes with more than one value are the picture's axes; the others
 component, ...) are categories: one curve each in 1-D; in 2-D the colour is the smallest tau_min
 over them and each band is labelled by the category attaining it, e.g. '3S' = m 3,
 subharmonic (as thesis Fig 6.13). Points without a marginal tau <= tau_max (or not yet computed)
-are left white.
+are left white. Where a sweep refined the number of spatial modes per point (the cochlea), cells
+whose refinement did not converge by M = 512 for some category (``spatial_converged`` false) are
+drawn grey and hatched, whatever their value, and the title counts them.
 """
 
 from __future__ import annotations
@@ -20,7 +22,8 @@ from scipy import ndimage
 from ..errors import ParameterError
 
 SYMBOLS = {"kappa": "κ", "nu": "ν", "sigma": "σ", "omega": "ω", "mu": "μ", "rho": "ρ",
-           "radius": "R", "bpm": "beat rate"}
+           "radius": "R", "bpm": "beat rate", "frequency": "f", "length": "L",
+           "lambda_c": "λ_c", "alpha": "α"}
 
 
 def axis_label(coord: xr.DataArray) -> str:
@@ -125,8 +128,36 @@ def _band_labels(ax, x: np.ndarray, y: np.ndarray, code: np.ndarray, labels: lis
                         ha="center", va="center", fontsize=7)
 
 
-def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int):
+def _edges(ds: xr.DataArray) -> np.ndarray:
+    """Cell edges around sorted axis values: geometric midpoints on a log axis, arithmetic
+    otherwise (one value: a cell of +-10 %)."""
+    v = np.asarray(ds.values, dtype=float)
+    if v.size == 1:
+        return np.array([0.9 * v[0], 1.1 * v[0]]) if v[0] else np.array([-0.5, 0.5])
+    log = ds.attrs.get("spacing") == "log"
+    w = np.log(v) if log else v
+    mid = 0.5 * (w[1:] + w[:-1])
+    e = np.concatenate([[2 * w[0] - mid[0]], mid, [2 * w[-1] - mid[-1]]])
+    return np.exp(e) if log else e
+
+
+def unconverged(ds: xr.Dataset, xname: str, yname: str) -> np.ndarray:
+    """(y, x) mask of cells where some category's refinement in M did not converge (all false
+    for a sweep without the variable ``spatial_converged``)."""
+    if "spatial_converged" not in ds:
+        return np.zeros((ds.sizes[yname], ds.sizes[xname]), dtype=bool)
+    bad = ~ds["spatial_converged"] & ds["computed"]
+    others = [d for d in bad.dims if d not in (xname, yname)]
+    return bad.any(dim=others).transpose(yname, xname).values
+
+
+def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
+             labels: bool = True, cmap: str = "Blues_r"):
+    """Minimum tau_min over the categories on the (x, y) cells of ``ax``: white where none
+    <= tau_max, grey hatched where the M refinement did not converge; returns
+    (mesh, number of hatched cells)."""
     ds = ds.sortby([xname, yname])
+    cats = [d for d in ds["tau_min"].dims if d not in (xname, yname)]
     order = [yname, xname, *cats]
     tau = ds["tau_min"].transpose(*order).values
     ok = _valid(ds.transpose(*order))
@@ -136,24 +167,50 @@ def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int
     best = flat_tau.argmin(axis=-1)
     value = np.take_along_axis(flat_tau, best[..., None], axis=-1)[..., 0]
     found = np.isfinite(value)
-    combos = list(itertools.product(*(range(ds.sizes[d]) for d in cats)))
-    labels = [_category_label(ds, cats, c) for c in combos]
-    fig, ax = plt.subplots(figsize=(7.5, 5.5))
-    x, y = ds[xname].values, ds[yname].values
+    xe, ye = _edges(ds[xname]), _edges(ds[yname])
     shown = np.ma.masked_where(~found, np.where(found, value, 0.0))
-    mesh = ax.pcolormesh(x, y, shown, cmap="Blues_r", vmin=0.0, vmax=tau_max, shading="nearest")
-    fig.colorbar(mesh, ax=ax, label=f"minimum τ of instability (white: none ≤ {tau_max:g})")
-    _band_labels(ax, x, y, np.where(found, best, -1), labels, min_cells)
+    mesh = ax.pcolormesh(xe, ye, shown, cmap=cmap, vmin=0.0, vmax=tau_max, shading="flat")
+    bad = unconverged(ds, xname, yname)
+    if bad.any():
+        ax.pcolor(xe, ye, np.ma.masked_where(~bad, np.ones(shape)), cmap="Greys", vmin=0.0,
+                  vmax=2.5, hatch="///", edgecolor="0.35", linewidth=0.0)
+    if labels:
+        combos = list(itertools.product(*(range(ds.sizes[d]) for d in cats)))
+        names = [_category_label(ds, cats, c) for c in combos]
+        _band_labels(ax, ds[xname].values, ds[yname].values, np.where(found & ~bad, best, -1),
+                     names, min_cells)
     ax.set_xlabel(axis_label(ds[xname]))
     ax.set_ylabel(axis_label(ds[yname]))
     _scale(ax, ds, xname, "x")
     _scale(ax, ds, yname, "y")
+    ax.set_xlim(xe[0], xe[-1])
+    ax.set_ylim(ye[0], ye[-1])
+    return mesh, int(bad.sum())
+
+
+def colour_label(tau_max: float) -> str:
+    """Colour-bar label of a minimum-tau map."""
+    return f"minimum τ of instability (white: none ≤ {tau_max:g})"
+
+
+def hatch_note(count: int, cells: int) -> str:
+    """Title note counting the hatched cells ('' when there are none)."""
+    return (f"; hatched grey: {count} of {cells} points not converged in M ≤ 512"
+            if count else "")
+
+
+def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int):
+    tau_max = float(ds.attrs.get("tau_max", ds["tau_min"].max()))
+    fig, ax = plt.subplots(figsize=(7.5, 5.5))
+    mesh, hatched = draw_map(ax, ds, xname, yname, min_cells=min_cells)
+    fig.colorbar(mesh, ax=ax, label=colour_label(tau_max))
     over = ", ".join(f"{d} = {', '.join(str(v) for v in ds[d].values)}" for d in cats
                      if ds.sizes[d] > 1)
     labels_note = " (labels: " + ("m, " if "m" in cats else "") + "H harmonic / S subharmonic)"
     fixed = _fixed(ds, [xname, yname] + [d for d in cats if ds.sizes[d] > 1])
-    ax.set_title(_title(ds, fixed) + (f"\nminimum over {over}{labels_note}" if over else ""),
-                 fontsize=8)
+    note = hatch_note(hatched, ds.sizes[xname] * ds.sizes[yname])
+    ax.set_title(_title(ds, fixed) + (f"\nminimum over {over}{labels_note}" if over else "")
+                 + note, fontsize=8)
     return fig
 
 

@@ -221,6 +221,54 @@ def _cochlea_uniform(out: Path, **_) -> list[Path]:
     return [png, _write_json(out / "fig-5.12.json", {"omega": omegas.tolist(), "modes": data})]
 
 
+def _cochlea_wavenumber(out: Path, *, progress: bool, **_) -> list[Path]:
+    """Fig 5.11: every real marginal tau <= 1 against a continuous wavenumber k in (0, 12],
+    alpha = 0, omega = 500 and 1000 rad/s (Table 5.1), with the finger tips and the integer
+    wavenumbers unstable for tau <= 1/2. The grid and the tips come from the Ince-Strutt engine
+    (runner.map_points, solvers.tongues.find_tips) run over the 1-parameter family
+    models.cochlea.wavenumber_system (k in place of kappa)."""
+    import functools
+
+    from ..models.cochlea import wavenumber_system
+    from ..params.physical import TABLE_5_1, cochlea_forced
+    from ..plots import cochlea as cochlea_plots
+    from ..runner import map_points
+    from ..solvers.tongues import find_tips
+
+    kinds, options = ("harmonic", "subharmonic"), {"tol": 1e-8, "tau_max": 1.0}
+    k_grid, integers = np.linspace(0.02, 12.0, 600), np.arange(1.0, 13.0)
+    base = {k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
+    panels, data = [], {}
+    for omega in (500.0, 1000.0):
+        d = cochlea_forced(**base, omega=omega)
+        factory = functools.partial(wavenumber_system, kappa=d["kappa"], nu=d["nu"])
+        rows = map_points(factory, list(k_grid), kinds, executor="serial", progress=progress,
+                          desc=f"fig-5.11, ω = {omega:g}", **options)
+        tips, failures = find_tips(factory, k_grid, rows, kinds, tol=options["tol"])
+        at_integers = map_points(factory, list(integers), kinds, executor="serial", **options)
+        tau_min = {int(k): min((r[kind].tau_min for kind in kinds if r[kind].tau_min is not None),
+                               default=None) for k, r in zip(integers, at_integers)}
+        points = {kind: (np.concatenate([np.full(r[kind].tau.size, k) for k, r in zip(k_grid, rows)]),
+                         np.concatenate([r[kind].tau for r in rows])) for kind in kinds}
+        unstable = {k: t for k, t in tau_min.items() if t is not None and t <= 0.5}
+        panels.append((f"ω = {omega:g} rad/s, α = 0 (κ = {d['kappa']:.4g}, ν = {d['nu']:.3g})",
+                       points, [(t.kind, t.kappa, t.tau) for t in tips], unstable))
+        data[str(omega)] = {
+            "kappa": d["kappa"], "nu": d["nu"], "k": k_grid.tolist(),
+            "tau": {kind: [r[kind].tau.tolist() for r in rows] for kind in kinds},
+            "tips": [{"kind": t.kind, "k": t.kappa, "tau": t.tau, "k_error": t.kappa_error,
+                      "tau_error": t.tau_error} for t in tips],
+            "tip_failures": failures,
+            "inviscid_tips_k": [j * j / (2 * d["kappa"]) for j in range(1, 12)
+                                if j * j / (2 * d["kappa"]) <= k_grid[-1]],
+            "integer_k_tau_min": {kind: {int(k): r[kind].tau_min for k, r in zip(integers, at_integers)}
+                                  for kind in kinds},
+            "unstable_integer_k": sorted(unstable)}
+    png = cochlea_plots.save_tau_against_wavenumber(panels, out / "fig-5.11.png",
+                                                    k_range=(0.0, k_grid[-1]))
+    return [png, _write_json(out / "fig-5.11.json", data)]
+
+
 def _cochlea_graded(out: Path, **_) -> list[Path]:
     """Fig 5.14: marginal tau against omega, alpha = 1.56, M = 5, 10 and 64 (the thesis: 250), N
     converged to 1e-10; each point's error estimate includes |tau(M) - tau(M/2)|."""
@@ -264,6 +312,131 @@ def _cochlea_convergence(out: Path, **_) -> list[Path]:
     return [png, _write_json(out / "fig-5.5.json", data)]
 
 
+# ---------------------------------------------------------------------------------------------
+# Fig 5.18: minimum-tau maps of the human and gerbil cochlea through the sweep runner
+# ---------------------------------------------------------------------------------------------
+
+#: Panels of Fig 5.18: name of the packaged scene spectralshell/scenes/fig-5.18-NAME.toml, title.
+FIG_5_18_PANELS = (
+    ("human", "human: Table 5.1 (ρ = 1 g/cm³, μ = 0.02 g/(cm s), L = 3.5 cm, λ_c = 1.4 /cm)"),
+    ("gerbil", "gerbil: L = 1.3 cm, λ_c = 3.7 /cm (ρ, μ of Table 5.1)"),
+)
+#: Points per axis of `spectralshell figure fig-5.18` (the packaged scenes: 200, as the thesis).
+#: Measured on the shared 2-core machine (processes executor, 2 workers at ~50 % CPU each):
+#: 6 x 6 per panel took 33 min, 57 % of it in the two human points f <= 166 Hz at
+#: sigma = 2e9 (~1100 s each: temporal truncation N = 150-300 for tau_min near 1/2); the other
+#: points took 2-80 s, those near f = 20 kHz 15-45 s (M = 512 solves).
+FIG_5_18_SIZE = 6
+#: How the thesis's frequency axis ("omega in [50, 20000] Hz") is read here.
+FIG_5_18_FREQUENCY = {
+    "axis": "f in Hz (cycles per second); omega = 2 pi f rad/s enters kappa = sigma pi/(rho L "
+            "omega^2) and nu = mu pi^2/(rho L^2 omega)",
+    "why": "the audible range (20 Hz - 20 kHz; gerbil up to ~50 kHz) is a range of f in Hz; the "
+           "thesis labels the axis 'omega in [50, 20000] Hz' but uses omega in s^-1 everywhere else",
+    "other_reading": "had the thesis put omega = 50..20000 s^-1 ('Hz' mislabelled), every feature "
+                     "of its map would sit log10(2 pi) = 0.80 decade further right on its axis "
+                     "than on ours (its axis would span f = 8 - 3183 Hz); at a given axis value "
+                     "kappa would be (2 pi)^2 = 39.5 times and nu 2 pi times ours",
+    "evidence": "the thesis finds no resonance only at the highest frequencies and lowest sigma "
+                "(white lower-right corner, M = 250). Read in Hz that corner is f = 20 kHz, "
+                "sigma = 1e7: no tau <= 1/2 at M = 250, and undecided by M = 512 (no mode of "
+                "M = 256 reaches the subharmonic resonance; the unpumped modes reach it from "
+                "M ~ 1000). Read as omega = 20000 s^-1 (f = 3.2 kHz) it has "
+                "tau_min = 0.049 (subharmonic) already at M = 250. So the Hz reading matches.",
+}
+
+
+def fig_5_18_scene(panel: str, size: int | None = None) -> dict:
+    """The packaged scene of a Fig 5.18 panel ('human' or 'gerbil'), with ``size`` points per
+    axis instead of its 200 (and lines cut into chunks of about size / 4 points)."""
+    import tomllib
+    from importlib import resources
+
+    text = resources.files("spectralshell").joinpath(f"scenes/fig-5.18-{panel}.toml").read_text()
+    scene = tomllib.loads(text)
+    if size is not None:
+        for axis in scene["grid"].values():
+            axis["num"] = int(size)
+        scene["sweep"] = {"chunk": max(1, -(-int(size) // 4))}
+    return scene
+
+
+def _minimum_over_kinds(ds) -> dict:
+    """Per (frequency, sigma) cell: tau_min over kinds (None: no tau <= tau_max) and the kind."""
+    tau = ds["tau_min"].where(ds["has_tau"]).transpose("frequency", "sigma", "kind").values
+    found = np.isfinite(tau).any(axis=-1)
+    best = np.where(found, np.nanargmin(np.where(np.isfinite(tau), tau, np.inf), axis=-1), -1)
+    kinds = list(ds["kind"].values)
+    value = np.where(found, np.nanmin(np.where(np.isfinite(tau), tau, np.inf), axis=-1), np.nan)
+    return {"tau_min": [[None if not np.isfinite(v) else float(v) for v in row] for row in value],
+            "kind": [[kinds[i] if i >= 0 else None for i in row] for row in best]}
+
+
+def _cochlea_tau_maps(out: Path, *, progress: bool, workers: int | None,
+                      size: int = FIG_5_18_SIZE) -> list[Path]:
+    """Fig 5.18: minimum tau <= 1/2 over both kinds against frequency (Hz) and sigma, human and
+    gerbil, each point's M refined to tol_spatial (Zarr stores kept: a rerun resumes)."""
+    import time
+
+    from ..plots import cochlea as cochlea_plots
+    from ..plots.sweep_plot import unconverged
+    from ..runner import run_sweep
+    from ..runner.layout import chunks, region
+    from ..params.sweep_grid import sweep_spec
+
+    panels, data, paths = [], {}, []
+    for name, title in FIG_5_18_PANELS:
+        scene = fig_5_18_scene(name, size)
+        spec = sweep_spec(scene)
+        plan = chunks(spec)
+        cost = np.full(spec.shape, np.nan)
+
+        def record(_, result, spec=spec, plan=plan, cost=cost) -> None:
+            cost[region(spec, plan[result.index])] = result.point_seconds
+
+        store = out / f"fig-5.18-{name}.zarr"
+        t0 = time.perf_counter()
+        run = run_sweep(spec, workers=workers, out=store, progress=progress, on_chunk=record)
+        ds = run.dataset
+        panels.append((title, ds))
+        m = ds["n_spatial"].values
+        cost_fs = cost.transpose(spec.dims.index("frequency"), spec.dims.index("sigma"),
+                                 spec.dims.index("kind")).sum(axis=-1)
+        data[name] = {
+            "scene": scene, "params": json.loads(ds.attrs["params"]),
+            "frequency_hz": ds["frequency"].values.tolist(), "sigma": ds["sigma"].values.tolist(),
+            **_minimum_over_kinds(ds),
+            "n_spatial": ds["n_spatial"].transpose("frequency", "sigma", "kind").values.tolist(),
+            "n_spatial_range": [int(m.min()), int(m.max())],
+            "kind_solves_not_converged_in_m": int((~ds["spatial_converged"].values).sum()),
+            "cells_hatched": int(unconverged(ds, "frequency", "sigma").sum()),
+            "wall_seconds": round(time.perf_counter() - t0, 1), "points_computed": run.computed,
+            "points_skipped": run.skipped, "executor": run.executor,
+            "point_seconds": [[None if not np.isfinite(c) else round(float(c), 3) for c in row]
+                              for row in cost_fs],
+        }
+        paths.append(store)
+    lo = min(d["n_spatial_range"][0] for d in data.values())
+    hi = max(d["n_spatial_range"][1] for d in data.values())
+    options = json.loads(panels[0][1].attrs["solver_options"])
+    caption = (f"Grid {size} × {size} (log-spaced f and σ; the packaged scenes: 200 × 200). "
+               f"N raised per point until |Δτ_min| < tol = {options['tol']:g}; M refined per "
+               f"point from 16 (doubling, ≤ 512) until |Δτ_min| ≤ tol_spatial = "
+               f"{options['tol_spatial']:g}; M used: {lo}–{hi}. Thesis: N = 20, M = 250 fixed. "
+               "Frequency f in Hz, ω = 2πf rad/s (if the thesis's axis is ω in s⁻¹, its features "
+               "sit log10(2π) ≈ 0.8 decade to the right of ours).")
+    png = cochlea_plots.save_tau_maps(panels, out / "fig-5.18.png", caption=caption)
+    summary = {"figure": "fig-5.18", "caption": caption, "grid_points_per_axis": size,
+               "solver_options": options, "n_spatial_range": [lo, hi],
+               "frequency": FIG_5_18_FREQUENCY,
+               "sigma_units": "g cm^-2 s^-2 (= dyn/cm^3: stiffness per unit area of the BM)",
+               "white": "no marginal tau <= tau_max = 1/2 of either kind",
+               "hatched": "M refinement did not converge by M = 512 (values at M = 512)",
+               "point_seconds": "in-worker time of each point's two kind solves (s), this run",
+               "panels": data}
+    return [png, _write_json(out / "fig-5.18.json", summary), *paths]
+
+
 FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
     "fig-2.2": ("Ince-Strutt diagram of the undamped Mathieu equation (nu = 0)",
                 lambda out, **kw: _diagrams("fig-2.2", out, [{"nu": 0.0}], kappa="0:3:301",
@@ -300,10 +473,15 @@ FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
                 _cochlea_profiles),
     "fig-5.9": ("cochlea: envelope peak against response frequency, with the WKB place map",
                 _cochlea_peaks),
+    "fig-5.11": ("cochlea, uniform stiffness: marginal tau against the wavenumber k, omega = 500, 1000",
+                 _cochlea_wavenumber),
     "fig-5.12": ("cochlea, uniform stiffness: marginal tau against omega for modes k = 1..6",
                  _cochlea_uniform),
     "fig-5.14": ("cochlea, graded stiffness: marginal tau against omega for M = 5, 10, 64",
                  _cochlea_graded),
+    "fig-5.18": ("cochlea: minimum tau <= 1/2 against frequency (Hz) and stiffness sigma, human "
+                 "and gerbil, M refined per point (a sweep; see spectralshell/scenes/)",
+                 _cochlea_tau_maps),
 }
 
 

@@ -19,10 +19,23 @@ floating-point work, since the skipped truncations are the small ones: see the m
 ``validation/bench_sweep.py``. The sequence rule mirrors ``solvers.marginal`` (tested against
 it in tests/test_sweep.py); were the two to drift apart, results would stay correct (the
 acceptance test is the solver's own), only continuation would stop paying off.
+
+Spatial modes (the cochlea)
+---------------------------
+Where the scene leaves the number M of spatial modes open, each point and kind is refined in M
+by :func:`~spectralshell.solvers.spatial_refinement.refine_spatial` (each kind on its own, so a
+kind is never pushed to a larger M by the other; the values equal ``api.floquet(model, kind=k,
+tol_spatial=...)`` at the point), with ``strict=False``: a point that reaches M = 512
+unconverged is kept, with its values at M = 512, and flagged ``spatial_converged = False``.
+With continuation, a point starts its refinement one step below its neighbour's pair (at the
+neighbour's coarser M halved, at least 16) instead of at 16. Inside the refinement each M runs
+the full temporal loop (no truncation continuation: the M-refinement changes the block size).
 """
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import time
 from dataclasses import dataclass
 
@@ -34,11 +47,14 @@ from ..models.registry import hill_system
 from ..params.registry import make_params
 from ..params.sweep_grid import SolverOptions, SweepSpec
 from ..solvers.marginal import N_MAX, MarginalTau, marginal_tau, truncation_taus
+from ..solvers.spatial_refinement import SPATIAL_LIMIT, SPATIAL_START, refine_spatial, spatial_error
 from .layout import Chunk, block_index, block_shape, chunk_points
 
 #: Result variables of the ask 'tau_min' and their dtypes.
 VARIABLES = {"tau_min": np.float64, "has_tau": np.bool_, "error_estimate": np.float64,
              "n_temporal": np.int32}
+#: Further variables of models with spatial modes (SweepSpec.spatial).
+SPATIAL_VARIABLES = {"n_spatial": np.int32, "spatial_converged": np.bool_}
 FIRST_MARGIN = 8  # solvers.marginal starts at x_0 = ceil(n_resonant) + 8
 
 
@@ -62,6 +78,15 @@ class KindSolution:
     n_temporal: int
     n_previous: int
     continued: bool = False
+    n_spatial: int = 0
+    n_spatial_previous: int = 0
+    spatial_converged: bool = True
+
+
+def variables(spec: SweepSpec) -> dict[str, type]:
+    """Result variables of a sweep and their dtypes (VARIABLES, plus SPATIAL_VARIABLES for a
+    model with spatial modes)."""
+    return {**VARIABLES, **SPATIAL_VARIABLES} if spec.spatial else dict(VARIABLES)
 
 
 def from_marginal(m: MarginalTau, tau_max: float) -> KindSolution:
@@ -135,16 +160,47 @@ def solve_kind(system: HillSystem, kind: str, options: SolverOptions,
     return solve_full(system, kind, options)
 
 
+def _spatial_system(model: str, params: dict, n_spatial: int) -> HillSystem:
+    return hill_system(make_params(model, {**params, "n_spatial": n_spatial}))
+
+
+def spatial_start(hint: int | None) -> int:
+    """First M of a point's refinement: one step below the neighbour's pair (``hint``: its
+    coarser M), at least SPATIAL_START; SPATIAL_START without a neighbour."""
+    return SPATIAL_START if hint is None else max(SPATIAL_START, hint // 2)
+
+
+def solve_spatial(spec: SweepSpec, params: dict, kind: str, hint: int | None = None) -> KindSolution:
+    """One kind at one point, refined in M from :func:`spatial_start` (see the module notes)."""
+    start = spatial_start(hint)
+    found = refine_spatial(functools.partial(_spatial_system, spec.model, params), (kind,),
+                           options=spec.options.marginal_kwargs(),
+                           tol_spatial=spec.options.tol_spatial, start=start,
+                           limit=SPATIAL_LIMIT, strict=False)
+    sol = from_marginal(spatial_error(found.taus[kind], found.change[kind]), spec.options.tau_max)
+    return dataclasses.replace(sol, continued=start > SPATIAL_START, n_spatial=found.n_spatial,
+                               n_spatial_previous=found.n_spatial_previous,
+                               spatial_converged=found.converged)
+
+
+def _fixed_modes(params: dict) -> int:
+    """M of a point with the spatial truncation given (1 for a single spatial_mode)."""
+    return int(params.get("n_spatial") or 1)
+
+
 @dataclass(frozen=True, eq=False)
 class ChunkResult:
     """Solved block of one chunk: arrays of ``block_shape`` per variable, compute time (s) in
-    the worker, and how many kind solves were accepted from continuation / fell back."""
+    the worker, and how many kind solves were accepted from continuation / fell back.
+    ``point_seconds`` (block shape): the time of each kind solve (not stored: it varies between
+    runs; for cost maps)."""
 
     index: int
     arrays: dict[str, np.ndarray]
     seconds: float
     continued: int
     fallbacks: int
+    point_seconds: np.ndarray | None = None
 
 
 def _describe(values: dict, kind: str, params: dict) -> str:
@@ -166,7 +222,8 @@ def _point_error(exc: Exception, values: dict, kind: str, params: dict) -> Excep
 
 def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
     """Solve every point and kind of a chunk in line order, each point continuing from the
-    previous one (when ``spec.options.continuation``).
+    previous one (when ``spec.options.continuation``): in the truncation N, or, where M is
+    refined per point, in M.
 
     Raises
     ------
@@ -174,29 +231,42 @@ def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
     """
     t0 = time.perf_counter()
     shape = block_shape(spec, chunk)
-    arrays = {name: np.zeros(shape, dtype=dtype) for name, dtype in VARIABLES.items()}
+    names = variables(spec)
+    arrays = {name: np.zeros(shape, dtype=dtype) for name, dtype in names.items()}
+    point_seconds = np.zeros(shape)
     hints: dict[str, tuple[int, int] | None] = {k: None for k in spec.kinds}
+    spatial_hints: dict[str, int | None] = {k: None for k in spec.kinds}
     continued = fallbacks = 0
     continuing = spec.options.continuation and spec.options.n_temporal is None
     for j, values in chunk_points(spec, chunk):
         params = spec.params_at(values)
         kind = spec.kinds[0]
         try:
-            system = hill_system(make_params(spec.model, params))
+            system = None if spec.refines_spatial else hill_system(make_params(spec.model, params))
             for q, kind in enumerate(spec.kinds):
-                hint = hints[kind] if continuing else None
-                tried = continuation_start(system, hint) is not None
-                sol = solve_kind(system, kind, spec.options, hint)
-                hints[kind] = (sol.n_previous, sol.n_temporal) if sol.has_tau else None
+                started = time.perf_counter()
+                if system is None:
+                    hint = spatial_hints[kind] if spec.options.continuation else None
+                    sol = solve_spatial(spec, params, kind, hint)
+                    spatial_hints[kind] = sol.n_spatial_previous
+                else:
+                    hint = hints[kind] if continuing else None
+                    tried = continuation_start(system, hint) is not None
+                    sol = solve_kind(system, kind, spec.options, hint)
+                    hints[kind] = (sol.n_previous, sol.n_temporal) if sol.has_tau else None
+                    fallbacks += tried and not sol.continued
+                    if spec.spatial:
+                        sol = dataclasses.replace(sol, n_spatial=_fixed_modes(params))
                 continued += sol.continued
-                fallbacks += tried and not sol.continued
                 at = block_index(spec, j, q)
-                for name in VARIABLES:
+                for name in names:
                     arrays[name][at] = getattr(sol, name)
+                point_seconds[at] = time.perf_counter() - started
         except Exception as exc:  # noqa: BLE001 - re-raised naming the point
             raise _point_error(exc, values, kind, params) from exc
     return ChunkResult(index=chunk.index, arrays=arrays, seconds=time.perf_counter() - t0,
-                       continued=int(continued), fallbacks=int(fallbacks))
+                       continued=int(continued), fallbacks=int(fallbacks),
+                       point_seconds=point_seconds)
 
 
 def solve_points(factory, points: list, kinds: tuple[str, ...],

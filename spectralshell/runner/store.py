@@ -7,7 +7,14 @@ Variables (dimensions: the grid axes, 'kind' included), NaN-free:
 * ``has_tau``: a marginal tau <= tau_max exists;
 * ``error_estimate``: the solver's error estimate of tau_min (0 where there is none);
 * ``n_temporal``: the final temporal truncation N;
-* ``computed``: the point has been solved (false only in an interrupted store).
+* ``computed``: the point has been solved (false only in an interrupted store);
+
+and, for a model with spatial modes (the cochlea):
+
+* ``n_spatial``: the number M of spatial modes of the values (the finer M of the last pair
+  compared where M is refined per point; 1 for a single spatial_mode);
+* ``spatial_converged``: the refinement in M met tol_spatial (false: it reached M = 512 first,
+  and the values are those at M = 512; always true with n_spatial given).
 
 A Zarr store (format 2, consolidated metadata) is created whole -- metadata, coordinates and
 fill values -- in a hidden directory that is then renamed into place, so it is always readable.
@@ -31,9 +38,10 @@ from .._version import __version__
 from ..errors import ParameterError
 from ..params.sweep_grid import LONG_NAMES, SweepSpec
 from .layout import store_chunks
-from .solve import VARIABLES
+from .solve import SPATIAL_VARIABLES, VARIABLES, variables
 
-ALL_VARIABLES = {**VARIABLES, "computed": np.bool_}
+#: Every variable a store may hold, in the order a loaded Dataset lists them.
+KNOWN_VARIABLES = {**VARIABLES, **SPATIAL_VARIABLES, "computed": np.bool_}
 SUFFIXES = (".zarr", ".nc")
 _VAR_ATTRS = {
     "tau_min": {"long_name": "smallest marginal forcing amplitude tau <= tau_max", "units": "1",
@@ -42,13 +50,21 @@ _VAR_ATTRS = {
     "error_estimate": {"long_name": "Floquet error estimate of tau_min", "units": "1",
                        "note": "0 where has_tau is false"},
     "n_temporal": {"long_name": "final temporal truncation N"},
+    "n_spatial": {"long_name": "number of spatial modes M of the values"},
+    "spatial_converged": {"long_name": "tau_min converged to tol_spatial in M (false: M = 512 "
+                                       "reached first; values at M = 512)"},
     "computed": {"long_name": "point solved (false only in an interrupted store)"},
 }
 
 
+def stored_variables(spec: SweepSpec) -> dict[str, type]:
+    """Variables of a sweep's store and their dtypes: the solved ones and ``computed``."""
+    return {**variables(spec), "computed": np.bool_}
+
+
 def empty_arrays(spec: SweepSpec) -> dict[str, np.ndarray]:
     """Result arrays before any point is solved (tau_min = tau_max, everything else 0/false)."""
-    out = {name: np.zeros(spec.shape, dtype=dtype) for name, dtype in ALL_VARIABLES.items()}
+    out = {name: np.zeros(spec.shape, dtype=dtype) for name, dtype in stored_variables(spec).items()}
     out["tau_min"][...] = spec.options.tau_max
     return out
 
@@ -77,7 +93,8 @@ def to_dataset(spec: SweepSpec, arrays: dict[str, np.ndarray]) -> xr.Dataset:
         if a.units:
             attrs["units"] = a.units
         coords[a.name] = xr.Variable((a.name,), np.array(a.values), attrs)
-    data = {name: xr.Variable(spec.dims, arrays[name], _VAR_ATTRS[name]) for name in ALL_VARIABLES}
+    data = {name: xr.Variable(spec.dims, arrays[name], _VAR_ATTRS[name])
+            for name in stored_variables(spec)}
     return xr.Dataset(data, coords=coords, attrs=provenance(spec))
 
 
@@ -132,12 +149,12 @@ def load_existing(path: Path, spec: SweepSpec) -> dict[str, np.ndarray] | None:
             raise ParameterError(f"out = {str(path)!r} holds {what}, not this scene (hash "
                                  f"{spec.digest}): choose another --out or delete it; sweeps "
                                  "are never mixed")
-        missing = [v for v in ALL_VARIABLES if v not in ds]
+        wanted = stored_variables(spec)
+        missing = [v for v in wanted if v not in ds]
         if missing or tuple(ds["tau_min"].dims) != spec.dims:
             raise ParameterError(f"out = {str(path)!r} is a damaged store (variables or "
                                  "dimensions missing): delete it and rerun")
-        return {name: np.asarray(ds[name].values, dtype=dtype)
-                for name, dtype in ALL_VARIABLES.items()}
+        return {name: np.asarray(ds[name].values, dtype=dtype) for name, dtype in wanted.items()}
 
 
 class ZarrStore:
@@ -148,14 +165,15 @@ class ZarrStore:
 
         self.path = path
         group = zarr.open_group(str(path), mode="r+")
-        self._arrays = {name: group[name] for name in ALL_VARIABLES}
+        self._names = tuple(variables(spec))
+        self._arrays = {name: group[name] for name in stored_variables(spec)}
 
     @classmethod
     def create(cls, path: Path, spec: SweepSpec) -> "ZarrStore":
         """Write a new store (metadata, coordinates, fill values) and open it."""
         ds = to_dataset(spec, empty_arrays(spec))
         chunks = store_chunks(spec)
-        encoding = {name: {"chunks": chunks} for name in ALL_VARIABLES}
+        encoding = {name: {"chunks": chunks} for name in stored_variables(spec)}
         tmp = path.parent / f".partial-{uuid.uuid4().hex[:8]}-{path.name}"
         try:
             ds.to_zarr(tmp, mode="w-", encoding=encoding, zarr_format=2, consolidated=True)
@@ -169,7 +187,7 @@ class ZarrStore:
 
     def write(self, where: tuple[slice, ...], block: dict[str, np.ndarray]) -> None:
         """Write one finished chunk: the variables, then its ``computed`` flags."""
-        for name in VARIABLES:
+        for name in self._names:
             self._arrays[name][where] = block[name]
         self._arrays["computed"][where] = np.ones(block["tau_min"].shape, dtype=bool)
 
@@ -198,6 +216,6 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
     with _open(path) as ds:
         if "scene_hash" not in ds.attrs or "tau_min" not in ds:
             raise ParameterError(f"sweep = {str(path)!r} is invalid: not a spectralshell sweep")
-        order = [v for v in ALL_VARIABLES if v in ds]
-        order += [v for v in ds.data_vars if v not in ALL_VARIABLES]
+        order = [v for v in KNOWN_VARIABLES if v in ds]
+        order += [v for v in ds.data_vars if v not in KNOWN_VARIABLES]
         return ds[order].load()

@@ -152,7 +152,8 @@ def sweep(scene, *, executor: str = "processes", workers: int | None = None,
     ``scene`` is a path, a TOML string or a dict with model, ask = ["tau_min"], [params] and a
     [grid] (see :mod:`spectralshell.params.sweep_grid`). The result has the grid parameters as
     coordinates (units in attrs), variables tau_min, has_tau, error_estimate, n_temporal and
-    computed, and provenance attrs. Every executor gives the same numbers. With ``out`` a .zarr
+    computed (and, for a model with spatial modes, n_spatial and spatial_converged), and
+    provenance attrs. Every executor gives the same numbers. With ``out`` a .zarr
     store is written chunk by chunk and a rerun computes only the missing points; a .nc file is
     written at the end. See :func:`run_sweep` for the parameters and errors.
     """

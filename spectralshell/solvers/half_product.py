@@ -36,7 +36,9 @@ Completeness: every eigenvalue of modulus above |lambda_k|, i.e. every tau with 
 * if none is, and r >= tau_max, the truncation has no real tau <= tau_max;
 * otherwise k is doubled (from K_START), and once the Krylov space would exceed
   1/KRYLOV_FRACTION of the operator's order (dense eig is then cheaper) the fast path gives up
-  (returns None).
+  (returns None). With ``max_rounds`` the doubling stops earlier and the radius reached is
+  returned with no tau (a partial answer: no real tau up to it), from which the shift-invert
+  cover of :mod:`spectralshell.solvers.shift_invert` continues.
 
 Eigenvalues with |lambda| <= 64 eps |lambda_1| are zero to working precision (infinite tau);
 reaching one means every other eigenvalue was found (r = inf). The argument rests on ARPACK
@@ -55,7 +57,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from ..discretise.hill import HillMatrices, _realify
+from ..discretise.hill import HillMatrices, realify
 
 COND_LIMIT = 1e8
 REAL_RTOL = 1e-9
@@ -74,7 +76,7 @@ def tau_from_squares(lam: np.ndarray, floor: float, exact_real: bool) -> np.ndar
     return np.sort(1.0 / np.sqrt(lam.real[keep]))
 
 
-def _realified(diag: np.ndarray) -> np.ndarray:
+def is_realified(diag: np.ndarray) -> np.ndarray:
     """Mask of the real blocks that are exactly [[D_r, -D_i], [D_i, D_r]]."""
     b = diag.shape[1] // 2
     if diag.shape[1] % 2 or np.iscomplexobj(diag):
@@ -110,7 +112,7 @@ class BlockInverses:
         out = np.empty((K, self.size, self.size), dtype=self.inv.dtype)
         out[self.rows] = self.inv
         if self.complex_rows.size:
-            out[self.complex_rows] = _realify(self.complex_inv)
+            out[self.complex_rows] = realify(self.complex_inv)
         return out
 
     def subset(self, rows: slice) -> BlockInverses:
@@ -160,7 +162,7 @@ def _inverses(diag: np.ndarray) -> BlockInverses:
         lower = np.arange(K // 2)
         inv[lower] = inv[K - 1 - lower].conj()
         return BlockInverses(size=s, rows=every, inv=inv, complex_rows=none, complex_inv=empty)
-    mask = _realified(diag)
+    mask = is_realified(diag)
     if mask.sum() < 2:
         return BlockInverses(size=s, rows=every, inv=np.linalg.inv(diag), complex_rows=none,
                              complex_inv=empty)
@@ -254,11 +256,11 @@ def _equal_to(blocks: np.ndarray, idx: np.ndarray, ref: np.ndarray) -> np.ndarra
     return np.all(blocks[idx] == ref, axis=(1, 2))
 
 
-def _t_rows(hill: HillMatrices, inverses: BlockInverses, targets: np.ndarray):
-    """padded x -> blocks ``targets`` of T x, where padded[k + 1] = x_k (zero at both ends).
+def coupling_rows(hill: HillMatrices, targets: np.ndarray):
+    """padded x -> blocks ``targets`` of B x, where padded[k + 1] = x_k (zero at both ends).
 
     B repeats one lower and one upper block (the forcing), usually with upper = -lower:
-    those rows take one product, (T x)_k = A_k^{-1} B_low (x_{k-1} - x_{k+1}); rows with other
+    those rows take one product, (B x)_k = B_low (x_{k-1} - x_{k+1}); rows with other
     blocks (n = 0 of the real form) are done block by block."""
     K, s, _ = hill.diag.shape
     low, up = np.ascontiguousarray(hill.lower[-1]), np.ascontiguousarray(hill.upper[-1])
@@ -276,7 +278,6 @@ def _t_rows(hill: HillMatrices, inverses: BlockInverses, targets: np.ndarray):
                          for t in odd]).reshape(-1, s, s)
     difference = np.array_equal(up, -low)
     low_product, up_product = _right_product(low), _right_product(up)
-    solve = inverses.solver(targets)
 
     def apply(padded: np.ndarray) -> np.ndarray:
         r = np.empty((targets.size, s), dtype=padded.dtype)
@@ -287,9 +288,15 @@ def _t_rows(hill: HillMatrices, inverses: BlockInverses, targets: np.ndarray):
         if odd.size:
             r[~regular] = (odd_low @ padded[odd, :, None] + odd_up @ padded[odd + 2, :, None]
                            + odd_self @ padded[odd + 1, :, None])[:, :, 0]
-        return solve(r)
+        return r
 
     return apply
+
+
+def _t_rows(hill: HillMatrices, inverses: BlockInverses, targets: np.ndarray):
+    """padded x -> blocks ``targets`` of T x = A^{-1} B x (padded as in :func:`coupling_rows`)."""
+    rows, solve = coupling_rows(hill, targets), inverses.solver(targets)
+    return lambda padded: solve(rows(padded))
 
 
 def krylov_operator(hill: HillMatrices,
@@ -347,12 +354,16 @@ def _dominant(op: spla.LinearOperator, k: int, ncv: int) -> np.ndarray | None:
 
 
 def smallest_taus(hill: HillMatrices, *, tau_max: float = np.inf,
-                  inverses: BlockInverses | None = None) -> SmallestTaus | None:
+                  inverses: BlockInverses | None = None,
+                  max_rounds: int | None = None) -> SmallestTaus | None:
     """The smallest real tau >= 0 of a real-form Hill pencil by Arnoldi iteration.
 
     Returns the real tau up to a radius r >= min(tau_min, tau_max), with every real tau <= r
     (module notes), or None when A is ill conditioned (see :func:`block_inverses`) or the Krylov
     space needed exceeds 1/KRYLOV_FRACTION of the operator's order (use dense eig then).
+    ``max_rounds``: after that many values of k, return what is certified so far even if it is
+    short of min(tau_min, tau_max): no real tau up to ``complete_to`` (a partial answer, the
+    start of an interval cover, :mod:`spectralshell.solvers.shift_invert`).
     Cost: O(K s^3) for the block inverses (``inverses``, if already known), O(K s^2) per step.
     """
     if not hill.is_real:
@@ -363,6 +374,7 @@ def smallest_taus(hill: HillMatrices, *, tau_max: float = np.inf,
     op, squared = krylov_operator(hill, inverses)
     n = op.shape[0]
     k = K_START if squared else 2 * K_START  # T has each +-mu pair, W one mu^2
+    rounds = 0
     while True:
         ncv = max(2 * k + 1, 4 * K_START)
         if KRYLOV_FRACTION * ncv > n:
@@ -378,6 +390,7 @@ def smallest_taus(hill: HillMatrices, *, tau_max: float = np.inf,
         else:
             tau = np.sort(1.0 / lam.real[(lam.imag == 0.0) & (lam.real > floor)])
         tau = tau[tau <= radius]
-        if tau.size or radius >= tau_max:
+        rounds += 1
+        if tau.size or radius >= tau_max or rounds == max_rounds:
             return SmallestTaus(tau=tau, complete_to=float(radius), n_eigenvalues=len(lam))
         k *= 2

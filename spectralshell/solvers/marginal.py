@@ -26,6 +26,15 @@ truncation:
   would need more than a third of the operator (a short truncation, or many eigenvalues with
   |tau| below the wanted ones) or A is ill conditioned, the truncation is solved by the dense
   path instead, and the Arnoldi work is lost.
+  With a finite tau_max that run is cut to one Arnoldi step (k = 8 eigenvalues of W, 16 of T),
+  and if it does not reach min(tau_min, tau_max) the rest of [0, tau_max] is covered by
+  shift-invert Arnoldi at real shifts (:mod:`spectralshell.solvers.shift_invert`, result
+  ``method = "shift-invert"``): the eigenvalues near the real interval only, each disk
+  certified complete, up to the smallest real tau. Within one solve each truncation starts from
+  the previous one's shifts (or its tau_min, or the caller's ``hint``). The cover gives up
+  (dense path) past a work budget of ~0.6 of the dense cost. Measured in
+  validation/bench_hill_large.py: the cochlea at low forcing frequency, where the
+  smallest-|tau| run gives up, 5-10x faster than dense eig at block size 128.
 * ``method = "auto"`` (default): Krylov for truncations with (N + 1) b >= KRYLOV_MIN_ORDER
   (= 600; (N + 1) b is the order of W), dense below. Measured in
   validation/bench_hill_large.py (one BLAS thread): where Arnoldi succeeds it is about as fast
@@ -65,6 +74,7 @@ from ..errors import ConvergenceError
 from ..models.base import HillSystem
 from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
                            smallest_taus, tau_from_squares)
+from .shift_invert import Shift, interval_taus
 
 ZERO_CLUSTER = 1e-6
 N_MAX = 400
@@ -86,7 +96,8 @@ class MarginalTau:
     n_previous : the truncation it was compared with.
     error_estimate : max(|tau_min(N) - tau_min(previous N)|, spread of a reported tau = 0,
         8 eps max(1, tau_min)) (None if there is no tau_min).
-    method : 'structured', 'krylov' or 'qz' (the fallback), at the final truncation.
+    method : 'structured', 'krylov', 'shift-invert' or 'qz' (the fallback), at the final
+        truncation.
     complete_to : ``tau`` is complete up to this value: every real tau <= complete_to (and
         <= tau_max) of both truncations was computed, and beyond it none was looked for; inf
         when both were solved completely (dense), else the smaller Krylov radius.
@@ -165,13 +176,15 @@ def preferred_form(kind: str) -> str:
 @dataclass(frozen=True, kw_only=True, eq=False)
 class Truncation:
     """Real tau >= 0 of one truncation: ascending ``tau``, the ``method`` that found them, the
-    uncertainty ``spread`` of a reported tau = 0 (QZ path), and ``complete_to``: every real
-    tau <= complete_to is listed (inf: the whole real spectrum)."""
+    uncertainty ``spread`` of a reported tau = 0 (QZ path), ``complete_to``: every real
+    tau <= complete_to is listed (inf: the whole real spectrum), and the ``shifts`` of the
+    shift-invert cover (a plan for the next truncation; empty on the other paths)."""
 
     tau: np.ndarray
     method: str
     spread: float = 0.0
     complete_to: float = np.inf
+    shifts: tuple[Shift, ...] = ()
 
 
 def half_order(system: HillSystem, n_temporal: int) -> int:
@@ -212,11 +225,17 @@ class Pencils:
 
 def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
                     tau_max: float = np.inf, method: str = "auto",
-                    pencils: Pencils | None = None) -> Truncation:
+                    pencils: Pencils | None = None, hint: float | None = None,
+                    plan: tuple[Shift, ...] = ()) -> Truncation:
     """Real tau >= 0 of one truncation by ``method`` (module notes): 'dense' lists all of them;
     'krylov' (and 'auto' when ``half_order`` >= KRYLOV_MIN_ORDER) at least every real
     tau <= min(tau_min, tau_max), on the real form, falling back to 'dense' when it cannot; QZ
-    when A is ill conditioned. ``pencils``: a cache shared by the truncations of one solve."""
+    when A is ill conditioned. ``pencils``: a cache shared by the truncations of one solve.
+    With a finite ``tau_max`` the Krylov path is one Arnoldi run for the smallest |tau| and, if
+    that does not reach min(tau_min, tau_max), a shift-invert cover of the rest of
+    [0, tau_max] (:func:`~spectralshell.solvers.shift_invert.interval_taus`), started at
+    ``hint`` (a real tau expected nearby) and at the shifts of ``plan`` (a previous
+    truncation's ``shifts``)."""
     if method not in METHODS:
         raise ValueError(f"method = {method!r} is invalid: must be one of {METHODS}")
     if not np.any(system.forcing):
@@ -226,9 +245,17 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
                                     half_order(system, n_temporal) >= KRYLOV_MIN_ORDER)
     if krylov:
         hill, inv = pencils.get(n_temporal, "real")
-        found = None if inv is None else smallest_taus(hill, tau_max=tau_max, inverses=inv)
-        if found is not None:
+        bounded = bool(np.isfinite(tau_max))
+        found = None if inv is None else smallest_taus(hill, tau_max=tau_max, inverses=inv,
+                                                       max_rounds=1 if bounded else None)
+        if found is not None and (found.tau.size or found.complete_to >= tau_max):
             return Truncation(tau=found.tau, method="krylov", complete_to=found.complete_to)
+        if bounded and inv is not None:
+            cover = interval_taus(hill, tau_max, hint=hint, plan=plan, smallest_only=True,
+                                  none_below=0.0 if found is None else found.complete_to)
+            if cover is not None:
+                return Truncation(tau=cover.tau, method="shift-invert",
+                                  complete_to=cover.complete_to, shifts=cover.shifts)
     hill, inv = pencils.get(n_temporal, preferred_form(kind))
     if inv is None:
         taus, spread = qz_taus(pencils.get(n_temporal, "real")[0])
@@ -285,7 +312,8 @@ def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
 
 def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                  n_temporal: int | None = None, n_max: int = N_MAX,
-                 tau_max: float = np.inf, method: str = "auto") -> MarginalTau:
+                 tau_max: float = np.inf, method: str = "auto",
+                 hint: float | None = None) -> MarginalTau:
     """Marginal amplitudes tau of one Floquet kind, converged in the truncation N.
 
     Parameters
@@ -302,16 +330,28 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         truncations.
     method : 'auto' (default), 'dense' or 'krylov', per truncation (module notes). tau_min and
         its error estimate do not depend on it; ``tau`` lists every real tau <= tau_max with
-        'dense', and those up to ``complete_to`` (at least tau_min) with 'krylov'.
+        'dense', and those up to ``complete_to`` (at least tau_min) with 'krylov' (whose
+        truncations report 'krylov' or, with a finite tau_max, 'shift-invert').
+    hint : a real tau expected near tau_min (e.g. a neighbouring point's tau_min in a sweep):
+        where the shift-invert cover of a big truncation with finite ``tau_max`` starts
+        (:func:`truncation_taus`); later truncations start from the previous one's shifts, or
+        its tau_min. Only speed depends on it.
 
     Raises
     ------
     ConvergenceError : tau_min has not converged to ``tol`` by N = ``n_max``.
     """
     pencils = Pencils(system, kind)
+    start = {"hint": hint, "plan": ()}  # continuation from one truncation to the next
 
     def solve(n: int) -> Truncation:
-        return truncation_taus(system, kind, n, tau_max=tau_max, method=method, pencils=pencils)
+        found = truncation_taus(system, kind, n, tau_max=tau_max, method=method,
+                                pencils=pencils, **start)
+        capped = _capped(found.tau, tau_max)
+        if found.shifts or capped.size:  # its shifts, else its tau_min, else the hint as it was
+            start.update(plan=found.shifts,
+                         hint=None if found.shifts else float(capped[0]))
+        return found
 
     if n_temporal is not None:
         n_prev = _previous(n_temporal)

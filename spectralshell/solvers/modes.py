@@ -114,13 +114,22 @@ def _gamma_error(system: ModalSystem, x, err) -> float:
     return float(max(abs(system.to_gamma(x + err) - g), abs(system.to_gamma(x + 1j * err) - g)))
 
 
-def _polish(system: ModalSystem, x: complex, precision: int, max_iter: int):
-    """Newton in mpmath at precision + 10 digits; (x_mp, error bound in x)."""
+def polish_root(residual_mp, x: complex, *, precision: int, max_iter: int = 40):
+    """Root of f near x by Newton's method in mpmath at precision + 10 digits, from residual_mp:
+    x -> (f, f') at the current ``mpmath.mp.dps`` (any pair whose ratio is the Newton step).
+
+    Each step is capped at |x|/2; the iteration stops when the step is below 10^-(precision+5) |x|.
+    Returns (x_mp, error bound): max(last step, 10^-precision |x|), an mpmath number.
+
+    Raises
+    ------
+    ConvergenceError : no convergence in ``max_iter`` steps.
+    """
     with mpmath.workdps(precision + 10):
         xm = mpmath.mpc(x)
         target = mpmath.mpf(10) ** (-(precision + 5))
         for _ in range(max_iter):
-            f, fp = system.residual_mp(xm)
+            f, fp = residual_mp(xm)
             if fp == 0:
                 break
             step = f / fp
@@ -188,7 +197,8 @@ def find_modes(system: ModalSystem, *, count: int | None = None, precision: int 
     errs = [r.step for r in found]
     digits = double_error = None
     if precision is not None:
-        polished = [_polish(system, x, precision, max_iter) for x in xs]
+        polished = [polish_root(system.residual_mp, x, precision=precision, max_iter=max_iter)
+                    for x in xs]
         with mpmath.workdps(precision + 10):
             gammas_mp = [system.to_gamma(xm) for xm, _ in polished]
             digits = tuple((mpmath.nstr(g.real, precision), mpmath.nstr(g.imag, precision))

@@ -18,11 +18,17 @@ largest; the right singular vector is the mode shape. The error estimate is the 
 
 Completeness
 ------------
-:func:`count_in_contour` counts the eigenvalues inside a closed polygon by the argument principle,
-(1/(2 pi i)) oint tr(T^{-1} T') ds, by Gauss-Legendre quadrature on each edge, doubling the nodes
-until two successive values agree to 1e-2 and lie within 1e-2 of an integer. Comparing it with the
-roots found inside says whether the seeds found every eigenvalue there. The contour must avoid
-eigenvalues and branch cuts of T.
+:func:`count_by_winding` counts the eigenvalues inside a closed polygon from the winding of the
+phase of det T along it (the argument principle); comparing it with the roots found inside says
+whether every eigenvalue there was found. It needs T only continuous up to the contour: edges may
+run along a branch cut (one-sided limit) and through branch points.
+
+Continuation
+------------
+:func:`continue_roots` follows eigenvalues along a parameter; the branches advance together
+(the one at the smallest parameter moves next), so each step is judged against the neighbours
+at the same parameter. For T(conj s) = conj T(s) a conjugate pair that meets on the real axis
+is followed on as the two real roots it becomes there.
 """
 
 from __future__ import annotations
@@ -143,79 +149,171 @@ def nonlinear_eigenvalues(T: Matrix, dT: Matrix, seeds: Iterable[complex], *, to
                                 singular_ratio=np.array(ratios), seeds_tried=tried, failed=failed)
 
 
-def count_in_contour(T: Matrix, dT: Matrix, vertices: Iterable[complex], *, n_start: int = 16,
-                     n_max: int = 4096) -> int:
+def _phase(T: Matrix, s: complex) -> complex:
+    """det T(s) / |det T(s)| (the sign of slogdet: no overflow for large b); 0 if singular."""
+    return complex(np.linalg.slogdet(T(s))[0])
+
+
+def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | None = None,
+                     n_start: int = 16, n_max: int = 1024, max_phase: float = 0.5,
+                     min_width: float = 1e-14) -> int:
     """Number of eigenvalues (with multiplicity) inside the closed polygon ``vertices``
-    (counter-clockwise) by the argument principle (module notes).
+    (counter-clockwise) from the winding number of det T along it.
+
+    Notes
+    -----
+    The change of arg det T (the sign of slogdet: no overflow for large b) is summed over the
+    edges, each cut into ``n_start`` equal sub-intervals that are bisected until the phase turns by
+    at most ``max_phase`` across each. A sampled phase cannot tell a turn theta from
+    theta + 2 pi n (clustered eigenvalues near the contour alias that way); with ``dT`` each
+    sub-interval must also agree to ``max_phase``/2 with the midpoint rule for the turn,
+    Im(ds tr(T^{-1} T')) at its midpoint, which follows the full turn. The count is repeated with
+    ``n_start`` doubled until two successive values agree. An eigenvalue at distance d from the
+    contour turns the phase by ~pi over a length ~d, so refinement finds it.
+    It needs T only continuous up to the contour (and dT only at the midpoints): an edge may run along a branch cut, evaluated as its limit from one side (for
+    a principal square root in T, points x + 0j with a positive-zero imaginary part give the limit
+    from Im s > 0), and a vertex may sit on a branch point, where tr(T^{-1} T') is infinite.
 
     Raises
     ------
-    ConvergenceError : the quadrature did not settle on an integer by ``n_max`` nodes per edge
-        (an eigenvalue or branch point on or very near the contour).
+    ConvergenceError : det T vanishes on the contour (a sub-interval shrinks below
+        ``min_width`` times its edge with the phase still turning), or the counts do not settle
+        by ``n_max`` sub-intervals per edge.
     """
-    v = np.asarray(list(vertices), dtype=complex)
-    edges = list(zip(v, np.roll(v, -1)))
+    v = [complex(z) for z in vertices]
+    edges = list(zip(v, v[1:] + v[:1]))
     n, previous = n_start, None
     while n <= n_max:
-        x, w = np.polynomial.legendre.leggauss(n)
-        total = 0j
+        total = 0.0
         for a, b in edges:
-            half = (b - a) / 2
-            total += sum(wi * half * _log_derivative(T, dT, (a + b) / 2 + half * xi) for xi, wi in zip(x, w))
-        value = total / (2j * np.pi)
-        if previous is not None and abs(value - previous) < 1e-2 and abs(value.real - round(value.real)) < 1e-2:
-            return int(round(value.real))
+            t = np.linspace(0.0, 1.0, n + 1)
+            phases = [_phase(T, a + (b - a) * x) for x in t]
+            stack = [(t[j], t[j + 1], phases[j], phases[j + 1]) for j in range(n)]
+            while stack:
+                lo, hi, p_lo, p_hi = stack.pop()
+                if p_lo == 0 or p_hi == 0:
+                    raise ConvergenceError(f"det T vanishes on the contour near s = {a + (b - a) * lo!r}")
+                mid = 0.5 * (lo + hi)
+                turn = float(np.angle(p_hi / p_lo))
+                agrees = abs(turn) <= max_phase
+                if agrees and dT is not None:
+                    estimate = ((b - a) * (hi - lo) * _log_derivative(T, dT, a + (b - a) * mid)).imag
+                    agrees = abs(turn - estimate) <= max_phase / 2
+                if agrees:
+                    total += turn
+                    continue
+                if hi - lo < min_width:
+                    raise ConvergenceError(f"an eigenvalue lies on the contour near s = {a + (b - a) * lo!r}")
+                p_mid = _phase(T, a + (b - a) * mid)
+                stack += [(lo, mid, p_lo, p_mid), (mid, hi, p_mid, p_hi)]
+        value = total / (2 * np.pi)
+        if previous is not None and abs(value - previous) < 1e-6 and abs(value - round(value)) < 1e-6:
+            return int(round(value))
         previous, n = value, 2 * n
-    raise ConvergenceError(f"the argument-principle count did not settle by {n_max} nodes per edge "
-                           f"(last value {previous:.6g}): move the contour away from eigenvalues "
-                           "and branch cuts")
+    raise ConvergenceError(f"the winding count did not settle by {n_max} sub-intervals per edge "
+                           f"(last value {previous:.6g})")
+
+
+def _real_partner(T: Matrix, dT: Matrix, before: complex, real: complex, tol: float) -> complex | None:
+    """The second real root left where a conjugate pair (``before`` one step earlier) met on the
+    real axis and Newton's method returned the real root ``real``: deflated Newton from the mirror
+    image of ``real`` about Re ``before``; None unless it converges to a real root other than
+    ``real`` within twice the pair's reach |real - before| + |Im before| of Re ``before``."""
+    centre = before.real
+    reach = abs(real - before) + abs(before.imag)
+    out = newton(T, dT, complex(2 * centre - real.real, 0.0), known=[real], tol=tol)
+    if out is None or abs(out[0].imag) > out[1] or abs(out[0] - centre) > 2 * reach or \
+            abs(out[0] - real) <= DUPLICATE_RTOL * abs(real):
+        return None
+    return complex(out[0].real, 0.0)
 
 
 def continue_roots(family: Callable[[float], tuple[Matrix, Matrix]], start: float, stop: float,
                    roots: Iterable[complex], *, first_ratio: float = 1.5, min_ratio: float = 1e-6,
-                   max_move: float = 0.25, tol: float = 1e-13) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                   max_move: float = 0.25, tol: float = 1e-13,
+                   conjugate_symmetric: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Follow each eigenvalue of T(s; p) from p = ``start`` (where ``roots`` are its eigenvalues)
     to p = ``stop`` > start > 0, in geometric steps with step control.
 
-    A step p -> p r is accepted when Newton's method (at most 12 iterations, from the linear
-    extrapolation of the last two points) converges and the root moves by at most ``max_move``
-    times its distance to the nearest other branch; otherwise r -> sqrt(r). A branch whose ratio
-    falls below 1 + ``min_ratio`` is abandoned (a fold, a collision or a branch cut).
+    The branches advance in turn, always the one at the smallest p, each with its own step
+    p -> p r. A step is accepted when Newton's method (at most 12 iterations, from the linear
+    extrapolation in log p of the last two points) converges and the root moves by at most
+    ``max_move`` times its distance to the nearest other branch *at the same p*; otherwise
+    r -> sqrt(r). The other branches' positions at p are interpolated linearly in log p on their
+    last step, which brackets p because the branch at the smallest p moves next. (Comparing with
+    the other branches at their start or end values instead lets a branch jump onto a neighbour's
+    root where two branches pass close.) A branch whose ratio falls below 1 + ``min_ratio`` is
+    abandoned (a fold, a collision or a branch cut).
+
+    ``conjugate_symmetric``: T(conj s) = conj T(s), so the mirror images of the other branches are
+    branches too (they enter the guard), and a root that Newton's method returns across the real
+    axis is replaced by its mirror image when that is nearer the previous value (it is the same
+    mode). A complex branch whose step lands on the real axis (|Im s| within the Newton error)
+    marks a conjugate pair that has met there and split into two real roots: the second one is
+    found by deflated Newton from the mirror image of the first about the pair's last real part
+    and followed on as a new branch.
 
     Every branch is then polished by a full Newton solve at ``stop``. Returns (roots at ``stop``,
-    last Newton steps, ok): ``ok`` is False for an abandoned branch (its root is then the last
-    accepted value, at a smaller p) or for two branches that meet.
+    last Newton steps, ok), one entry per branch (the given ones first, then any split off):
+    ``ok`` is False for an abandoned branch (its root is then the last accepted value, at a
+    smaller p) or for two branches that meet (or mirror each other).
     """
-    current = np.array(list(roots), dtype=complex)
-    steps = np.full(current.shape, _FLOOR)
-    ok = np.ones(current.shape, dtype=bool)
-    for i in range(current.size):
-        p, ratio, s, slope = start, first_ratio, current[i], 0j
-        while p < stop:
-            q = min(p * ratio, stop)
-            others = np.delete(current, i)
-            guard = np.min(np.abs(others - s)) if others.size else abs(s) + 1.0
-            T, dT = family(q)
-            out = newton(T, dT, s + slope * np.log(q / p), tol=tol, max_iter=12)
-            if out is not None and abs(out[0] - s) <= max_move * guard:
-                slope = (out[0] - s) / np.log(q / p)
-                s, steps[i], p = out[0], out[1], q
-                ratio = min(ratio ** 1.5, 10.0)
-                continue
-            ratio = np.sqrt(ratio)
-            if ratio < 1.0 + min_ratio:
-                ok[i] = False
-                break
-        current[i] = s
+    s = np.array(list(roots), dtype=complex)
+    n = s.size
+    previous = s.copy()                        # position at the start of each branch's last step
+    lp = np.full(n, np.log(start))             # log p of each branch
+    lp_previous = lp.copy()
+    ratio = np.full(n, float(first_ratio))
+    slope = np.zeros(n, dtype=complex)         # ds / d log p on the last step
+    steps = np.full(n, _FLOOR)
+    ok = np.ones(n, dtype=bool)
+    log_stop = np.log(stop)
+    while True:
+        moving = np.flatnonzero(ok & (lp < log_stop))
+        if not moving.size:
+            break
+        i = int(moving[np.argmin(lp[moving])])
+        others = np.flatnonzero(ok & (np.arange(n) != i))
+        span = lp[others] - lp_previous[others]
+        weight = np.divide(lp[i] - lp_previous[others], span, out=np.ones(others.size), where=span > 0)
+        at_p = previous[others] + (s[others] - previous[others]) * weight
+        if conjugate_symmetric:
+            at_p = np.concatenate([at_p, at_p.conj()])
+        guard = np.min(np.abs(at_p - s[i])) if at_p.size else abs(s[i]) + 1.0
+        lq = min(lp[i] + np.log(ratio[i]), log_stop)
+        T, dT = family(stop if lq == log_stop else float(np.exp(lq)))
+        out = newton(T, dT, s[i] + slope[i] * (lq - lp[i]), tol=tol, max_iter=12)
+        if out is not None and conjugate_symmetric and abs(out[0].conjugate() - s[i]) < abs(out[0] - s[i]):
+            out = (out[0].conjugate(), out[1])
+        if out is not None and abs(out[0] - s[i]) <= max_move * guard:
+            if conjugate_symmetric and abs(s[i].imag) > steps[i] and abs(out[0].imag) <= out[1]:
+                partner = _real_partner(T, dT, s[i], out[0], tol)  # a pair met on the real axis
+                if partner is not None:
+                    s, previous, steps, slope = (np.append(a, v) for a, v in
+                                                 ((s, partner), (previous, partner),
+                                                  (steps, _FLOOR * abs(partner)), (slope, 0j)))
+                    lp, lp_previous, ratio, ok = (np.append(a, v) for a, v in
+                                                  ((lp, lq), (lp_previous, lq), (ratio, first_ratio),
+                                                   (ok, True)))
+                    n += 1
+            slope[i] = (out[0] - s[i]) / (lq - lp[i])
+            previous[i], lp_previous[i] = s[i], lp[i]
+            s[i], steps[i], lp[i] = out[0], out[1], lq
+            ratio[i] = min(ratio[i] ** 1.5, 10.0)
+            continue
+        ratio[i] = np.sqrt(ratio[i])
+        if ratio[i] < 1.0 + min_ratio:
+            ok[i] = False
     T, dT = family(stop)
     for i in np.flatnonzero(ok):  # polish at ``stop``: merged branches then coincide to rounding
-        out = newton(T, dT, current[i], tol=tol)
+        out = newton(T, dT, s[i], tol=tol)
         if out is None:
             ok[i] = False
         else:
-            current[i], steps[i] = out
-    for i in range(current.size):
+            s[i], steps[i] = out
+    for i in range(n):
         for j in range(i):
-            if ok[i] and ok[j] and abs(current[i] - current[j]) <= DUPLICATE_RTOL * max(abs(current[i]), 1.0):
+            twins = [s[j], s[j].conjugate()] if conjugate_symmetric else [s[j]]
+            if ok[i] and ok[j] and min(abs(s[i] - t) for t in twins) <= DUPLICATE_RTOL * max(abs(s[i]), 1.0):
                 ok[i] = ok[j] = False
-    return current, steps, ok
+    return s, steps, ok

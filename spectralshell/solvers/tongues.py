@@ -1,7 +1,9 @@
 """Ince-Strutt diagrams: the tips (minima) of the fingers of marginal tau over a kappa grid.
 
 The grid itself is solved by the sweep runner (:func:`spectralshell.runner.map_points`). The
-solver sees only a picklable ``factory(kappa) -> HillSystem``; it never knows the model.
+solver sees only a picklable ``factory(kappa) -> HillSystem``; it never knows the model. "kappa"
+names the diagram's horizontal parameter: any real parameter of a one-parameter family of
+systems serves (e.g. the cochlea's spatial wavenumber k in thesis Fig 5.11).
 """
 
 from __future__ import annotations
