@@ -257,9 +257,10 @@ def projection(cost_sphere: float, per_task: float, overhead_fraction: float) ->
           f"+ Zarr write), serial, so {n_chunks} x that is a floor")
     print("  * one worker per core and no other load (this shared machine is slower: see the "
           "1 -> 2 worker speed-up)")
-    print("  * the cochlea model is not in the package yet: its per-point cost is not measured. "
-          "Rows for 0.1, 1 and 10 s per map point bracket it ('hours on one machine' in the issue "
-          "means ~0.1-1 s); the sphere row uses the measured cost (m = 2..6, both kinds)")
+    print("  * the cochlea's per-point cost (M refined per point) varies by two orders of magnitude "
+          "over the Fig 5.18 map; `spectralshell figure fig-5.18` measures it per point (JSON "
+          "'point_seconds' per panel). Rows for 0.1, 1 and 10 s per map point bracket it; the "
+          "sphere row uses the cost measured here (m = 2..6, both kinds)")
     cases = {f"sphere-size (measured {5 * 2 * cost_sphere:.3f} s/map point)": 5 * 2 * cost_sphere,
              "0.1 s/map point": 0.1, "1 s/map point": 1.0, "10 s/map point": 10.0}
     print(f"  {'per-point cost':<40}" + "".join(f"{f'{w} workers':>14}" for w in (1, 16, 256)))
