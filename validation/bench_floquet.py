@@ -21,22 +21,13 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 import spectralshell as ss
-from _bench import row
+from _bench import best_time, row
 from spectralshell.discretise.hill import assemble
 from spectralshell.models import fibre, sphere
 from spectralshell.models.mathieu import hill_system
 from spectralshell.solvers.marginal import dense_taus, solve_truncation
 
 KAPPA, NU, KIND = 0.26, 0.1, "subharmonic"
-
-
-def best_time(fn, repeat: int = 5) -> tuple[float, object]:
-    best, out = np.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def monodromy_det(tau: float) -> float:
@@ -62,9 +53,9 @@ def main() -> None:
     print(f"{'tol':>8} {'N':>4} | {'package s':>10} {'error':>8} | {'dense eig s':>11} {'error':>8} "
           f"{'ratio':>6} | {'monodromy s':>11} {'error':>8} {'ratio':>7}")
     for tol in (1e-6, 1e-8, 1e-10, 1e-12):
-        t_pkg, res = best_time(lambda: ss.floquet("mathieu", kind=KIND, tol=tol, kappa=KAPPA, nu=NU))
+        t_pkg, res = best_time(lambda: ss.floquet("mathieu", kind=KIND, tol=tol, kappa=KAPPA, nu=NU), 5)
         m = res.subharmonic
-        t_dense, tau_dense = best_time(lambda: dense_tau_min(system, m.n_temporal))
+        t_dense, tau_dense = best_time(lambda: dense_tau_min(system, m.n_temporal), 5)
         t_mono, tau_mono = best_time(lambda: brentq(monodromy_det, ref - 0.02, ref + 0.02,
                                                     xtol=tol), repeat=1)
         print(f"{tol:8.0e} {m.n_temporal:4d} | {t_pkg:10.2e} {abs(m.tau_min - ref):8.1e} | "
@@ -87,7 +78,7 @@ def main() -> None:
     for name, model in models.items():
         for n in (40, 80, 160) if name == "mathieu" else (40, 80):
             for kind in ("harmonic", "subharmonic"):
-                t_fast, (taus, _, _) = best_time(lambda: solve_truncation(model, kind, n))
+                t_fast, (taus, _, _) = best_time(lambda: solve_truncation(model, kind, n), 5)
                 hill = assemble(model, kind, n, "real")
                 A, B = hill.A.toarray(), hill.B.toarray()
                 t_dense, values = best_time(lambda: sla.eig(A, B)[0], repeat=3)

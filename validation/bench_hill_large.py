@@ -25,14 +25,13 @@ from __future__ import annotations
 
 import functools
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import scipy.linalg as sla
 from threadpoolctl import threadpool_limits
 
-from _bench import row
+from _bench import best_time, row
 from spectralshell import api
 from spectralshell.discretise.hill import assemble
 from spectralshell.models import cochlea, sphere
@@ -47,15 +46,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from test_marginal_fast import cochlea_like  # noqa: E402  (the test model, not a copy)
 
 KINDS = ("harmonic", "subharmonic")
-
-
-def best_time(fn, repeat: int = 3) -> tuple[float, object]:
-    best, out = np.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def qz_tau_min(system, kind: str, n: int) -> float:
