@@ -389,7 +389,8 @@ def smallest_taus(hill: HillMatrices, *, tau_max: float = np.inf,
             tau = tau_from_squares(lam, floor, exact_real=True)
         else:
             tau = np.sort(1.0 / lam.real[(lam.imag == 0.0) & (lam.real > floor)])
-        tau = tau[tau <= radius]
+        if tau.size:  # every computed mu has |mu| >= the smallest: its tau lies within the
+            radius = max(radius, float(tau[-1]))  # radius up to rounding (it may be the k-th)
         rounds += 1
         if tau.size or radius >= tau_max or rounds == max_rounds:
             return SmallestTaus(tau=tau, complete_to=float(radius), n_eigenvalues=len(lam))
