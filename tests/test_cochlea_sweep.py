@@ -267,3 +267,31 @@ def test_spatial_change_caps_at_tau_max():
     assert sr.spatial_change(m(0.25), m(0.2), 0.5) == pytest.approx(0.05, abs=1e-15)
     assert sr.spatial_error(m(0.4995), 5e-4).error_estimate == 5e-4
     assert sr.spatial_error(m(0.4995), None).error_estimate == 0.4995
+
+
+def test_neighbours_tau_min_is_the_solvers_hint_and_changes_nothing_but_speed(monkeypatch):
+    """Continuation passes a point's neighbour's tau_min to the shift-invert cover of its big
+    truncations (M = 32, N = 20: half order 672, above KRYLOV_MIN_ORDER) as the first shift;
+    the values equal independent solves (continuation off) within the error estimates."""
+    import spectralshell.solvers.marginal as marginal
+
+    seen, real = [], marginal.interval_taus
+
+    def spy(hill, tau_max, *, hint=None, **kw):
+        seen.append(hint)
+        return real(hill, tau_max, hint=hint, **kw)
+
+    monkeypatch.setattr(marginal, "interval_taus", spy)
+    sc = scene({"frequency": [50.0], "sigma": [1.0e7, 1.1e7], "kind": ["harmonic"]},
+               {"n_spatial": 32, "mu": 0.02}, n_temporal=20)
+    off = run_sweep({**sc, "tau_min": {**sc["tau_min"], "continuation": False}},
+                    executor="serial").dataset
+    assert seen == [None, None]  # both points reach the cover, without a hint
+    seen.clear()
+    on = run_sweep(sc, executor="serial").dataset
+    first = float(on["tau_min"].values.ravel()[0])
+    assert seen == [None, first]  # the second point starts at the first one's tau_min
+    a, b = off["tau_min"].values.ravel(), on["tau_min"].values.ravel()
+    bound = off["error_estimate"].values.ravel() + on["error_estimate"].values.ravel()
+    assert off["has_tau"].values.all() and on["has_tau"].values.all()
+    assert np.all(np.abs(a - b) <= np.maximum(bound, 1e-14))

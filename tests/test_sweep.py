@@ -128,10 +128,10 @@ def test_netcdf_written_at_the_end_and_reread(serial, tmp_path):
 def _fail_at(monkeypatch, kappa_bad, action):
     real = solve.solve_kind
 
-    def patched(system, kind, options, hint=None):
+    def patched(system, kind, options, *hints):
         if abs(system.forcing[0, 0] - kappa_bad) < 1e-12:
             action()
-        return real(system, kind, options, hint)
+        return real(system, kind, options, *hints)
 
     monkeypatch.setattr(solve, "solve_kind", patched)
 
