@@ -10,8 +10,9 @@ are noisy, best-of-3 is used where it matters).
   (a + b) / (compute of one chunk) at several chunk lengths -- the default must stay < 5 %;
 * speed-up 1 -> 2 workers: wall time of the same sweep on processes with 1 and 2 workers;
 * continuation: compute time of line sweeps with continuation off / on;
-* projection: Fig 5.18 size (200 x 200 points), from the measured per-point cost, on 1, 16 and
-  256 workers, with the assumptions printed.
+* projection: Fig 5.18 size (200 x 200 points), from the per-point cost measured on random
+  points of the packaged thesis-size scenes, on 1, 16 and 256 workers, with the assumptions
+  printed.
 
 Run: python validation/bench_sweep.py [--no-dask]
 """
@@ -23,6 +24,8 @@ import os
 import sys
 import tempfile
 import time
+import tomllib
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -51,7 +54,17 @@ LINES = {
     "sphere m=2..6, nu=2.39e-4, kappa 0.001..0.2 (tau_max 0.5, a map row)":
         {"model": "sphere", "params": {"nu": 2.39e-4},
          "grid": {"m": [2, 3, 4, 5, 6], "kappa": {"start": 0.001, "stop": 0.2, "num": 40}}},
+    "cochlea (Table 5.1) 1000 Hz, sigma 1e8..2e8 (a Fig 5.18 line: M refined per point, "
+    "continued in M and N, neighbour's tau_min as the shift-invert hint)":
+        {"model": "cochlea", "params": {},
+         "grid": {"frequency": [1000.0],
+                  "sigma": {"start": 1e8, "stop": 2e8, "num": 4, "spacing": "log"}},
+         "tau_min": {"tau_max": 0.5}},
 }
+#: Lines run once each way (minutes per run), not best of 3.
+ONCE = {name for name in LINES if name.startswith("cochlea")}
+#: Random map points per Fig 5.18 panel whose cost is measured for the projection (seed 0).
+MAP_SAMPLE = 4
 
 
 def _payload(points: int):
@@ -218,13 +231,14 @@ class SolveCounter:
 
 
 def continuation() -> dict[str, float]:
-    print("\n== continuation along the line axis (serial; best of 3 compute time, interleaved; "
+    print("\n== continuation along the line axis (serial; best of 3 compute time, interleaved "
+          "(cochlea: one run each way); "
           "truncations solved and sum N^3 are load-independent)")
     out = {}
     for name, scene in LINES.items():
         runs = {False: [], True: []}
         counts = {}
-        for _ in range(3):
+        for _ in range(1 if name in ONCE else 3):
             for on in (False, True):
                 s = {**scene, "tau_min": {**scene.get("tau_min", {}), "continuation": on}}
                 with SolveCounter() as counter:
@@ -244,25 +258,63 @@ def continuation() -> dict[str, float]:
     return out
 
 
-def projection(cost_sphere: float, per_task: float, overhead_fraction: float) -> None:
+def _scene(panel: str) -> dict:
+    """The packaged thesis-size Fig 5.18 scene of ``panel`` ('human' or 'gerbil')."""
+    text = resources.files("spectralshell").joinpath(f"scenes/fig-5.18-{panel}.toml").read_text()
+    return tomllib.loads(text)
+
+
+def fig_5_18_sample() -> list[tuple[str, float]]:
+    """Cost of MAP_SAMPLE random points of each thesis-size Fig 5.18 scene (the packaged
+    200 x 200 scenes, seed 0), each solved alone (both kinds, M refined, no continuation)."""
+    print(f"\n== measured Fig 5.18 per-point cost: {MAP_SAMPLE} random points (seed 0) of each "
+          "packaged 200 x 200 scene, each alone (both kinds, M refined, continuation off)")
+    rng = np.random.default_rng(0)
+    out = []
+    for panel in ("human", "gerbil"):
+        scene = _scene(panel)
+        spec = sweep_spec(scene)
+        freq, sigma = (np.asarray(spec.axis(a).values) for a in ("frequency", "sigma"))
+        for i, j in zip(rng.integers(0, freq.size, MAP_SAMPLE), rng.integers(0, sigma.size, MAP_SAMPLE)):
+            point = {**scene, "grid": {"frequency": [float(freq[i])], "sigma": [float(sigma[j])]}}
+            run = run_sweep(point, executor="serial")
+            where = f"{panel} f = {freq[i]:.4g} Hz, sigma = {sigma[j]:.3g}"
+            out.append((where, run.compute_seconds))
+            n_spatial = int(run.dataset["n_spatial"].max())
+            print(f"  {where:<46} {run.compute_seconds:8.2f} s  (largest M {n_spatial})")
+    return out
+
+
+def projection(cost_sphere: float, per_task: float, overhead_fraction: float,
+               sample: list[tuple[str, float]]) -> None:
     print("\n== projected wall time of a thesis-size Fig 5.18 map (200 x 200 map points)")
     pts = 200 * 200
-    chunk_len = math.ceil(200 / math.ceil(200 / DEFAULT_CHUNK))
+    scene_chunk = sweep_spec(_scene("human")).chunk
+    chunk_len = math.ceil(200 / math.ceil(200 / scene_chunk))
     n_chunks = 200 * math.ceil(200 / chunk_len)
     print("  assumptions:")
-    print(f"  * {pts} map points in {n_chunks} tasks (chunks) of {chunk_len} points (default chunk "
-          f"{DEFAULT_CHUNK}); W workers run them in ceil({n_chunks} / W) waves of equal chunks")
+    print(f"  * one panel (the packaged human scene): {pts} map points in {n_chunks} tasks "
+          f"(chunks) of {chunk_len} points (the scene's [sweep] chunk {scene_chunk}); W workers "
+          f"run them in ceil({n_chunks} / W) waves of equal chunks; both panels take twice as long")
     print(f"  * scheduling overhead {100 * overhead_fraction:.1f} % of compute (measured end to end "
           f"above, processes); per-task cost {1e3 * per_task:.2f} ms in the main process (dispatch "
           f"+ Zarr write), serial, so {n_chunks} x that is a floor")
     print("  * one worker per core and no other load (this shared machine is slower: see the "
           "1 -> 2 worker speed-up)")
-    print("  * the cochlea's per-point cost (M refined per point) varies by two orders of magnitude "
-          "over the Fig 5.18 map; `spectralshell figure fig-5.18` measures it per point (JSON "
-          "'point_seconds' per panel). Rows for 0.1, 1 and 10 s per map point bracket it; the "
-          "sphere row uses the cost measured here (m = 2..6, both kinds)")
-    cases = {f"sphere-size (measured {5 * 2 * cost_sphere:.3f} s/map point)": 5 * 2 * cost_sphere,
-             "0.1 s/map point": 0.1, "1 s/map point": 1.0, "10 s/map point": 10.0}
+    costs = np.array([c for _, c in sample])
+    mean, spread = float(costs.mean()), float(costs.std(ddof=1) / math.sqrt(costs.size))
+    print(f"  * per map point (both kinds, M refined): the mean of the {costs.size} random points "
+          f"measured above, {mean:.1f} s (standard error {spread:.1f} s; median "
+          f"{float(np.median(costs)):.1f} s, max {float(costs.max()):.1f} s). The cost varies by "
+          "two orders of magnitude over the map (it is largest at low frequency and high sigma, "
+          "where only high-order resonances exist), so the sample mean is a rough estimate; the "
+          "'+ 2 SE' row is a pessimistic one. Points were solved alone: along a sweep line "
+          "continuation cuts the cost (see the cochlea line above), so the rows overestimate")
+    print("  * the sphere row: the sphere's per-point cost measured above (m = 2..6, both kinds), "
+          "for comparison")
+    cases = {f"cochlea, sample mean ({mean:.1f} s/map point)": mean,
+             f"cochlea, mean + 2 SE ({mean + 2 * spread:.1f} s/map point)": mean + 2 * spread,
+             f"sphere-size (measured {5 * 2 * cost_sphere:.3f} s/map point)": 5 * 2 * cost_sphere}
     print(f"  {'per-point cost':<40}" + "".join(f"{f'{w} workers':>14}" for w in (1, 16, 256)))
     for name, per_point in cases.items():
         cells = []
@@ -301,7 +353,8 @@ def main() -> None:
     e2e = end_to_end(dask)
     speedup()
     continuation()
-    projection(costs["sphere"], oh["processes"] + oh["write"], e2e.get("processes", 0.05))
+    sample = fig_5_18_sample()
+    projection(costs["sphere"], oh["processes"] + oh["write"], e2e.get("processes", 0.05), sample)
     print(f"\nload average {_load()} at the end: above {os.cpu_count()} other work shares the cores, "
           "and the speed-ups and end-to-end overheads above carry that noise")
 
