@@ -18,6 +18,7 @@ import dataclasses
 import mpmath as mp
 import numpy as np
 import pytest
+import scipy.linalg as sla
 from scipy.integrate import simpson
 
 import spectralshell as ss
@@ -26,6 +27,7 @@ from spectralshell.errors import ConvergenceError, ParameterError
 from spectralshell.models.sphere import poloidal_unforced
 from spectralshell.params.physical import TABLE_6_1, sphere_forced_params
 from spectralshell.params.simulation import parse_expression
+from spectralshell.solvers.rate_fit import fit_rate
 from spectralshell.solvers.stepper import integrate
 
 TWO_PI = 2 * np.pi
@@ -72,17 +74,21 @@ def simulate(m, kappa, nu, tau, t_end, scheme="SBDF4", dt=None, **initial):
 
 
 # ----------------------------------------------------------------------------- builder
+@pytest.mark.parametrize("radial", ["collocation", "banded"])
 @pytest.mark.parametrize("m,zeta", [(2, 0.01), (3, 0.01), (2, 0.1), (3, 0.1)])
-def test_builder_leading_mode_matches_dispersion_relation(m, zeta):
-    """The least damped oscillatory eigenvalue of the reduced ODE (real exterior map, resolution
-    chosen for tol = 1e-9) is the natural mode to 1e-9, and the stated spatial error is an upper
-    bound of the actual one."""
-    system = degree_system(m=m, kappa=1.0, nu=zeta, tol=1e-9)
+def test_builder_leading_mode_matches_dispersion_relation(m, zeta, radial):
+    """The least damped oscillatory eigenvalue of the reduced ODE (collocation; banded: the
+    eigenvalue of the sparse DAE nearest it) with the resolution chosen for tol = 1e-9 is the
+    natural mode to 1e-9, and the stated spatial error is an upper bound of the actual one. No
+    spurious growth: eigenvalues of the reduced L here, of the banded pencil in
+    tests/test_sphere_banded.py."""
+    system = degree_system(m=m, kappa=1.0, nu=zeta, tol=1e-9, radial=radial)
     exact = exact_mode(m, zeta)
     actual = abs(system.leading - exact) / abs(exact)
     assert actual <= 1e-9 and system.spatial_error <= 1e-9
     assert actual <= system.spatial_error, (actual, system.spatial_error)
-    assert np.all(np.linalg.eigvals(system.L).real < 0)          # no spurious growth
+    if radial == "collocation":
+        assert np.all(np.linalg.eigvals(system.L).real < 0)
 
 
 def test_exterior_error_is_stated_honestly():
@@ -97,14 +103,18 @@ def test_exterior_error_is_stated_honestly():
         assert actual / 30 < system.spatial_error < 30 * actual, (n, actual, system.spatial_error)
 
 
-def test_explicit_stiffness_split():
+@pytest.mark.parametrize("radial", ["collocation", "banded"])
+def test_explicit_stiffness_split(radial):
     """L + f(t) N at a frozen time is the system with uniform stiffness K(t) = kappa (1 + 2 tau
     sin t): its leading eigenvalue is the natural mode at stiffness K(t), i.e. zeta = nu/sqrt(K),
-    gamma = sqrt(K) sigma (dispersion relation scaling)."""
+    gamma = sqrt(K) sigma (dispersion relation scaling). Banded: eigenvalues of the pencil
+    (L + f N, M)."""
     kappa, nu, tau, t = 0.5, 0.01, 0.3, 1.1
-    system = degree_system(m=2, kappa=kappa, nu=nu, tau=tau)
+    system = degree_system(m=2, kappa=kappa, nu=nu, tau=tau, radial=radial)
     K = kappa * (1 + 2 * tau * np.sin(t))
-    values = np.linalg.eigvals(system.L + system.forcing(t) * system.N)
+    A = system.L + system.forcing(t) * system.N
+    values = (np.linalg.eigvals(A) if radial == "collocation" else
+              sla.eigvals(A.toarray(), system.M.toarray()))
     exact = complex(ss.natural_modes("sphere", m=2, kappa=K, nu=nu, count=1).gamma[0])
     assert np.min(np.abs(values - exact)) < 1e-8 * abs(exact)
 
@@ -169,14 +179,26 @@ def test_natural_modes_fitted_from_runs(m, zeta, t_end):
     check_natural_mode(m, zeta, t_end)
 
 
+def test_banded_run_decays_at_the_natural_rate():
+    """The sparse DAE (radial='banded'), m = 2, zeta = 0.01, started at rest from the shape and
+    stepped by SBDF4 (dt = 0.005) to t = 40: decay rate and frequency fitted on [4, 40] agree
+    with the dispersion relation to 1e-6."""
+    system = degree_system(m=2, kappa=1.0, nu=0.01, radial="banded")
+    run = integrate(system, system.initial_state([1.0, 0.0]), scheme="SBDF4", dt=0.005,
+                    t_end=40.0, every=10, observe=lambda y: y[system.membrane.start])
+    fit = fit_rate(run.times, run.values, window=(4.0, 40.0))
+    exact = exact_mode(2, 0.01)
+    assert abs(complex(fit.growth_rate, fit.frequency) - exact) <= 1e-6 * abs(exact)
+
+
 # ----------------------------------------------------------------------------- Floquet
-def check_marginal_multiplier(m, kappa, nu):
+def check_marginal_multiplier(m, kappa, nu, radial="collocation"):
     res = ss.floquet("sphere", m=m, kappa=kappa, nu=nu, tau_max=0.5)
     for kind, target in (("subharmonic", -1.0), ("harmonic", 1.0)):
         marginal = getattr(res, kind)
         if marginal.tau_min is None:
             continue
-        system = degree_system(m=m, kappa=kappa, nu=nu, tau=marginal.tau_min)
+        system = degree_system(m=m, kappa=kappa, nu=nu, tau=marginal.tau_min, radial=radial)
         mu = monodromy_multipliers(system, TWO_PI / 1024)
         assert np.min(np.abs(mu - target)) < 1e-6, (kind, mu[np.argmin(np.abs(mu - target))])
         assert np.max(np.abs(mu)) < 1 + 1e-6            # marginal: nothing grows
@@ -186,6 +208,12 @@ def test_monodromy_at_tau_min_has_multiplier_minus_one():
     """Case 2 (m = 2, kappa = 0.06, nu = 0.002): at the Hill solver's subharmonic tau_min the
     stepped monodromy has the multiplier -1 to 1e-6 (measured 6e-11)."""
     check_marginal_multiplier(2, 0.06, 0.002)
+
+
+@pytest.mark.slow
+def test_monodromy_at_tau_min_banded():
+    """Case 2 with the sparse DAE (radial='banded'): multiplier -1 to 1e-6, nothing grows."""
+    check_marginal_multiplier(2, 0.06, 0.002, radial="banded")
 
 
 @pytest.mark.slow
@@ -248,11 +276,14 @@ def energy_balance(system, y0, t_end, dt):
     return change, lost, total[0]
 
 
-@pytest.mark.parametrize("component,m,nu", [("poloidal", 2, 0.01), ("toroidal", 2, 0.1)])
-def test_energy_decreases_at_the_dissipation_rate(component, m, nu):
+@pytest.mark.parametrize("component,m,nu,radial", [
+    ("poloidal", 2, 0.01, "collocation"), ("toroidal", 2, 0.1, "collocation"),
+    ("poloidal", 2, 0.01, "banded"), ("toroidal", 2, 0.1, "banded")])
+def test_energy_decreases_at_the_dissipation_rate(component, m, nu, radial):
     """tau = 0: kinetic + elastic energy changes by minus the time integral of the viscous
-    dissipation nu int |curl u|^2 dV, to 1e-8 of the initial energy (quadrature, time step)."""
-    system = degree_system(m=m, kappa=1.0, nu=nu, component=component)
+    dissipation nu int |curl u|^2 dV, to 1e-8 of the initial energy (quadrature, time step);
+    banded: the integrals of BandedOperators.kinetic_dissipation on the coefficient state."""
+    system = degree_system(m=m, kappa=1.0, nu=nu, component=component, radial=radial)
     y0 = system.initial_state([1.0, 0.0] if component == "poloidal" else [1.0])
     change, lost, initial = energy_balance(system, y0, 5.0, 0.002)
     assert change < -0.1 * initial                       # a real decrease ...

@@ -18,13 +18,18 @@ median, and the speed-up of the best IMEX run over the best solve_ivp run, by be
 times (each IMEX run factorises afresh: the factorisation cache is cleared before it).
 
 Next, the cost per step of that IMEX run's scheme with and without the explicit (forcing) term,
-tau = 0.1 and tau = 0. Then the cost per step (SBDF4, 2000 steps, tau = 0 and 0.1) against the
-radial resolution n (state size about 2n): the reduced Chebyshev collocation matrices are dense,
-so a step costs O(n^2) asymptotically (one dense solve, plus one product with N when tau != 0);
-the fitted exponent is printed over all n and over n >= 64. Last, the measured choice of the
-dense solve: per-step and set-up cost of the precomputed inverse and of the LU factor by size.
+tau = 0.1 and tau = 0. Then the cost per step (SBDF4, 1000 steps, tau = 0 and 0.1) against the
+radial resolution n = 32 .. 512 for the radial discretisations of
+discretise/sphere_stepping.py: the default ``radial='auto'`` (collocation below n = BANDED_FROM,
+banded from there), ``radial='banded'`` (the unreduced sparse DAE of
+discretise/sphere_banded.py, state size about 4n, a sparse LU solve with O(n) fill and sparse
+products: O(n) per step) against the baseline ``radial='collocation'`` (the reduced dense ODE,
+size about 2n: one dense solve per step, O(n^2)); next to each time, the error of the system's
+leading mode against the dispersion relation; the fitted exponents over all n and over n >= 64.
+Last, the measured choice of the dense solve: per-step and set-up cost of the precomputed
+inverse and of the LU factor by size.
 
-Run: python validation/bench_stepper.py [--json-rows]   (about 2-4 minutes)
+Run: python validation/bench_stepper.py [--json-rows]   (about 4-6 minutes)
 """
 
 from __future__ import annotations
@@ -37,7 +42,7 @@ from threadpoolctl import threadpool_limits
 
 import spectralshell as ss
 from _bench import best_time, fit_exponent, growth, row  # validation/_bench.py
-from spectralshell.discretise.sphere_stepping import degree_system
+from spectralshell.discretise.sphere_stepping import BANDED_FROM, degree_system
 from spectralshell.solvers.imex import SCHEMES
 from spectralshell.solvers import stepper
 from spectralshell.solvers.rate_fit import fit_rate
@@ -48,6 +53,8 @@ T_END, SAMPLE, WINDOW = 40.0, 0.05, (4.0, 40.0)
 M, ZETA = 2, 0.01
 REPEAT = 5          # final timings: best and median of REPEAT runs
 TAU_FORCED = 0.1    # forcing amplitude of the per-step cost with the explicit term
+GROWTH_N = (32, 48, 64, 96, 128, 192, 256, 384, 512)   # radial resolutions of the cost growth
+GROWTH_STEPS = 1000
 
 
 def fitted_rate(times, x) -> float:
@@ -76,12 +83,12 @@ def ivp_run(system, y0, method, rtol):
     return rate, time.perf_counter() - start, sol.nfev
 
 
-def per_step(system, scheme: str, dt: float, steps: int) -> float:
-    """Seconds per step of a run of ``steps`` steps (factorised beforehand; best of 7)."""
+def per_step(system, scheme: str, dt: float, steps: int, repeat: int = 7) -> float:
+    """Seconds per step of a run of ``steps`` steps (factorised beforehand; best of repeat)."""
     y = system.initial_state([1.0, 0.0])
     integrate(system, y, scheme=scheme, dt=dt, t_end=10 * dt)              # factorise, warm up
     seconds, _ = best_time(lambda: integrate(system, y, scheme=scheme, dt=dt, t_end=steps * dt,
-                                             every=steps), repeat=7)
+                                             every=steps), repeat=repeat)
     return seconds / steps
 
 
@@ -112,6 +119,42 @@ def solver_crossover() -> None:
     finally:
         stepper.INVERSE_MAX = default
         cache_clear()
+
+
+def cost_growth(exact: complex) -> None:
+    """Cost per step against n: the default 'auto', the banded sparse DAE and the dense
+    collocation ODE."""
+    print(f"\ncost per step against the radial resolution n (SBDF4, {GROWTH_STEPS} steps, "
+          f"dt = 0.005, tau = 0 / {TAU_FORCED:g}); package: radial='auto' (the default) and "
+          "radial='banded' (sparse DAE, SuperLU); baseline: radial='collocation' (reduced dense "
+          "ODE); error: leading mode against the dispersion relation")
+    print(f"{'radial':>11} {'n':>5} {'size':>5} {'us/step':>9} {'us/step/size':>13} "
+          f"{'tau=' + format(TAU_FORCED, 'g') + ' us/step':>17} {'error':>9}")
+    fits = {}
+    for radial in ("auto", "banded", "collocation"):
+        ns, seconds = [], []
+        for n in GROWTH_N:
+            sys_n = degree_system(m=M, kappa=1.0, nu=ZETA, n_radial=n, radial=radial)
+            step = per_step(sys_n, "SBDF4", 0.005, GROWTH_STEPS)
+            forced = per_step(degree_system(m=M, kappa=1.0, nu=ZETA, tau=TAU_FORCED, n_radial=n,
+                                            radial=radial), "SBDF4", 0.005, GROWTH_STEPS)
+            error = abs(sys_n.leading - exact) / abs(exact)
+            print(f"{radial:>11} {n:5d} {sys_n.size:5d} {step * 1e6:9.1f} "
+                  f"{step * 1e6 / sys_n.size:13.3f} {forced * 1e6:17.1f} {error:9.1e}")
+            ns.append(n)
+            seconds.append(step)
+        note = {"banded": "sparse LU (fill O(n)) and sparse products per step",
+                "collocation": "one dense solve per step (precomputed inverse up to size 320, "
+                               "LU factor above)",
+                "auto": f"the default: collocation below n = {BANDED_FROM}, banded from there"}[radial]
+        p = growth(label=f"sphere IMEX step (SBDF4, tau = 0), radial = {radial}",
+                   parameter="n_radial", values=ns, seconds=seconds, note=note)
+        upper = fit_exponent([n for n in ns if n >= 64], [t for n, t in zip(ns, seconds)
+                                                          if n >= 64])
+        fits[radial] = (p, upper)
+    for radial, (p, upper) in fits.items():
+        print(f"fitted cost growth per step, {radial:>11}: n^{p:.2f} ({GROWTH_N[0]} <= n <= "
+              f"{GROWTH_N[-1]}), n^{upper:.2f} (64 <= n <= {GROWTH_N[-1]})")
 
 
 def main() -> None:
@@ -185,26 +228,7 @@ def main() -> None:
         else:
             print("no speed-up computed: a method family did not reach the target")
 
-        print("\ncost per step against the radial resolution (SBDF4, 2000 steps, dt = 0.005):")
-        print(f"{'n_radial':>8} {'size':>6} {'us/step':>9} {'us/step/size':>13} "
-              f"{'us/step tau=' + format(TAU_FORCED, 'g'):>16}")
-        sizes, seconds = [], []
-        for n in (16, 24, 32, 48, 64, 96, 128, 192):
-            sys_n = degree_system(m=M, kappa=1.0, nu=ZETA, n_radial=n)
-            step = per_step(sys_n, "SBDF4", 0.005, 2000)
-            forced = per_step(degree_system(m=M, kappa=1.0, nu=ZETA, tau=TAU_FORCED, n_radial=n),
-                              "SBDF4", 0.005, 2000)
-            print(f"{n:8d} {sys_n.size:6d} {step * 1e6:9.1f} {step * 1e6 / sys_n.size:13.3f} "
-                  f"{forced * 1e6:16.1f}")
-            sizes.append(n)
-            seconds.append(step)
-        p = growth(label="sphere IMEX step (SBDF4, tau = 0)", parameter="n_radial", values=sizes,
-                   seconds=seconds, note="one dense solve per step (precomputed inverse up to "
-                   "size 320, LU factor above): O(n^2) asymptotically, the reduced collocation "
-                   "matrices being dense")
-        upper = fit_exponent(sizes[4:], seconds[4:])
-        print(f"fitted cost growth per step ~ n_radial^{p:.2f} (16 <= n <= 192), "
-              f"n_radial^{upper:.2f} (64 <= n <= 192)")
+        cost_growth(exact)
         solver_crossover()
 
 

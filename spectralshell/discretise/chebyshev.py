@@ -29,6 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sparse
 
 from .._validate import require_int_in_range
 from ..errors import ParameterError
@@ -36,7 +37,8 @@ from ..errors import ParameterError
 __all__ = ["RadialMap", "lobatto_points", "gauss_points", "lobatto_weights", "gauss_weights",
            "barycentric_weights", "differentiation_matrices", "interpolation_matrix",
            "clenshaw_curtis_weights", "parity_fold", "linear_map", "reciprocal_map",
-           "radial_derivatives"]
+           "radial_derivatives", "ultraspherical_derivative", "ultraspherical_conversion",
+           "ultraspherical_multiplication", "chebyshev_boundary_rows"]
 
 
 def lobatto_points(n: int) -> np.ndarray:
@@ -269,3 +271,72 @@ def radial_derivatives(derivatives: list[np.ndarray], rmap: RadialMap) -> list[n
         out.append(rows(x1**4, D[3]) + rows(6 * x1**2 * x2, D[2])
                    + rows(3 * x2**2 + 4 * x1 * x3, D[1]) + rows(x4, D[0]))
     return out
+
+
+# ----------------------------------------------------------------------------- coefficient space
+# Ultraspherical (Olver and Townsend 2013, SIAM Rev. 55, section 2) operators on coefficient
+# vectors of length n: T (Chebyshev T_0..T_{n-1}) and C^(lam) (Gegenbauer C^(lam)_0..), all
+# n x n and sparse (scipy.sparse CSR). Every operator is exact on the coefficients it keeps:
+# derivatives and conversions never raise the degree, and a multiplication is built on
+# n + degree coefficients before its rows are cut to n.
+
+def ultraspherical_derivative(n: int, k: int):
+    """D_k: T -> C^(k), d^k T_j / dx^k = 2^(k-1) (k-1)! j C^(k)_{j-k} (k >= 1)."""
+    n = require_int_in_range("n", n, 1)
+    k = require_int_in_range("k", k, 1)
+    j = np.arange(k, n)
+    return sparse.csr_matrix((2.0 ** (k - 1) * _factorial(k - 1) * j, (j - k, j)), shape=(n, n))
+
+
+def ultraspherical_conversion(n: int, lam: int):
+    """S_lam: C^(lam) -> C^(lam+1) (S_0: T -> C^(1)), from T_j = (C^(1)_j - C^(1)_{j-2})/2 (j >= 1,
+    T_0 = C^(1)_0) and C^(lam)_j = lam/(j + lam) (C^(lam+1)_j - C^(lam+1)_{j-2})."""
+    n = require_int_in_range("n", n, 1)
+    lam = require_int_in_range("lam", lam, 0)
+    j = np.arange(n, dtype=float)
+    if lam == 0:
+        diag = np.where(j == 0, 1.0, 0.5)
+        upper = np.full(max(n - 2, 0), -0.5)
+    else:
+        diag = lam / (j + lam)
+        upper = -lam / (j[2:] + lam)
+    return sparse.diags([diag, upper], [0, 2], shape=(n, n), format="csr")
+
+
+def ultraspherical_multiplication(n: int, lam: int, coefficients, *, shift: float = 0.0,
+                                  scale: float = 1.0):
+    """Multiplication by a(y) = sum_k a_k y^k, y = shift + scale x, on C^(lam) (lam = 0: T).
+
+    From the three-term recurrences x T_j = (T_{j+1} + T_{|j-1|})/2 and
+    x C^(lam)_j = ((j + 1) C^(lam)_{j+1} + (j + 2 lam - 1) C^(lam)_{j-1}) / (2 (j + lam)), a(y) is
+    evaluated by Horner's rule on the Jacobi matrix of size n + degree and cut to n x n (exact
+    there). ``coefficients`` are the monomial coefficients a_0, a_1, ... in y.
+    """
+    n = require_int_in_range("n", n, 1)
+    lam = require_int_in_range("lam", lam, 0)
+    a = np.atleast_1d(np.asarray(coefficients, dtype=float))
+    big = n + a.size
+    j = np.arange(big, dtype=float)
+    if lam == 0:
+        sub = np.full(big - 1, 0.5)
+        sup = np.full(big - 1, 0.5)
+        sub[0] = 1.0                                   # x T_0 = T_1
+    else:
+        sub = (j[:-1] + 1) / (2 * (j[:-1] + lam))      # C_{j+1} in x C_j
+        sup = (j[1:] + 2 * lam - 1) / (2 * (j[1:] + lam))   # C_{j-1} in x C_j
+    X = sparse.diags([sub, sup], [-1, 1], shape=(big, big), format="csr")
+    Y = shift * sparse.identity(big, format="csr") + scale * X
+    out = a[-1] * sparse.identity(big, format="csr")
+    for ak in a[-2::-1]:
+        out = out @ Y + ak * sparse.identity(big, format="csr")
+    return sparse.csr_matrix(out[:n, :n])
+
+
+def chebyshev_boundary_rows(n: int) -> dict[str, np.ndarray]:
+    """Rows evaluating a T-series of length n at x = +-1 and its derivative there:
+    T_j(1) = 1, T_j(-1) = (-1)^j, T_j'(1) = j^2, T_j'(-1) = (-1)^(j+1) j^2."""
+    n = require_int_in_range("n", n, 1)
+    j = np.arange(n, dtype=float)
+    sign = (-1.0) ** np.arange(n)
+    return {"value_right": np.ones(n), "value_left": sign, "slope_right": j**2,
+            "slope_left": -sign * j**2}

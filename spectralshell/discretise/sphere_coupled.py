@@ -14,7 +14,8 @@ left out; the product is not symmetric, so there is no energy identity. Degrees 
 product are not represented (degree 0 is absorbed by the pressure of an incompressible fluid,
 degree 1 is a net force that would translate the sphere rigidly).
 
-Discretisation. Every allocated mode (m, k, component) carries the reduced radial system of
+Discretisation. Every allocated mode (m, k, component) carries the reduced (collocation, at any
+n_radial: the load response B below is a column of the reduced ODE) radial system of
 :mod:`.sphere_stepping` for degree m at the mean stiffness kappa_mean (the average of kappa over
 the sphere), whose implicit part L0 + kappa_mean L1 is block diagonal (the blocks of one degree
 are equal: one factorisation per degree and step). The rest is explicit and matrix-free:
@@ -242,7 +243,7 @@ def coupled_system(*, kappa: Callable[[np.ndarray, np.ndarray], np.ndarray],
         for m in sorted({mk[0] for mk in found[component]}):
             ks = tuple(sorted(k for mm, k in found[component] if mm == m))
             system = degree_system(m=m, kappa=mean, nu=nu, tau=0.0, component=component,
-                                   n_radial=n_radial, tol=tol)
+                                   n_radial=n_radial, tol=tol, radial="collocation")
             groups.append(ModeGroup(m=m, component=component, ks=ks, offset=offset,
                                     system=system))
             offset += len(ks) * system.size

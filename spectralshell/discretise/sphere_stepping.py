@@ -1,6 +1,27 @@
-"""Semi-discrete systems of the sphere for time stepping: one ODE dy/dt = (L + f(t) N) y per degree.
+"""Semi-discrete systems of the sphere for time stepping: M dy/dt = (L + f(t) N) y per degree.
 
-Built from the radial Chebyshev operators of :mod:`.sphere_radial` (reused, not re-derived): for
+Two radial discretisations of the same equations (``radial``):
+
+* ``'auto'`` (default): collocation below n = BANDED_FROM radial nodes, banded from there,
+  where the banded step becomes the cheaper one (validation/bench_stepper.py). The automatic
+  resolutions (n <= N_AUTO_MAX < BANDED_FROM) are collocation; a larger ``n_radial`` asked for
+  is banded. So the cost per step is at most linear in n over the whole range;
+* ``'collocation'``: the reduced dense ODE below (M = I), from the collocation
+  operators of :mod:`.sphere_radial`; a step costs O(n^2) (one dense solve);
+* ``'banded'``: the unreduced index-1 DAE of :mod:`.sphere_banded` (ultraspherical, Chebyshev
+  coefficients; sparse M, L = L_fluid + kappa L_stiffness, N = kappa L_stiffness), whose step
+  costs O(n) (a sparse LU solve with O(n) fill and sparse products, solvers/stepper.py). Its
+  state is the whole coefficient vector (size about 4n against 2n) and it needs about 1.4 times
+  the n of collocation for the same error, so per step it is slower than the dense path up to
+  n of about 128 .. 192 (validation/bench_stepper.py); banded is for high radial resolution. Its ``leading`` is the eigenvalue nearest the collocation
+  leader at n = 24 (its discretised continuum has oscillatory members that can be less damped
+  than the mode), by inverse iteration; the initial state (fluid at rest, displacement X) does
+  not satisfy the interface rows (the impulsive start is a vortex sheet): the first step
+  projects it, as the reduced form does by construction. sphere_coupled.py needs the reduced
+  ODE (``load_response``, M = I) and uses collocation.
+
+Collocation. Built from the radial Chebyshev operators of :mod:`.sphere_radial` (reused, not
+re-derived): for
 degree m and one component they give the index-1 differential-algebraic system
 
     M dv/dt = (L_fluid + K(t) L_stiffness) v,      K(t) = kappa (1 + 2 tau sin t)   (6.3f)
@@ -51,6 +72,8 @@ from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sparse
+import scipy.sparse.linalg as spla
 from threadpoolctl import threadpool_limits
 
 from .._validate import (require_choice, require_int_in_range, require_nonnegative,
@@ -58,6 +81,7 @@ from .._validate import (require_choice, require_int_in_range, require_nonnegati
 from ..errors import ConvergenceError, ParameterError
 from ..models.sphere import lambda0_squared
 from .chebyshev import clenshaw_curtis_weights
+from .sphere_banded import BandedOperators, banded_operators
 from .sphere_radial import (COMPONENTS, N_RADIAL_MAX, RadialOperators, exterior_scale_hint,
                             radial_operators)
 
@@ -67,26 +91,39 @@ N_AUTO_MAX = 160        # largest resolution chosen automatically
 OSCILLATORY = 0.05      # |Im s| / |s| above which an eigenvalue counts as oscillatory ...
 CONTINUUM_FLOOR = 0.1   # ... and |s| / lambda0 above which it is not in the continuum cloud
 ZETA_CUT = 0.2          # zeta above which modes near the branch cut are expected
+RADIAL = ("auto", "collocation", "banded")   # radial discretisations (module docstring)
+DEFAULT_RADIAL = "auto"
+BANDED_FROM = 192       # 'auto': banded from this n_radial on (measured crossover: 128 .. 192)
+assert BANDED_FROM > N_AUTO_MAX  # automatic resolutions stay on collocation
+INVERSE_ITERATIONS = 40  # banded: inverse iterations for the mode (shift within ~1e-4)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class DegreeSystem:
-    """The semi-discrete system of one degree m and component: dy/dt = L y + f(t) N y (M = I).
+    """The semi-discrete system of one degree m and component: M dy/dt = L y + f(t) N y.
+
+    ``radial = 'collocation'``: the reduced ODE of the collocation operators (M = I, dense L, N);
+    ``radial = 'banded'``: the unreduced index-1 DAE of :mod:`.sphere_banded` (sparse M, L, N;
+    y is its whole coefficient state v and ``operators`` the :class:`BandedOperators`).
 
     Attributes
     ----------
     m, component, kappa, nu, tau : physics (component 'poloidal' or 'toroidal').
     M, L, N : (n, n) matrices; L = L0 + kappa L1 (implicit), N = kappa L1 (explicit, scaled by
-        ``forcing``); ``forcing`` is f(t) = 2 tau sin t, or None when tau = 0 (then N is None).
+        ``forcing``); banded: M, L = L_fluid + kappa L_stiffness, N = kappa L_stiffness (CSR);
+        ``forcing`` is f(t) = 2 tau sin t, or None when tau = 0 (then N is None).
     membrane : slice of y holding the membrane components ``membrane_names`` ('Y', 'Psi'),
         ('Phi',) or, inviscid, ('Y',) followed by dX^Y/dt.
     lambda0 : inviscid natural frequency sqrt(lambda0^2) of the degree.
     leading : least damped oscillatory eigenvalue of L (the dominant natural mode; i lambda0
-        when inviscid): its modulus is the time scale that sets the default step.
+        when inviscid; banded: the eigenvalue of the pencil (L, M) nearest the collocation
+        leader at n = 24): its modulus is the time scale that sets the default step.
     n_inner, n_outer, exterior_scale : radial resolution and exterior map (0 when inviscid).
     spatial_error : estimated relative error of the least damped oscillatory eigenvalue (0 when
         inviscid: the Mathieu equation is exact).
-    operators : the :class:`RadialOperators` it was reduced from (None when inviscid).
+    operators : the :class:`RadialOperators` it was reduced from, or the
+        :class:`BandedOperators` (None when inviscid).
+    radial : 'collocation' or 'banded' (see above).
     """
 
     m: int
@@ -106,8 +143,9 @@ class DegreeSystem:
     n_outer: int
     exterior_scale: float
     spatial_error: float
-    operators: RadialOperators | None
+    operators: RadialOperators | BandedOperators | None
     _reduction: "_Reduction | None"
+    radial: str = "collocation"
 
     @property
     def size(self) -> int:
@@ -118,9 +156,12 @@ class DegreeSystem:
     def load_response(self) -> np.ndarray:
         """B, shape (size, components): dy/dt = ... + B F for a membrane load F per unit area
         (components ``membrane_names``, the load -K (m-1)(m+2) X of the uniform model being one
-        such F), so that L1 = -(m-1)(m+2) B on the membrane columns. Viscous systems only."""
+        such F), so that L1 = -(m-1)(m+2) B on the membrane columns. Viscous collocation
+        systems only (it is a column of the reduced ODE)."""
         if self._reduction is None:
-            raise ParameterError("the inviscid system has no load response (no fluid grid)")
+            raise ParameterError("the load response needs a viscous system with "
+                                 "radial='collocation' (the reduced ODE; the inviscid system "
+                                 "has no fluid grid)")
         q1 = (self.m - 1) * (self.m + 2)
         cols = np.arange(self.membrane.start, self.membrane.stop)
         return self._reduction.L1[:, cols] / -q1
@@ -150,9 +191,11 @@ class DegreeSystem:
         return np.asarray(y)[self.membrane.start:self.membrane.start + n]
 
     def full_state(self, y: np.ndarray, t: float) -> np.ndarray:
-        """The state v of :attr:`operators` (all radial unknowns) from y at time t."""
-        if self._reduction is None:
+        """The state v of :attr:`operators` (all radial unknowns) from y at time t (banded: y)."""
+        if self.operators is None:
             raise ParameterError("the inviscid system has no radial state")
+        if self._reduction is None:
+            return np.array(y)
         return self._reduction.expand(np.asarray(y), self.stiffness(t))
 
     def energy(self, y: np.ndarray, t: float) -> tuple[float, float, float]:
@@ -165,7 +208,8 @@ class DegreeSystem:
         D     = nu int c omega^2 dr  or  nu int (c^2 g^2 + c ((r g)')^2) dr,
 
         with q1 = (m-1)(m+2), integrals over 0 < r < infinity (Clenshaw-Curtis on both radial
-        grids). At tau = 0, d(E_kin + E_el)/dt = -D. Inviscid: the potential flow r^m inside,
+        grids; banded: :meth:`BandedOperators.kinetic_dissipation`). At tau = 0,
+        d(E_kin + E_el)/dt = -D. Inviscid: the potential flow r^m inside,
         r^-(m+1) outside has E_kin = (2m+1)/(2 m (m+1)) (dX^Y/dt)^2 and D = 0.
         """
         y = np.asarray(y, dtype=float)
@@ -175,9 +219,12 @@ class DegreeSystem:
         weights = (1.0,) if self.membrane_names[0] == "Y" else (c,)
         weights = weights + (c,) * (len(X) - 1)
         elastic = 0.5 * K * q1 * float(sum(w * x**2 for w, x in zip(weights, X)))
-        if self._reduction is None:
+        if self.operators is None:
             velocity = float(np.asarray(y)[self.membrane.start + 1])
             return 0.5 * (2 * self.m + 1) / c * velocity**2, elastic, 0.0
+        if self._reduction is None:
+            kinetic, dissipation = self.operators.kinetic_dissipation(y)
+            return kinetic, elastic, dissipation
         kinetic, dissipation = self._reduction.kinetic_dissipation(self.full_state(y, t))
         return kinetic, elastic, dissipation
 
@@ -268,21 +315,56 @@ def _reduced(m: int, nu: float, component: str, n: int, scale: float) -> _Reduct
     return _Reduction(ops)
 
 
+@lru_cache(maxsize=64)
+def _banded(m: int, nu: float, component: str, n: int, scale: float) -> BandedOperators:
+    return banded_operators(m=m, nu=nu, component=component, n_inner=n, n_outer=n,
+                            exterior_scale=scale)
+
+
+def _nearest_eigenvalue(A, B, shift: complex) -> complex:
+    """The finite eigenvalue of s B v = A v nearest ``shift`` by inverse iteration with
+    (A - shift B)^{-1} B (ratio |s - shift| / |s' - shift| per iteration, s' the next nearest;
+    the infinite eigenvalues are removed by the first product with B)."""
+    C = sparse.csc_matrix(A - shift * B, dtype=complex)
+    lu = spla.splu(C, permc_spec="NATURAL", diag_pivot_thresh=0.0)
+    x = np.random.default_rng(0).standard_normal(C.shape[0]) + 0j
+    value = np.inf
+    for _ in range(INVERSE_ITERATIONS):
+        y = lu.solve(np.asarray(B @ x, dtype=complex))
+        new = shift + np.vdot(x, x) / np.vdot(x, y)
+        x = y / np.linalg.norm(y)
+        if abs(new - value) <= 1e-15 * abs(new):
+            break
+        value = new
+    return complex(new)
+
+
 @lru_cache(maxsize=256)
-def _leader(m, nu, component, n, scale, kappa) -> complex | None:
-    red = _reduced(m, nu, component, n, scale)
+def _leader(m, nu, component, n, scale, kappa, radial="collocation") -> complex | None:
     floor = CONTINUUM_FLOOR * np.sqrt(lambda0_squared(m, kappa))
+    if radial == "banded":
+        # the banded exterior's discretised continuum also has oscillatory members with
+        # |s| ~ 0.1 .. 0.3 lambda0 (moving with n), so the least damped oscillatory eigenvalue
+        # is not always the mode: the mode taken is the eigenvalue nearest the collocation
+        # system's leader at n = N_START (a shift within ~1e-4 of it)
+        guess = _leader(m, nu, component, N_START, scale, kappa)
+        if guess is None:
+            return None
+        A, B = _banded(m, nu, component, n, scale).pencil(kappa)
+        return _nearest_eigenvalue(A, B, guess)
+    red = _reduced(m, nu, component, n, scale)
     return _oscillatory_leader(np.linalg.eigvals(red.L0 + kappa * red.L1), floor)
 
 
-def _resolve(m, kappa, nu, component, n_radial, scale, tol) -> tuple[int, float, complex]:
+def _resolve(m, kappa, nu, component, n_radial, scale, tol,
+             radial="collocation") -> tuple[int, float, complex]:
     """(n, spatial error, leading oscillatory eigenvalue): n given, or the smallest
     n = N_START + j N_STEP meeting ``tol``."""
     candidates = [n_radial] if n_radial is not None else range(N_START, N_AUTO_MAX + 1, N_STEP)
     error = np.inf
     for n in candidates:
-        fine = _leader(m, nu, component, n, scale, kappa)
-        coarse = _leader(m, nu, component, n - N_STEP, scale, kappa)
+        fine = _leader(m, nu, component, n, scale, kappa, radial)
+        coarse = _leader(m, nu, component, n - N_STEP, scale, kappa, radial)
         if fine is None or coarse is None:
             raise ConvergenceError(
                 f"degree m = {m} ({component}) has no resolved oscillatory mode at zeta = "
@@ -302,7 +384,7 @@ def _resolve(m, kappa, nu, component, n_radial, scale, tol) -> tuple[int, float,
 
 def degree_system(*, m: int, kappa: float, nu: float, tau: float = 0.0,
                   component: str = "poloidal", n_radial: int | None = None,
-                  tol: float = 1e-9) -> DegreeSystem:
+                  tol: float = 1e-9, radial: str = DEFAULT_RADIAL) -> DegreeSystem:
     """The semi-discrete system of degree m (see the module docstring).
 
     Parameters
@@ -314,6 +396,10 @@ def degree_system(*, m: int, kappa: float, nu: float, tau: float = 0.0,
         (<= 160) whose least damped oscillatory eigenvalue changes by <= ``tol`` (relative)
         against n - 8.
     tol : target relative spatial error of that eigenvalue.
+    radial : 'auto' (collocation for n < BANDED_FROM, else banded), 'collocation' (reduced
+        dense ODE, M = I) or 'banded' (sparse DAE of :mod:`.sphere_banded`, cost per step O(n);
+        n_radial then counts the Chebyshev coefficients of each inner and outer unknown).
+        Ignored when nu = 0.
 
     Raises
     ------
@@ -327,8 +413,11 @@ def degree_system(*, m: int, kappa: float, nu: float, tau: float = 0.0,
     tau = require_real("tau", tau)
     component = require_choice("component", component, COMPONENTS)
     tol = require_positive("tol", tol)
+    radial = require_choice("radial", radial, RADIAL)
     if n_radial is not None:
         n_radial = require_int_in_range("n_radial", n_radial, 6 + N_STEP, N_RADIAL_MAX)
+    if radial == "auto":
+        radial = "banded" if n_radial is not None and n_radial >= BANDED_FROM else "collocation"
     lam = float(np.sqrt(lambda0_squared(m, kappa)))
     forcing = None if tau == 0.0 else (lambda t, tau=tau: 2.0 * tau * np.sin(t))
     if nu == 0.0:
@@ -345,7 +434,10 @@ def degree_system(*, m: int, kappa: float, nu: float, tau: float = 0.0,
                             _reduction=None)
     scale = max(1.0, exterior_scale_hint(nu=nu, s_scale=lam))
     with threadpool_limits(limits=1):   # small dense matrices: threads only cost
-        n, error, leading = _resolve(m, kappa, nu, component, n_radial, scale, tol)
+        n, error, leading = _resolve(m, kappa, nu, component, n_radial, scale, tol, radial)
+        if radial == "banded":
+            return _banded_system(m, kappa, nu, tau, component, n, scale, error, leading, lam,
+                                  forcing)
         red = _reduced(m, nu, component, n, scale)
     ops = red.ops
     mem = ops.blocks["membrane"]
@@ -358,6 +450,19 @@ def degree_system(*, m: int, kappa: float, nu: float, tau: float = 0.0,
                         lambda0=lam, leading=leading, n_inner=n, n_outer=n,
                         exterior_scale=scale, spatial_error=error, operators=ops,
                         _reduction=red)
+
+
+def _banded_system(m, kappa, nu, tau, component, n, scale, error, leading, lam,
+                   forcing) -> DegreeSystem:
+    """The sparse DAE M dv/dt = (L_fluid + kappa L_stiffness) v + f(t) kappa L_stiffness v."""
+    ops = _banded(m, nu, component, n, scale)
+    stiff = (kappa * ops.L_stiffness).tocsr()
+    return DegreeSystem(m=m, component=component, kappa=kappa, nu=nu, tau=tau, M=ops.M,
+                        L=(ops.L_fluid + stiff).tocsr(), N=None if forcing is None else stiff,
+                        forcing=forcing, membrane=ops.blocks["membrane"],
+                        membrane_names=ops.membrane_names, lambda0=lam, leading=leading,
+                        n_inner=n, n_outer=n, exterior_scale=scale, spatial_error=error,
+                        operators=ops, _reduction=None, radial="banded")
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -399,7 +504,7 @@ def shape_coefficients(function, l_max: int) -> tuple[dict[tuple[int, int], floa
 
 def scene_blocks(*, shape: dict[tuple[int, int], float], twist: dict[tuple[int, int], float],
                  kappa: float, nu: float, tau: float, n_radial: int | None = None,
-                 tol: float = 1e-9) -> tuple[DegreeBlock, ...]:
+                 tol: float = 1e-9, radial: str = DEFAULT_RADIAL) -> tuple[DegreeBlock, ...]:
     """The per-degree systems a uniform-kappa scene needs: one poloidal system per degree of the
     radial ``shape`` (its orders k as columns) and one toroidal system per degree of ``twist``
     (only if given; uniform kappa never excites X^Phi otherwise). Nothing else is allocated.
@@ -412,7 +517,7 @@ def scene_blocks(*, shape: dict[tuple[int, int], float], twist: dict[tuple[int, 
         for m in sorted({mk[0] for mk in modes}):
             cols = tuple(sorted(mk for mk in modes if mk[0] == m))
             system = degree_system(m=m, kappa=kappa, nu=nu, tau=tau, component=component,
-                                   n_radial=n_radial, tol=tol)
+                                   n_radial=n_radial, tol=tol, radial=radial)
             X = np.zeros((1 if nu == 0.0 else len(system.membrane_names), len(cols)))
             X[0] = [modes[mk] for mk in cols]
             blocks.append(DegreeBlock(system=system, modes=cols,

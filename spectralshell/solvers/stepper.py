@@ -17,8 +17,22 @@ but 1.5 to 2 times faster per step on the sphere's systems (sizes 31..511, measu
 validation/bench_stepper.py); its set-up costs 2 to 10 times the LU factor's, repaid after about
 100-400 steps at size 31 and 1000-4000 steps at sizes 255-383, so INVERSE_MAX covers the sizes the
 sphere's automatic radial resolution chooses (<= 319). Larger dense matrices keep their LU factor
-(LAPACK getrs), sparse ones a SuperLU factor. The state v may be a matrix: its columns are
-independent solutions stepped together.
+(LAPACK getrs), sparse ones a SuperLU factor, computed first in the matrices' own order without
+row interchanges (``_sparse_factor``: O(nnz) fill for the almost-banded systems of
+discretise/sphere_banded.py, whose rows and unknowns are stored for it) and checked by its
+backward error, else with COLAMD and partial pivoting; their products with M, L and N are sparse,
+so a step costs O(nnz). The state v may be a matrix: its columns are independent solutions
+stepped together.
+
+Singular M. Every scheme is allowed on an index-1 DAE: a multistep step solves
+(a_0 M - h b_0 L) v_{n+1} = rhs, whose algebraic rows impose the constraints on v_{n+1} (SBDF;
+CNAB2/MCNAB2 the average of the constraint over the step, which keeps a consistent state
+consistent: their first step is the starter's), with an explicit term extrapolated as in the
+differential rows; the Runge-Kutta schemes (the multistep starter included) are stiffly
+accurate with invertible diagonal AI_ii, so every stage solves its constraints likewise and
+v_{n+1} is the last stage. An inconsistent v0 is projected by the first step. Observed orders on
+the sphere's DAEs: tests/test_stepper.py (collocation, tau = 0) and tests/test_sphere_banded.py
+(banded, forced).
 
 Per-step work. A multistep step keeps the last s values of M v (v itself when M = I), of L v (only
 for schemes with b_j != 0, j >= 1) and of F (only with explicit terms) as consecutive rows of one
@@ -47,6 +61,12 @@ import scipy.sparse.linalg as spla
 from scipy.linalg.lapack import dgetri, dgetrs
 from threadpoolctl import ThreadpoolController
 
+try:                                    # SciPy's CSR product kernels (y += A x), used in place
+    from scipy.sparse._sparsetools import csr_matvec as _csr_matvec
+    from scipy.sparse._sparsetools import csr_matvecs as _csr_matvecs
+except ImportError:                     # pragma: no cover - private module moved: A @ x instead
+    _csr_matvec = _csr_matvecs = None
+
 from .._validate import require_int_in_range, require_positive, require_real
 from ..errors import ConvergenceError, ParameterError
 from .imex import STARTER, Multistep, RungeKutta, scheme as get_scheme
@@ -56,6 +76,7 @@ MAX_STEPS = 50_000_000
 INVERSE_MAX = 320       # dense implicit matrices up to this size are inverted explicitly
 HISTORY_ROWS = 256      # multistep history rows written before the last s are moved to the front,
 HISTORY_BYTES = 1 << 22  # ... fewer for large states (matrix states): at most ~4 MB per history
+SPARSE_BACKWARD = 1e-13  # backward error accepted from a sparse LU without row interchanges
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -130,7 +151,7 @@ class _Solver:
     def __init__(self, A, a: float, hb: float) -> None:
         self.inverse = self.lu = self.sparse_lu = None
         if sparse.issparse(A):
-            self.sparse_lu = spla.splu(sparse.csc_matrix(A))
+            self.sparse_lu = _sparse_factor(sparse.csc_matrix(A, dtype=float))
             return
         lu = sla.lu_factor(np.asarray(A))
         if not np.all(np.isfinite(lu[0])) or np.min(np.abs(np.diag(lu[0]))) == 0.0:
@@ -160,6 +181,30 @@ class _Solver:
             np.dot(self.inverse, rhs, out=out)
         else:
             out[...] = self(rhs)
+
+
+def _sparse_factor(A: sparse.csc_matrix):
+    """SuperLU factor of a sparse A: first in the given order with diagonal pivots (no row
+    interchanges), which keeps the fill O(nnz) for matrices stored banded with their few dense
+    boundary rows last (discretise/sphere_banded.py: partial pivoting there would pick the dense
+    rows and fill the factor with O(n^2) entries), kept if a solve of a random right-hand side
+    has a normwise backward error <= ``SPARSE_BACKWARD``; otherwise (unstable or singular
+    without pivoting) the default COLAMD order with partial pivoting."""
+    n = A.shape[0]
+    try:
+        lu = spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=0.0)
+        b = np.random.default_rng(0).standard_normal(n)
+        x = lu.solve(b)
+        scale = spla.norm(A, np.inf) * np.max(np.abs(x)) + np.max(np.abs(b))
+        if np.all(np.isfinite(x)) and np.max(np.abs(A @ x - b)) <= SPARSE_BACKWARD * scale:
+            return lu
+    except RuntimeError:                          # exactly singular without row interchanges
+        pass
+    try:
+        return spla.splu(A)
+    except RuntimeError as exc:
+        raise ConvergenceError(f"the sparse implicit matrix is singular ({exc}): the system is "
+                               "not an index-1 DAE at this step") from exc
 
 
 class _Factorisations:
@@ -319,11 +364,26 @@ class _Rows:
 
 
 def _product(A, x: _Rows, out: _Rows) -> Callable[[int, int], None]:
-    """(k, j) -> (out row j = A x row k): in place for a real dense A, otherwise by A @ (sparse
-    matrix, operator)."""
+    """(k, j) -> (out row j = A x row k): in place for a real dense A and, by SciPy's CSR kernels
+    (``csr_matvec(s)``, which accumulate into the row), for a real CSR matrix: A @ costs ~5-10 us
+    of dispatch and allocation per call, more than the product on the sphere's banded systems;
+    otherwise by A @ (other sparse formats, operators)."""
     if isinstance(A, np.ndarray) and A.dtype == float:
         dot, xs, outs = np.dot, x.real, out.real
         return lambda k, j: dot(A, xs[k], out=outs[j])
+    if _csr_matvecs is not None and sparse.issparse(A) and A.format == "csr" \
+            and A.dtype == float:
+        (rows, cols), xs, outs = A.shape, x.real, out.real
+        ptr, idx, val = A.indptr, A.indices, A.data
+
+        def product(k: int, j: int) -> None:
+            target, source = outs[j], xs[k]
+            target.fill(0.0)
+            if source.ndim == 1:
+                _csr_matvec(rows, cols, ptr, idx, val, source, target)
+            else:
+                _csr_matvecs(rows, cols, source.shape[1], ptr, idx, val, source, target)
+        return product
     return lambda k, j: out.data.__setitem__(j, np.asarray(A @ x.state(k)).reshape(-1))
 
 
