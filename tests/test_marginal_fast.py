@@ -247,3 +247,29 @@ def test_krylov_falls_back_when_it_cannot_answer():
         assert fast.method == "structured" and np.array_equal(fast.tau, dense.tau)
     res = marginal_tau(mathieu(kappa=2.25, nu=0.0), "subharmonic", method="krylov")
     assert res.method == "qz" and res.tau_min == 0.0
+
+
+# Fig 6.13 cells (cardiac atrium, rho 1, mu 0.04, R 2 cm; params.physical.sphere_forced_params):
+# sigma 5e3 dyn/cm at 300 bpm (m = 3: a harmonic tau = 0.4348 <= 1/2) and 1e4 at 150 bpm (none).
+MAP_CELLS = [(3, 0.6332573977646111, 0.0003183098861837907),
+             (3, 5.066059182116889, 0.0006366197723675814)]
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("m,kappa,nu", MAP_CELLS)
+def test_map_cell_pair_matches_qz_of_both_truncations(m, kappa, nu, kind):
+    """marginal_tau with tau_max = 1/2, as a map point runs it (the smaller truncation cut out
+    of the larger, dense eig of W by direct LAPACK calls): tau_min, its error estimate and the
+    listed tau equal those of QZ (scipy.linalg.eigvals(A, B)) of the two truncations' real-form
+    pencils, each assembled on its own; no tau <= 1/2 in QZ at either truncation gives None."""
+    system = sphere(m=m, kappa=kappa, nu=nu)
+    found = marginal_tau(system, kind, tol=1e-8, tau_max=0.5)
+    qz = [dense_taus(assemble(system, kind, n, "real")) for n in (found.n_temporal,
+                                                                   found.n_previous)]
+    last, previous = (t[(t >= 0) & (t <= 0.5)] for t in qz)
+    if found.tau_min is None:
+        assert last.size == 0 and previous.size == 0
+        return
+    np.testing.assert_allclose(found.tau, last, rtol=1e-12)
+    assert found.error_estimate == pytest.approx(max(abs(last[0] - previous[0]),
+                                                     8 * np.finfo(float).eps), abs=1e-13)

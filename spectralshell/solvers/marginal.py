@@ -42,11 +42,19 @@ truncation:
   coupled oscillators); but the sphere at low beat rate (Fig 6.13, order up to ~350, with
   70-80 eigenvalues inside |tau| < 1/2 and none real) makes Arnoldi give up, at 4-10x the
   dense cost. The threshold keeps Mathieu (b = 1) and sphere and fibre (b = 2) truncations
-  dense up to N = 298 and sends block models (b >~ 30) to Arnoldi.
+  dense up to N = 298 and sends block models (b >~ 30) to Arnoldi. For b = 2 with
+  tau_max = 1/2 the crossover was measured on Fig 6.13 cells (smallest-|tau| run, then the
+  shift-invert cover, work limit lifted, against dense eig of W): the Krylov path took
+  0.5-10x (mostly 1.5-3x) the dense time at N = 120-250 and 0.25-2x at N = 350 (the map
+  needs N <= 175), even with its block elimination replaced by a band LU (35x cheaper
+  products; ARPACK's own work then dominates), so the threshold stands for b = 2.
 
 Truncations of one solve share their pencils and block inverses (:class:`Pencils`): a smaller
 truncation is cut out of a larger one, a larger one reuses the inverses of the blocks it shares
-(blocks of size >= 32).
+(blocks of size >= 32). :func:`marginal_tau` assembles the second truncation first (every solve
+needs both) and cuts the first out of it. The dense eig calls LAPACK ?gebal/?geev directly
+(the same calls and workspace as ``scipy.linalg.matrix_balance``/``eigvals``, without their
+per-call overhead: the same numbers).
 
 Infinite tau (mu = 0: B is singular, and the harmonic Im u_0 slot is a zero row) are removed as
 mu^2 <= 64 eps ||W_bal||_F, W_bal the diagonally balanced W that the eigen-solver works on: such
@@ -122,10 +130,22 @@ def structured_taus(hill: HillMatrices, inv: BlockInverses | None = None) -> np.
     if inv is None:
         return None
     W = dense_half_product(hill, inv)
-    balanced = sla.matrix_balance(W, permute=False, separate=False)[0]
+    gebal = sla.lapack.get_lapack_funcs("gebal", (W,))
+    balanced = gebal(W, scale=1, permute=0, overwrite_a=1)[0]  # scaling only (matrix_balance)
     floor = 64 * np.finfo(float).eps * np.linalg.norm(balanced)
-    return tau_from_squares(sla.eigvals(balanced, overwrite_a=True, check_finite=False),
-                            floor, exact_real=hill.is_real)
+    return tau_from_squares(_eigenvalues(balanced), floor, exact_real=hill.is_real)
+
+
+def _eigenvalues(W: np.ndarray) -> np.ndarray:
+    """Eigenvalues of the square W (overwritten) by LAPACK ?geev without eigenvectors, the
+    calls ``scipy.linalg.eigvals`` makes (same workspace, so the same numbers) without its
+    wrapper's checks; a real W's real eigenvalues have an exactly zero imaginary part."""
+    geev, geev_lwork = sla.lapack.get_lapack_funcs(("geev", "geev_lwork"), (W,))
+    work, info = geev_lwork(len(W), compute_vl=0, compute_vr=0)
+    out = geev(W, lwork=int(work.real), compute_vl=0, compute_vr=0, overwrite_a=1)
+    if info != 0 or out[-1] != 0:
+        raise np.linalg.LinAlgError(f"?geev failed (info = {out[-1]})")
+    return out[0] + 1j * out[1] if np.isrealobj(W) else out[0]
 
 
 def _finite_eigenvalues(hill: HillMatrices) -> np.ndarray:
@@ -197,21 +217,31 @@ class Pencils:
     """The Hill pencils of one system and kind, with their block inverses, reused across
     truncations: per form, the largest truncation assembled so far is kept; a smaller one is cut
     out of it (:meth:`HillMatrices.truncated`, its inverses likewise), and a larger one reuses the
-    inverses of the blocks it shares with it (after checking those blocks are bitwise equal)."""
+    inverses of the blocks it shares with it (after checking those blocks are bitwise equal).
+    ``reserve``: assemble at least this truncation (a solve that will need it sets it first, so
+    that D(s) is evaluated once per Fourier index; assembly was 26 % of a Fig 6.13 map's time
+    with one assembly per truncation, 17 % with one per solve: cProfile, 10 x 10 sub-grid)."""
 
     def __init__(self, system: HillSystem, kind: str):
         self.system, self.kind = system, kind
         self._largest: dict[str, tuple[HillMatrices, BlockInverses | None]] = {}
+        self.reserve = 0
 
     def get(self, n_temporal: int, form: str) -> tuple[HillMatrices, BlockInverses | None]:
         """(pencil, block inverses or None if ill conditioned) of truncation ``n_temporal``."""
         cached = self._largest.get(form)
-        if cached is not None and cached[0].n_temporal >= n_temporal:
-            big, inv = cached
-            hill = big.truncated(n_temporal)
-            if inv is None:  # the larger pencil's bad block may lie outside this one
-                return hill, block_inverses(hill)
-            return hill, inv.subset(big.block_range(n_temporal))
+        if cached is None or cached[0].n_temporal < n_temporal:
+            cached = self._assemble(max(n_temporal, self.reserve), form)
+        big, inv = cached
+        if big.n_temporal == n_temporal:
+            return big, inv
+        hill = big.truncated(n_temporal)
+        if inv is None:  # the larger pencil's bad block may lie outside this one
+            return hill, block_inverses(hill)
+        return hill, inv.subset(big.block_range(n_temporal))
+
+    def _assemble(self, n_temporal: int, form: str) -> tuple[HillMatrices, BlockInverses | None]:
+        cached = self._largest.get(form)
         hill = assemble(self.system, self.kind, n_temporal, form)
         known = None
         if cached is not None and cached[1] is not None:
@@ -362,6 +392,7 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
             f"frequency is {system.n_resonant:.4g} forcing frequencies; lower the stiffness "
             "(kappa) or the mode number m, or raise the forcing frequency")
     n_prev = min(_start(system), _previous(n_max))
+    pencils.reserve = min(_next(n_prev), n_max)  # both are always solved
     previous = solve(n_prev)
     while True:
         n = min(_next(n_prev), n_max)
