@@ -8,7 +8,10 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
+import uuid
 from collections.abc import Iterable
+from pathlib import Path
 
 from .errors import ParameterError
 
@@ -76,3 +79,19 @@ def require_choice(name: str, value: object, choices: Iterable[str]) -> str:
     if not isinstance(value, str) or value not in choices:
         raise _fail(name, value, "one of " + ", ".join(repr(c) for c in choices))
     return value
+
+
+def require_writable_directory(name: str, value: object, directory: Path) -> None:
+    """Check that new files can be made in ``directory`` (where output ``name`` = ``value``
+    goes), by making and removing a probe file: os.access alone says yes where files cannot be
+    made (e.g. /proc, or any directory as root)."""
+    if not directory.is_dir() or not os.access(directory, os.W_OK):
+        raise ParameterError(f"{name} = {str(value)!r} is not writable: directory "
+                             f"{str(directory)!r} does not exist or is read-only")
+    probe = directory / f".probe-{uuid.uuid4().hex[:8]}"
+    try:
+        probe.touch(exist_ok=False)
+        probe.unlink()
+    except OSError as exc:
+        raise ParameterError(f"{name} = {str(value)!r} is not writable: directory "
+                             f"{str(directory)!r} refuses new files ({exc.strerror})") from None

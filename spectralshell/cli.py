@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from . import api
+from ._validate import require_writable_directory
 from ._version import __version__
 from .errors import ConvergenceError, ParameterError, SpectralShellError
 from .params.registry import PARAMS, param_names
@@ -74,12 +75,8 @@ def _solver(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _check_writable(path: str | None) -> None:
-    if path is None:
-        return
-    parent = Path(path).resolve().parent
-    if not parent.is_dir() or not os.access(parent, os.W_OK):
-        raise ParameterError(f"output {path!r} is not writable: directory {str(parent)!r} "
-                             "does not exist or is read-only")
+    if path is not None:
+        require_writable_directory("output", path, Path(path).resolve().parent)
 
 
 def _make_dir(out: str | Path) -> Path:

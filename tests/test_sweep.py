@@ -4,6 +4,7 @@ import json
 import os
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -242,6 +243,19 @@ def test_unwritable_or_wrong_output_is_refused_before_computing(tmp_path):
     (tmp_path / "junk.zarr").mkdir()
     with pytest.raises(ParameterError, match="not a readable spectralshell sweep|no spectralshell sweep"):
         run_sweep(SCENE, executor="serial", out=tmp_path / "junk.zarr")
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux /proc")
+@pytest.mark.parametrize("name", ["map.zarr", "map.nc"])
+def test_a_directory_that_refuses_files_is_caught_before_computing(monkeypatch, name):
+    """/proc passes os.access(W_OK) as root but refuses new files: the probe file catches it
+    before any point is solved (a NetCDF is otherwise only written at the end)."""
+    def never(*args, **kwargs):
+        raise AssertionError("a point was solved")
+
+    monkeypatch.setattr(solve, "solve_kind", never)
+    with pytest.raises(ParameterError, match="refuses new files|not writable"):
+        run_sweep(SCENE, executor="serial", out=Path("/proc") / name)
 
 
 def test_scene_hash_is_stable_across_forms():

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from .._validate import require_writable_directory
 from .._version import __version__
 from ..errors import ParameterError
 from ..params.sweep_grid import LONG_NAMES, SweepSpec
@@ -111,10 +112,7 @@ def check_out(out: str | os.PathLike | None) -> Path | None:
     if path.suffix not in SUFFIXES:
         raise ParameterError(f"out = {str(out)!r} is invalid: must end in .zarr (written chunk by "
                              "chunk, resumable) or .nc (NetCDF, written at the end)")
-    parent = path.resolve().parent
-    if not parent.is_dir() or not os.access(parent, os.W_OK):
-        raise ParameterError(f"out = {str(out)!r} is not writable: directory {str(parent)!r} "
-                             "does not exist or is read-only")
+    require_writable_directory("out", out, path.resolve().parent)
     if path.exists() and (path.is_dir() != (path.suffix == ".zarr")):
         raise ParameterError(f"out = {str(out)!r} is invalid: it exists and is not a "
                              f"{'directory' if path.suffix == '.zarr' else 'file'}")
@@ -178,7 +176,7 @@ class ZarrStore:
         try:
             ds.to_zarr(tmp, mode="w-", encoding=encoding, zarr_format=2, consolidated=True)
             os.rename(tmp, path)
-        except PermissionError as exc:
+        except OSError as exc:  # permission, or a directory that refuses files (e.g. /proc)
             raise ParameterError(f"out = {str(path)!r} is not writable: {exc}") from None
         finally:
             if tmp.exists():
@@ -198,6 +196,8 @@ def write_netcdf(ds: xr.Dataset, path: Path) -> None:
     try:
         ds.to_netcdf(tmp)
         os.replace(tmp, path)
+    except OSError as exc:
+        raise ParameterError(f"out = {str(path)!r} is not writable: {exc}") from None
     finally:
         if tmp.exists():
             tmp.unlink()
