@@ -295,3 +295,39 @@ def test_neighbours_tau_min_is_the_solvers_hint_and_changes_nothing_but_speed(mo
     bound = off["error_estimate"].values.ravel() + on["error_estimate"].values.ravel()
     assert off["has_tau"].values.all() and on["has_tau"].values.all()
     assert np.all(np.abs(a - b) <= np.maximum(bound, 1e-14))
+
+
+def test_minimum_over_kinds_sweep_equals_the_joint_refinement_and_caps_the_other_kind():
+    """over_kinds = 'minimum': per point the smaller tau_min of the two kinds equals
+    refine_minimum called directly (same code path: bitwise) and the separate per-kind
+    refinement within tol_spatial; the other kind has has_tau False and tau_min >= the minimum
+    (the value it was resolved up to); the option changes the scene hash and is refused where M
+    is not refined per point."""
+    grid = {"frequency": [400.0], "sigma": [1e7, 1e8]}
+    alone = run_sweep(scene(grid, over_kinds="minimum", continuation=False),
+                      executor="serial").dataset
+    joint = run_sweep(scene(grid, over_kinds="minimum"), executor="serial").dataset  # continued
+    each = run_sweep(scene(grid), executor="serial").dataset
+    for sigma in (1e7, 1e8):
+        factory = _factory(400.0, sigma)
+        direct = sr.refine_minimum(factory, ("harmonic", "subharmonic"), options=OPTIONS,
+                                   tol_spatial=1e-3, strict=False)
+        per_kind = each.sel(frequency=400.0, sigma=sigma)
+        reference = float(per_kind["tau_min"].where(per_kind["has_tau"]).min())
+        for ds in (alone, joint):
+            at = ds.sel(frequency=400.0, sigma=sigma)
+            has = at["has_tau"].values
+            assert has.sum() == 1  # the minimising kind only
+            best = float(at["tau_min"].values[has][0])
+            assert float(at["tau_min"].values[~has][0]) >= best
+            assert abs(best - reference) <= 1e-3
+        best_alone = float(alone.sel(frequency=400.0, sigma=sigma)["tau_min"].min())
+        assert best_alone == sr.minimum(direct.taus)
+    assert sweep_spec(scene(grid, over_kinds="minimum")).digest != sweep_spec(scene(grid)).digest
+    with pytest.raises(ParameterError, match="over_kinds"):
+        sweep_spec(scene(grid, {"n_spatial": 16}, over_kinds="minimum"))
+    with pytest.raises(ParameterError, match="over_kinds"):
+        sweep_spec({"model": "mathieu", "grid": {"kappa": [0.2]},
+                    "tau_min": {"over_kinds": "minimum"}})
+    with pytest.raises(ParameterError, match="over_kinds"):
+        sweep_spec(scene(grid, over_kinds="smallest"))

@@ -15,6 +15,7 @@ A sweep scene::
     tau_max = 0.5                  # only marginal tau <= tau_max (0.5: the stiffness stays > 0)
     continuation = true            # start each point from its neighbour's truncation
     tol_spatial = 1e-3             # models with spatial modes (cochlea) without n_spatial only
+    over_kinds = "each"            # or "minimum" (M refined per point only): see below
     [sweep]
     chunk = 256                    # points per task along the line axis (the default)
 
@@ -42,6 +43,11 @@ changes by at most ``tol_spatial`` (default 1e-3; see
 :mod:`spectralshell.solvers.spatial_refinement`), and error_estimate includes that change. The
 result then has the variables n_spatial (the M of each value) and spatial_converged (False
 where M = 512 was reached first: the point is kept, with its values at M = 512, and flagged).
+With ``over_kinds = "minimum"`` (M refined per point, both kinds) only the smallest tau_min over
+the kinds is converged, as a minimum-tau map needs (thesis Fig 5.18): at each M the kind that
+gave the minimum is solved first and the other only below it, up to M = 1024. The kind attaining
+the minimum then has has_tau True and its tau_min; the other has has_tau False and tau_min = the
+value it was resolved up to ("no tau below this"), not tau_max.
 
 The *line axis* is the last real-valued axis of the grid (else the last axis other than kind):
 points are solved along it in order, so each can start from its neighbour (continuation), and a
@@ -72,7 +78,11 @@ from .scene import load_scene
 ASKS = ("tau_min",)
 KINDS = ("harmonic", "subharmonic")
 SCENE_KEYS = ("model", "ask", "params", "grid", "tau_min", "sweep", "output")
-OPTION_KEYS = ("tol", "n_temporal", "tau_max", "continuation", "tol_spatial")
+OPTION_KEYS = ("tol", "n_temporal", "tau_max", "continuation", "tol_spatial", "over_kinds")
+#: What is converged per point: every kind's tau_min ('each'), or only the smallest over the
+#: kinds ('minimum': each other kind only below it, :func:`spectralshell.solvers.
+#: spatial_refinement.refine_minimum`; with M refined per point and both kinds only).
+OVER_KINDS = ("each", "minimum")
 SWEEP_KEYS = ("chunk",)
 N_TEMPORAL_MAX = 400  # = solvers.marginal.N_MAX (a later stage: not importable here)
 #: Points per task along the line axis (lines longer than this are cut into equal pieces).
@@ -130,6 +140,7 @@ class SolverOptions:
     tau_max: float = 0.5
     continuation: bool = True
     tol_spatial: float | None = None
+    over_kinds: str = "each"
 
     def marginal_kwargs(self) -> dict[str, Any]:
         """Keyword arguments of ``marginal_tau``."""
@@ -215,6 +226,8 @@ class SweepSpec:
         options = dataclasses.asdict(self.options)
         if options["tol_spatial"] is None:  # scenes without spatial modes keep their old hash
             del options["tol_spatial"]
+        if options["over_kinds"] == "each":  # the default keeps the hash of older scenes
+            del options["over_kinds"]
         return {"model": self.model, "ask": list(self.ask), "params": dict(self.fixed),
                 "grid": [[a.name, list(a.values), a.spacing] for a in self.axes],
                 "options": options, "chunk": self.chunk}
@@ -373,12 +386,16 @@ def _spatial_options(model: str, options: SolverOptions, fixed: Mapping,
     """``options`` with tol_spatial resolved: TOL_SPATIAL by default when M is refined per
     point; refused (ParameterError) when M is fixed or the model has no spatial modes."""
     given = options.tol_spatial is not None
+    fixed_m = sorted((set(fixed) | set(grid)) & {"n_spatial", "spatial_mode"})
+    if options.over_kinds == "minimum" and ("n_spatial" not in param_names(model) or fixed_m):
+        raise ParameterError("tau_min.over_kinds = 'minimum' is invalid here: it needs a model "
+                             "with spatial modes whose M is refined per point (no n_spatial or "
+                             "spatial_mode given); use 'each'")
     if "n_spatial" not in param_names(model):
         if given:
             raise ParameterError(f"tau_min.tol_spatial = {options.tol_spatial!r} is invalid for "
                                  f"model {model!r}: it has no spatial modes")
         return options
-    fixed_m = sorted((set(fixed) | set(grid)) & {"n_spatial", "spatial_mode"})
     if fixed_m:
         if given:
             raise ParameterError(f"tau_min.tol_spatial = {options.tol_spatial!r} is invalid with "
@@ -415,6 +432,8 @@ def _options(table: object) -> SolverOptions:
         out["continuation"] = table["continuation"]
     if "tol_spatial" in table:
         out["tol_spatial"] = require_positive("tau_min.tol_spatial", table["tol_spatial"])
+    if "over_kinds" in table:
+        out["over_kinds"] = require_choice("tau_min.over_kinds", table["over_kinds"], OVER_KINDS)
     return SolverOptions(**out)
 
 

@@ -35,7 +35,11 @@ unconverged is kept, with its values at M = 512, and flagged ``spatial_converged
 With continuation, a point starts its refinement one step below its neighbour's pair (at the
 neighbour's coarser M halved, at least 16) instead of at 16. Inside the refinement each M runs
 the full temporal loop (no truncation continuation: the M-refinement changes the block size),
-with the neighbour's tau_min as the solver's hint. Measured on a sigma line of the Table 5.1
+with the neighbour's tau_min as the solver's hint. With the scene option ``over_kinds =
+"minimum"`` (a minimum-tau map) the kinds are refined jointly by
+:func:`~spectralshell.solvers.spatial_refinement.refine_minimum` (:func:`solve_spatial_minimum`:
+only the smallest tau_min over the kinds is converged, the other kind resolved only below it, up
+to M = 1024), starting with the neighbour's minimising kind. Measured on a sigma line of the Table 5.1
 cochlea (1000 Hz, sigma 1e8 .. 2e8, 6 points, both kinds): 175 s without continuation, 56 s with
 it, the same values (``validation/bench_sweep.py``).
 """
@@ -55,7 +59,8 @@ from ..models.registry import hill_system
 from ..params.registry import make_params
 from ..params.sweep_grid import SolverOptions, SweepSpec
 from ..solvers.marginal import N_MAX, MarginalTau, marginal_tau, truncation_taus
-from ..solvers.spatial_refinement import SPATIAL_LIMIT, SPATIAL_START, refine_spatial, spatial_error
+from ..solvers.spatial_refinement import (MINIMUM_LIMIT, SPATIAL_LIMIT, SPATIAL_START,
+                                          refine_minimum, refine_spatial, spatial_error)
 from .layout import Chunk, block_index, block_shape, chunk_points
 
 #: Result variables of the ask 'tau_min' and their dtypes.
@@ -205,6 +210,36 @@ def solve_spatial(spec: SweepSpec, params: dict, kind: str, hint: int | None = N
                                spatial_converged=found.converged)
 
 
+def solve_spatial_minimum(spec: SweepSpec, params: dict, hint: int | None, leader: str | None,
+                          tau_hints: dict[str, float | None]) -> dict[str, KindSolution]:
+    """Every kind at one point, M refined for the smallest tau_min over the kinds
+    (:func:`~spectralshell.solvers.spatial_refinement.refine_minimum`, up to M = MINIMUM_LIMIT):
+    the kind attaining it in full, each other kind only below it -- where it has nothing there,
+    has_tau is False and tau_min is that cap (not tau_max). ``leader``: the neighbour's minimising
+    kind, tried first; ``hint``: the neighbour's coarser M; ``tau_hints``: its tau_min per kind
+    (the solver's hint)."""
+    start = spatial_start(hint)
+    kinds = spec.kinds if leader is None else (leader, *(k for k in spec.kinds if k != leader))
+    found = refine_minimum(functools.partial(_spatial_system, spec.model, params), kinds,
+                           options=spec.options.marginal_kwargs(),
+                           tol_spatial=spec.options.tol_spatial, start=start,
+                           limit=MINIMUM_LIMIT, strict=False, hints=tau_hints)
+    out = {}
+    for k in spec.kinds:
+        sol = from_marginal(spatial_error(found.taus[k], found.change[k]), found.caps[k])
+        out[k] = dataclasses.replace(sol, continued=start > SPATIAL_START,
+                                     n_spatial=found.n_spatial,
+                                     n_spatial_previous=found.n_spatial_previous,
+                                     spatial_converged=found.converged)
+    return out
+
+
+def _minimising(solutions: dict[str, KindSolution]) -> str | None:
+    """The kind with the smallest tau_min among those that have one."""
+    found = [k for k, sol in solutions.items() if sol.has_tau]
+    return min(found, key=lambda k: solutions[k].tau_min) if found else None
+
+
 def _fixed_modes(params: dict) -> int:
     """M of a point with the spatial truncation given (1 for a single spatial_mode)."""
     return int(params.get("n_spatial") or 1)
@@ -259,16 +294,32 @@ def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
     hints: dict[str, tuple[int, int] | None] = {k: None for k in spec.kinds}
     spatial_hints: dict[str, int | None] = {k: None for k in spec.kinds}
     tau_hints: dict[str, float | None] = {k: None for k in spec.kinds}  # the solver's hint
+    leader: str | None = None  # over_kinds = 'minimum': the neighbour's minimising kind
     continued = fallbacks = 0
     continuing = spec.options.continuation and spec.options.n_temporal is None
+    joint_wanted = (spec.refines_spatial and spec.options.over_kinds == "minimum"
+                    and len(spec.kinds) > 1)
     for j, values in chunk_points(spec, chunk):
         params = spec.params_at(values)
         kind = spec.kinds[0]
         try:
             system = None if spec.refines_spatial else hill_system(make_params(spec.model, params))
+            joint = None
+            if joint_wanted:
+                started = time.perf_counter()
+                go_on = spec.options.continuation
+                joint = solve_spatial_minimum(spec, params,
+                                              spatial_hints[spec.kinds[0]] if go_on else None,
+                                              leader if go_on else None,
+                                              tau_hints if go_on else {})
+                joint_seconds = time.perf_counter() - started
+                leader = _minimising(joint)
             for q, kind in enumerate(spec.kinds):
                 started = time.perf_counter()
-                if system is None:
+                if joint is not None:
+                    sol = joint[kind]
+                    spatial_hints[kind] = sol.n_spatial_previous
+                elif system is None:
                     hint = spatial_hints[kind] if spec.options.continuation else None
                     sol = solve_spatial(spec, params, kind, hint, tau_hints[kind])
                     spatial_hints[kind] = sol.n_spatial_previous
@@ -286,7 +337,9 @@ def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
                 at = block_index(spec, j, q)
                 for name in names:
                     arrays[name][at] = getattr(sol, name)
-                point_seconds[at] = time.perf_counter() - started
+                # the joint solve's time is booked on the first kind (a cell sums its kinds)
+                point_seconds[at] = (time.perf_counter() - started if joint is None else
+                                     joint_seconds if q == 0 else 0.0)
         except Exception as exc:  # noqa: BLE001 - re-raised naming the point
             raise _point_error(exc, values, kind, params) from exc
     return ChunkResult(index=chunk.index, arrays=arrays, seconds=time.perf_counter() - t0,

@@ -28,11 +28,38 @@ Nothing is shared between different M (the blocks of M modes are a leading corne
 2M, but the eigenproblem does not split), and the temporal loop of each M restarts at its own
 first truncation: its smaller truncations cost a few per cent of the largest.
 
+Hopeless last step. When the next pair would be the last (its finer M = ``limit``), every
+change already passes, and only the reach test fails -- a kind found nothing at both M and
+the finer M does not reach its resonance either -- that pair's coarser M fails the reach test
+too, so the refinement stops at once, unconverged, with the values at the finer M: the solves
+at ``limit``, the costliest, would decide nothing and change no value beyond tol_spatial (only
+a tau appearing at ``limit`` within tol_spatial of the other values could have passed there).
+Where a value still moves, the last step is taken.
+
 Continuation. A caller that solves neighbouring points (a sweep line) may pass ``start`` = a
 neighbour's coarser M halved (one step below the neighbour's pair) instead of SPATIAL_START: the
 solves below it are skipped, and the need can still fall one step per point. The result equals
 the independent solve's whenever that one passes at a pair at or above ``(start, 2 start)``;
 otherwise it is the value at a larger M, which passed the same test.
+
+Minimum over kinds (:func:`refine_minimum`). A map of the smallest marginal tau over both kinds
+(thesis Fig 5.18) needs only the kind attaining it resolved; the other kind needs only the
+certainty that it has no tau below it. So at each M the kinds are solved in turn, the one that
+attained the minimum at the previous M first, each later one with tau_max lowered to the
+smallest tau_min found so far at this M (its *cap*). Where the other kind's tau lie above the
+minimum this costs a few truncations instead of a full temporal convergence: e.g. the human
+cochlea (Table 5.1) at f = 50 Hz, sigma = 2e9 g cm^-2 s^-2, where the subharmonic kind has only
+high-order resonances crowding towards tau = 1/2 (temporal truncations to N = 300 at M = 16, 32,
+64) while the harmonic tau_min = 0.483 converges at N = 60: 45 s jointly against 944 s for the
+two kinds refined on their own (one thread; validation of the minimum against dense QZ and the
+per-kind refinement in tests/test_spatial_refinement_minimum.py). The tests of the plain rule
+apply per kind with the smaller of the kind's two caps in place of tau_max (a tau_min above the
+cap counts as the cap), and the minimum itself must change by at most ``tol_spatial``. The reach
+test keeps the margin tau_max: a capped kind that found nothing below its cap at both M needs
+what the plain rule asks to certify nothing below tau_max, a stronger statement. (Its own cap as
+the margin would ask for more -- the harmonic kind under a subharmonic minimum of 0.079 of the
+human cochlea at f = 6 kHz, sigma = 1e7 is not reached at M = 256 with margin 0.079 -- and flag
+points that the per-kind refinement certifies.)
 
 The model is seen only through ``factory(M) -> HillSystem``: this module never knows which
 model it solves.
@@ -54,6 +81,10 @@ from .marginal import MarginalTau, marginal_tau
 
 SPATIAL_START = 16    # first M of the refinement
 SPATIAL_LIMIT = 512   # the refinement stops (not converged) at this M
+#: Limit of :func:`refine_minimum`: only the minimum's kind (and a capped solve of the other)
+#: is pushed there. Fig 5.18's default 6 x 6 grids: M = 1024 settles the human cochlea at
+#: 20 kHz, sigma = 8.3e7 and the gerbil at 50 kHz, sigma = 1.5e8 (~90 s each, one thread).
+MINIMUM_LIMIT = 2 * SPATIAL_LIMIT
 TOL_SPATIAL = 1e-3    # default absolute tolerance of tau_min in M
 #: Lowest response frequency (units of the forcing frequency) of each Floquet kind: the
 #: principal subharmonic resonance at 1/2, the first harmonic one at 1.
@@ -67,9 +98,14 @@ class SpatialTau:
     taus : kind -> MarginalTau at ``n_spatial`` (temporal error estimate only; see
         :func:`spatial_error`).
     n_spatial, n_spatial_previous : the pair (M, M / 2) compared last.
-    change : kind -> :func:`spatial_change` of the pair (tau_min capped at tau_max).
+    change : kind -> :func:`spatial_change` of the pair (tau_min capped at tau_max, or at
+        the smaller of the kind's two caps with :func:`refine_minimum`).
     converged : every change is <= tol_spatial (False only with ``strict=False``: the
-        refinement reached ``limit`` first, and the values are those at ``limit``).
+        refinement reached ``limit``, or a hopeless last step, first; the values are those at
+        ``n_spatial``).
+    caps : kind -> the tau_max its ``taus`` entry was solved with at ``n_spatial``: tau_max
+        (:func:`refine_spatial`), or below it for a kind that did not attain the minimum
+        (:func:`refine_minimum`; its tau_min None then means no tau <= its cap).
     """
 
     taus: dict[str, MarginalTau]
@@ -77,17 +113,22 @@ class SpatialTau:
     n_spatial_previous: int
     change: dict[str, float | None]
     converged: bool
+    caps: dict[str, float] = dataclasses.field(default_factory=dict)
 
 
 def spatial_change(fine: MarginalTau, coarse: MarginalTau,
                    tau_max: float = math.inf) -> float | None:
     """|tau_min(fine) - tau_min(coarse)| of tau_min capped at tau_max (a missing one counts as
     tau_max); 0 when neither has a tau_min; None when only one has and tau_max is infinite."""
-    if fine.tau_min is None and coarse.tau_min is None:
+    return _capped_change(fine.tau_min, coarse.tau_min, tau_max)
+
+
+def _capped_change(fine: float | None, coarse: float | None, cap: float) -> float | None:
+    if fine is None and coarse is None:
         return 0.0
-    if (fine.tau_min is None or coarse.tau_min is None) and not math.isfinite(tau_max):
+    if (fine is None or coarse is None) and not math.isfinite(cap):
         return None
-    capped = [tau_max if m.tau_min is None else m.tau_min for m in (fine, coarse)]
+    capped = [cap if t is None else min(t, cap) for t in (fine, coarse)]
     return abs(capped[0] - capped[1])
 
 
@@ -124,11 +165,45 @@ def solve_at(factory: Callable[[int], HillSystem], n_spatial: int, kinds: Iterab
              options: dict[str, Any]) -> dict[str, MarginalTau]:
     """marginal_tau of each kind with ``n_spatial`` modes (``options``: tol, n_temporal,
     tau_max of :func:`~spectralshell.solvers.marginal.marginal_tau`)."""
-    return _solve(factory(n_spatial), kinds, options)
+    return _solve(factory(n_spatial), tuple(kinds), options, joint=False)[0]
 
 
-def _solve(system: HillSystem, kinds: Iterable[str], options: dict[str, Any]) -> dict[str, MarginalTau]:
-    return {k: marginal_tau(system, k, **options) for k in kinds}
+def minimum(taus: dict[str, MarginalTau]) -> float | None:
+    """The smallest tau_min over the kinds of ``taus`` (None if no kind has one)."""
+    found = [m.tau_min for m in taus.values() if m.tau_min is not None]
+    return min(found) if found else None
+
+
+def _solve(system: HillSystem, kinds: tuple[str, ...], options: dict[str, Any], joint: bool,
+           hints: dict[str, float | None] | None = None) -> tuple[dict[str, MarginalTau],
+                                                                 dict[str, float]]:
+    """(marginal_tau of each kind, the tau_max each was solved with), the kinds in the given
+    order; ``joint``: each kind's tau_max is lowered to the smallest tau_min found before it.
+    ``hints``: kind -> marginal_tau's ``hint`` in place of options' (dropped above the cap)."""
+    cap = options.get("tau_max") or math.inf
+    taus, caps = {}, {}
+    for k in kinds:
+        caps[k] = cap
+        own = {} if hints is None else {"hint": _below(hints.get(k), cap)}
+        taus[k] = marginal_tau(system, k, **{**options, "tau_max": cap, **own})
+        if joint and taus[k].tau_min is not None:
+            cap = min(cap, taus[k].tau_min)
+    return taus, caps
+
+
+def _below(hint: float | None, cap: float) -> float | None:
+    return hint if hint is not None and hint <= cap else None
+
+
+def _leader_first(kinds: tuple[str, ...], taus: dict[str, MarginalTau]) -> tuple[str, ...]:
+    """``kinds`` with the one attaining :func:`minimum` of ``taus`` first (unchanged if none)."""
+    low = minimum(taus)
+    lead = next((k for k in kinds if taus[k].tau_min == low), None) if low is not None else None
+    return kinds if lead is None else (lead, *(k for k in kinds if k != lead))
+
+
+def _none_below(m: MarginalTau, cap: float) -> bool:
+    return m.tau_min is None or m.tau_min > cap
 
 
 def refine_spatial(factory: Callable[[int], HillSystem], kinds: Iterable[str], *,
@@ -145,32 +220,70 @@ def refine_spatial(factory: Callable[[int], HillSystem], kinds: Iterable[str], *
         :func:`reaches_resonance`).
     start : the first M (a neighbour's M for continuation, see the module notes); < limit.
     limit : the largest M tried.
-    strict : raise when ``limit`` is reached unconverged; with False return the values at
-        ``limit`` with ``converged = False`` (a map records and flags such points).
+    strict : raise when ``limit`` is reached unconverged (or the last step is hopeless, see
+        the module notes); with False return the values at the last M with
+        ``converged = False`` (a map records and flags such points).
 
     Raises
     ------
     ParameterError : start < 1 or start >= limit.
     ConvergenceError : (strict) not converged by M = limit; or marginal_tau's own, in N.
     """
-    kinds = tuple(kinds)
+    return _refine(factory, tuple(kinds), options, tol_spatial, start, limit, strict, joint=False)
+
+
+def refine_minimum(factory: Callable[[int], HillSystem], kinds: Iterable[str], *,
+                   options: dict[str, Any], tol_spatial: float = TOL_SPATIAL,
+                   start: int = SPATIAL_START, limit: int = MINIMUM_LIMIT,
+                   strict: bool = True,
+                   hints: dict[str, float | None] | None = None) -> SpatialTau:
+    """The smallest tau_min over ``kinds``, converged in M as :func:`refine_spatial` does, each
+    kind but the minimum's resolved only up to it (module notes, "Minimum over kinds").
+
+    Parameters and errors as :func:`refine_spatial` (``limit`` by default MINIMUM_LIMIT);
+    ``kinds`` in the order tried at ``start``
+    (put first the kind expected to attain the minimum, e.g. a neighbour's). The result's
+    ``caps`` say up to where each kind was resolved; :func:`minimum` of its ``taus`` is the
+    converged value, and each kind's ``change`` is that of tau_min capped at its cap.
+    ``hints``: kind -> a tau expected near its tau_min (e.g. a neighbour's), marginal_tau's
+    ``hint`` for that kind at every M (not passed where it exceeds the kind's cap); only speed
+    depends on it.
+    """
+    return _refine(factory, tuple(kinds), options, tol_spatial, start, limit, strict, joint=True,
+                   hints=hints)
+
+
+def _refine(factory: Callable[[int], HillSystem], kinds: tuple[str, ...], options: dict[str, Any],
+            tol_spatial: float, start: int, limit: int, strict: bool, joint: bool,
+            hints: dict[str, float | None] | None = None) -> SpatialTau:
     if not 1 <= start < limit:
         raise ParameterError(f"start = {start!r} is invalid: must be an integer in [1, {limit})")
     tau_max = options.get("tau_max") or math.inf
     m_coarse = start
     system = factory(m_coarse)
-    coarse = _solve(system, kinds, options)
+    coarse, coarse_caps = _solve(system, kinds, options, joint, hints)
     while True:
         m_fine = 2 * m_coarse
         fine_system = factory(m_fine)
-        fine = _solve(fine_system, kinds, options)
-        change = {k: spatial_change(fine[k], coarse[k], tau_max) for k in kinds}
-        short = [k for k in kinds if fine[k].tau_min is None and coarse[k].tau_min is None
+        order = _leader_first(kinds, coarse) if joint else kinds
+        fine, fine_caps = _solve(fine_system, order, options, joint, hints)
+        fine, fine_caps = {k: fine[k] for k in kinds}, {k: fine_caps[k] for k in kinds}
+        caps = {k: min(fine_caps[k], coarse_caps[k]) for k in kinds}
+        change = {k: spatial_change(fine[k], coarse[k], caps[k]) for k in kinds}
+        short = [k for k in kinds if _none_below(fine[k], caps[k])
+                 and _none_below(coarse[k], caps[k])
                  and not reaches_resonance(system, k, tau_max)]
-        converged = not short and all(c is not None and c <= tol_spatial for c in change.values())
+        settled = all(c is not None and c <= tol_spatial for c in change.values())
+        if joint:
+            low = _capped_change(minimum(fine), minimum(coarse), tau_max)
+            settled = settled and low is not None and low <= tol_spatial
+        converged = settled and not short
         if converged or m_fine >= limit:
             break
-        m_coarse, coarse, system = m_fine, fine, fine_system
+        if settled and 2 * m_fine >= limit and \
+                any(not reaches_resonance(fine_system, k, tau_max) for k in short):
+            break  # the last pair could not pass: its coarser M does not reach these either
+        m_coarse, coarse, coarse_caps, system = m_fine, fine, fine_caps, fine_system
     if not converged and strict:
         why = f"; n_spatial={m_coarse} does not reach the {' and '.join(short)} resonance" \
             if short else ""
@@ -178,4 +291,4 @@ def refine_spatial(factory: Callable[[int], HillSystem], kinds: Iterable[str], *
             f"tau_min did not converge to tol_spatial={tol_spatial:g} by n_spatial={m_fine} "
             f"(last changes {list(change.values())}{why}); relax tol_spatial or give n_spatial")
     return SpatialTau(taus=fine, n_spatial=m_fine, n_spatial_previous=m_coarse, change=change,
-                      converged=converged)
+                      converged=converged, caps=fine_caps)
