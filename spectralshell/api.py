@@ -167,6 +167,8 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
 
 
 PARALLEL_MIN_POINTS = 400  # below this a process pool costs more than it saves
+CHUNKS_PER_WORKER = 32
+MIN_CHUNK = 64
 
 
 def _map(factory, points: list, kinds: tuple[str, ...], workers: int | None, progress: bool,
@@ -174,7 +176,11 @@ def _map(factory, points: list, kinds: tuple[str, ...], workers: int | None, pro
     """Marginal tau at every point through the sweep runner: serial for ``workers=1`` or small
     grids, otherwise a process pool (all cores when ``workers`` is None)."""
     serial = workers == 1 or (workers is None and len(points) < PARALLEL_MIN_POINTS)
-    chunk = max(1, -(-len(points) // (4 * (workers or os.cpu_count() or 1))))
+    # CHUNKS_PER_WORKER tasks per worker, of at least MIN_CHUNK points: the progress bar moves
+    # often, and the dispatch cost (~1.4 ms per task, validation/bench_sweep.py) stays ~1 % of a
+    # chunk's compute even for the cheapest points (Mathieu, ~2 ms each)
+    per_worker = -(-len(points) // (CHUNKS_PER_WORKER * (workers or os.cpu_count() or 1)))
+    chunk = max(MIN_CHUNK, per_worker)
     return map_points(factory, points, kinds, executor="serial" if serial else "processes",
                       workers=None if serial else workers, chunk=chunk, progress=progress,
                       desc=desc, **options)
