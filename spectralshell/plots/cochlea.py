@@ -180,7 +180,7 @@ def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, 
                                                    lambda w: w / (2 * np.pi)))
         top.set_xlabel("ω = 2πf (rad/s)", fontsize=8)
         cells = ds.sizes["frequency"] * ds.sizes["sigma"]
-        note = sweep_plot.hatch_note(hatched, cells).removeprefix("; ")
+        note = sweep_plot.hatch_note(ds, hatched, cells).removeprefix("; ")
         ax.set_title(title + (f"\n{note}" if note else ""), fontsize=8)
     bottom, top = (0.14 if caption else 0.07), 0.89
     fig.subplots_adjust(left=0.12, right=0.82, top=top, bottom=bottom, hspace=0.7)

@@ -5,8 +5,9 @@ component, ...) are categories: one curve each in 1-D; in 2-D the colour is the 
 over them and each band is labelled by the category attaining it, e.g. '3S' = m 3,
 subharmonic (as thesis Fig 6.13). Points without a marginal tau <= tau_max (or not yet computed)
 are left white. Where a sweep refined the number of spatial modes per point (the cochlea), cells
-whose refinement did not converge by M = 512 for some category (``spatial_converged`` false) are
-drawn grey and hatched, whatever their value, and the title counts them.
+whose refinement did not converge by its limit (M = 512 per kind, 1024 for the minimum over
+kinds) for some category (``spatial_converged`` false) are drawn grey and hatched, whatever their
+value, and the title counts them.
 """
 
 from __future__ import annotations
@@ -193,10 +194,14 @@ def colour_label(tau_max: float) -> str:
     return f"minimum τ of instability (white: none ≤ {tau_max:g})"
 
 
-def hatch_note(count: int, cells: int) -> str:
-    """Title note counting the hatched cells ('' when there are none)."""
-    return (f"; hatched grey: {count} of {cells} points not converged in M ≤ 512"
-            if count else "")
+def hatch_note(ds, count: int, cells: int) -> str:
+    """Title note counting the hatched cells ('' when there are none), with the largest M the
+    refinement reached (the limit: 512 per kind, 1024 for the minimum over kinds)."""
+    if not count:
+        return ""
+    largest = int(ds["n_spatial"].max()) if "n_spatial" in ds else None
+    where = f"M ≤ {largest}" if largest else "M"
+    return f"; hatched grey: {count} of {cells} points not converged in {where}"
 
 
 def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int):
@@ -208,7 +213,7 @@ def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int
                      if ds.sizes[d] > 1)
     labels_note = " (labels: " + ("m, " if "m" in cats else "") + "H harmonic / S subharmonic)"
     fixed = _fixed(ds, [xname, yname] + [d for d in cats if ds.sizes[d] > 1])
-    note = hatch_note(hatched, ds.sizes[xname] * ds.sizes[yname])
+    note = hatch_note(ds, hatched, ds.sizes[xname] * ds.sizes[yname])
     ax.set_title(_title(ds, fixed) + (f"\nminimum over {over}{labels_note}" if over else "")
                  + note, fontsize=8)
     return fig
