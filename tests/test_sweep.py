@@ -403,3 +403,34 @@ def test_process_workers_do_not_oversubscribe_blas_threads():
     with executors.open_pool("processes", workers=2) as pool:
         threads = [pool.executor.submit(_blas_threads).result() for _ in range(2)]
     assert all(t <= max(1, cores // 2) for t in threads)
+
+
+def test_ctrl_c_during_a_store_write_waits_for_the_chunk(tmp_path):
+    """A SIGINT arriving inside ZarrStore.write is held back until the chunk (values, then its
+    computed flags) is written, then raised as KeyboardInterrupt: no half-written chunk, and no
+    Zarr I/O task left pending (which printed "Task was destroyed but it is pending!")."""
+    import signal
+
+    from spectralshell.runner.layout import chunks, region
+    from spectralshell.runner.store import ZarrStore
+
+    spec = sweep_spec(SCENE)
+    store = ZarrStore.create(tmp_path / "w.zarr", spec)
+    chunk = chunks(spec)[0]
+    where = region(spec, chunk)
+    shape = np.zeros(spec.shape)[where].shape
+    block = {name: np.full(shape, 0.25, dtype=dtype) for name, dtype in solve.VARIABLES.items()}
+    real = store._arrays["tau_min"].__setitem__
+    arrays = dict(store._arrays)
+
+    class Interrupting:  # the first array write is interrupted by a real SIGINT
+        def __setitem__(self, key, value):
+            os.kill(os.getpid(), signal.SIGINT)
+            real(key, value)
+
+    store._arrays = {**arrays, "tau_min": Interrupting()}
+    with pytest.raises(KeyboardInterrupt):
+        store.write(where, block)
+    written = open_sweep(tmp_path / "w.zarr")
+    assert bool(written["computed"].values[where].all())  # the chunk was completed first
+    assert np.all(written["tau_min"].values[where] == 0.25)

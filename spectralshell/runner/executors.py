@@ -18,6 +18,7 @@ import logging
 import multiprocessing
 import os
 import re
+import signal
 from collections.abc import Iterator
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
 from contextlib import contextmanager
@@ -41,12 +42,20 @@ def _process_context():
     return multiprocessing.get_context("fork" if "fork" in methods else None)
 
 
-def _limit_blas_threads(threads: int) -> None:
+def _quit_quietly(signum: int, _frame) -> None:
+    os._exit(128 + signum)
+
+
+def _init_worker(threads: int) -> None:
     """Worker initialiser: at most ``threads`` BLAS/OpenMP threads in this process (a forked
-    worker inherits the parent's thread pools, so environment variables would come too late)."""
+    worker inherits the parent's thread pools, so environment variables would come too late),
+    and Ctrl-C (SIGINT to the whole process group) ends the worker at once and quietly -- the
+    main process reports the interruption and keeps the finished chunks; a worker waiting for
+    its next task would otherwise print a KeyboardInterrupt traceback."""
     from threadpoolctl import threadpool_limits
 
     threadpool_limits(limits=threads)
+    signal.signal(signal.SIGINT, _quit_quietly)
 
 
 class SerialExecutor(Executor):
@@ -194,7 +203,7 @@ def open_pool(executor: str = "processes", *, workers: int | None = None,
     n = max(1, min(n, max_tasks)) if max_tasks else n
     threads = max(1, (os.cpu_count() or 1) // n)
     pool = ProcessPoolExecutor(max_workers=n, mp_context=_process_context(),
-                               initializer=_limit_blas_threads, initargs=(threads,))
+                               initializer=_init_worker, initargs=(threads,))
     try:
         yield Pool(pool, n, "processes", f"{n} processes")
     except BaseException:

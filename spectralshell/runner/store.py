@@ -27,7 +27,11 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import signal
+import threading
 import uuid
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -184,10 +188,35 @@ class ZarrStore:
         return cls(path, spec)
 
     def write(self, where: tuple[slice, ...], block: dict[str, np.ndarray]) -> None:
-        """Write one finished chunk: the variables, then its ``computed`` flags."""
-        for name in self._names:
-            self._arrays[name][where] = block[name]
-        self._arrays["computed"][where] = np.ones(block["tau_min"].shape, dtype=bool)
+        """Write one finished chunk: the variables, then its ``computed`` flags; a Ctrl-C
+        arriving meanwhile takes effect once the chunk is written (:func:`_sigint_deferred`)."""
+        with _sigint_deferred():
+            for name in self._names:
+                self._arrays[name][where] = block[name]
+            self._arrays["computed"][where] = np.ones(block["tau_min"].shape, dtype=bool)
+
+
+@contextmanager
+def _sigint_deferred() -> Iterator[None]:
+    """Hold back SIGINT (Ctrl-C) until the block is done, then deliver it to the previous
+    handler (KeyboardInterrupt by default). A KeyboardInterrupt inside a Zarr write leaves the
+    write's I/O tasks pending in Zarr's event-loop thread, which then prints "Task was destroyed
+    but it is pending!" at exit; the chunk itself would stay unflagged. Main thread only (the only
+    one that may set signal handlers)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, _frame: received.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        if received:
+            if callable(previous):
+                previous(signal.SIGINT, None)
+            elif previous != signal.SIG_IGN:
+                raise KeyboardInterrupt
 
 
 def write_netcdf(ds: xr.Dataset, path: Path) -> None:
