@@ -35,13 +35,14 @@ unconverged is kept, with its values at M = 512, and flagged ``spatial_converged
 With continuation, a point starts its refinement one step below its neighbour's pair (at the
 neighbour's coarser M halved, at least 16) instead of at 16. Inside the refinement each M runs
 the full temporal loop (no truncation continuation: the M-refinement changes the block size),
-with the neighbour's tau_min as the solver's hint. With the scene option ``over_kinds =
-"minimum"`` (a minimum-tau map) the kinds are refined jointly by
-:func:`~spectralshell.solvers.spatial_refinement.refine_minimum` (:func:`solve_spatial_minimum`:
-only the smallest tau_min over the kinds is converged, the other kind resolved only below it, up
-to M = 1024), starting with the neighbour's minimising kind. Measured on a sigma line of the Table 5.1
+with the neighbour's tau_min as the solver's hint. Measured on a sigma line of the Table 5.1
 cochlea (1000 Hz, sigma 1e8 .. 2e8, 6 points, both kinds): 175 s without continuation, 56 s with
 it, the same values (``validation/bench_sweep.py``).
+
+With the scene option ``over_kinds = "minimum"`` (a minimum-tau map) the kinds are refined
+jointly by :func:`~spectralshell.solvers.spatial_refinement.refine_minimum`
+(:func:`solve_spatial_minimum`: only the smallest tau_min over the kinds is converged, the other
+kind resolved only below it, up to M = 1024), starting with the neighbour's minimising kind.
 """
 
 from __future__ import annotations
