@@ -24,14 +24,13 @@ import os
 import sys
 import tempfile
 import time
-import tomllib
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
 from _bench import row as bench_row
 from spectralshell.params.sweep_grid import DEFAULT_CHUNK, sweep_spec
+from spectralshell.reports.figures import fig_5_18_scene
 from spectralshell.runner import open_pool, run_sweep
 from spectralshell.runner.engine import run_tasks
 from spectralshell.runner.layout import chunks, region
@@ -258,12 +257,6 @@ def continuation() -> dict[str, float]:
     return out
 
 
-def _scene(panel: str) -> dict:
-    """The packaged thesis-size Fig 5.18 scene of ``panel`` ('human' or 'gerbil')."""
-    text = resources.files("spectralshell").joinpath(f"scenes/fig-5.18-{panel}.toml").read_text()
-    return tomllib.loads(text)
-
-
 def fig_5_18_sample() -> list[tuple[str, float]]:
     """Cost of MAP_SAMPLE random points of each thesis-size Fig 5.18 scene (the packaged
     200 x 200 scenes, seed 0), each solved alone (both kinds, M refined, no continuation)."""
@@ -272,7 +265,7 @@ def fig_5_18_sample() -> list[tuple[str, float]]:
     rng = np.random.default_rng(0)
     out = []
     for panel in ("human", "gerbil"):
-        scene = _scene(panel)
+        scene = fig_5_18_scene(panel)
         spec = sweep_spec(scene)
         freq, sigma = (np.asarray(spec.axis(a).values) for a in ("frequency", "sigma"))
         for i, j in zip(rng.integers(0, freq.size, MAP_SAMPLE), rng.integers(0, sigma.size, MAP_SAMPLE)):
@@ -289,7 +282,7 @@ def projection(cost_sphere: float, per_task: float, overhead_fraction: float,
                sample: list[tuple[str, float]]) -> None:
     print("\n== projected wall time of a thesis-size Fig 5.18 map (200 x 200 map points)")
     pts = 200 * 200
-    scene_chunk = sweep_spec(_scene("human")).chunk
+    scene_chunk = sweep_spec(fig_5_18_scene("human")).chunk
     chunk_len = math.ceil(200 / math.ceil(200 / scene_chunk))
     n_chunks = 200 * math.ceil(200 / chunk_len)
     print("  assumptions:")

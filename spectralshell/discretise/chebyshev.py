@@ -325,10 +325,11 @@ def ultraspherical_multiplication(n: int, lam: int, coefficients, *, shift: floa
         sub = (j[:-1] + 1) / (2 * (j[:-1] + lam))      # C_{j+1} in x C_j
         sup = (j[1:] + 2 * lam - 1) / (2 * (j[1:] + lam))   # C_{j-1} in x C_j
     X = sparse.diags([sub, sup], [-1, 1], shape=(big, big), format="csr")
-    Y = shift * sparse.identity(big, format="csr") + scale * X
-    out = a[-1] * sparse.identity(big, format="csr")
+    eye = sparse.identity(big, format="csr")
+    Y = shift * eye + scale * X
+    out = a[-1] * eye
     for ak in a[-2::-1]:
-        out = out @ Y + ak * sparse.identity(big, format="csr")
+        out = out @ Y + ak * eye
     return sparse.csr_matrix(out[:n, :n])
 
 

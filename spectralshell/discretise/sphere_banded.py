@@ -74,11 +74,10 @@ import scipy.sparse as sparse
 from numpy.polynomial import chebyshev as cheb
 from numpy.polynomial import polynomial as poly
 
-from .._validate import require_choice, require_int_in_range, require_positive, require_real
-from ..errors import ParameterError
+from .._validate import require_choice, require_int_in_range, require_positive
 from .chebyshev import (chebyshev_boundary_rows, ultraspherical_conversion,
                         ultraspherical_derivative, ultraspherical_multiplication)
-from .sphere_radial import COMPONENTS, MEMBRANE, N_RADIAL_MAX, SCALE_RANGE
+from .sphere_radial import COMPONENTS, MEMBRANE, N_RADIAL_MAX, require_exterior_scale
 
 N_MIN = 6
 
@@ -200,11 +199,7 @@ def _check(m, nu, component, n_inner, n_outer, exterior_scale):
     component = require_choice("component", component, COMPONENTS)
     n_inner = require_int_in_range("n_inner", n_inner, N_MIN, N_RADIAL_MAX)
     n_outer = require_int_in_range("n_outer", n_outer, N_MIN, N_RADIAL_MAX)
-    scale = require_real("exterior_scale", exterior_scale)
-    if not SCALE_RANGE[0] <= scale <= SCALE_RANGE[1]:
-        raise ParameterError(f"exterior_scale = {exterior_scale!r} is invalid: must be in "
-                             f"[{SCALE_RANGE[0]:g}, {SCALE_RANGE[1]:g}]")
-    return m, nu, component, n_inner, n_outer, scale
+    return m, nu, component, n_inner, n_outer, require_exterior_scale(exterior_scale)
 
 
 def banded_operators(*, m: int, nu: float, component: str = "poloidal", n_inner: int,

@@ -229,11 +229,16 @@ def _check(m, nu, component, n_inner, n_outer, exterior_angle, exterior_scale):
         raise ParameterError(f"exterior_angle = {exterior_angle!r} is invalid: must be in "
                              "(-pi/2, 0] (0: real operators; negative: complex scaling that "
                              "keeps the modes with Im s >= 0)")
-    scale = require_real("exterior_scale", exterior_scale)
+    return m, nu, component, n_inner, n_outer, angle, require_exterior_scale(exterior_scale)
+
+
+def require_exterior_scale(value: object) -> float:
+    """The exterior map's scale L (r = 1 + L (1/xi - 1)), checked to lie in SCALE_RANGE."""
+    scale = require_real("exterior_scale", value)
     if not SCALE_RANGE[0] <= scale <= SCALE_RANGE[1]:
-        raise ParameterError(f"exterior_scale = {exterior_scale!r} is invalid: must be in "
+        raise ParameterError(f"exterior_scale = {value!r} is invalid: must be in "
                              f"[{SCALE_RANGE[0]:g}, {SCALE_RANGE[1]:g}]")
-    return m, nu, component, n_inner, n_outer, angle, scale
+    return scale
 
 
 def radial_operators(*, m: int, nu: float, component: str = "poloidal", n_inner: int,

@@ -205,10 +205,7 @@ def solve_spatial(spec: SweepSpec, params: dict, kind: str, hint: int | None = N
                            options={**spec.options.marginal_kwargs(), "hint": tau_hint},
                            tol_spatial=spec.options.tol_spatial, start=start,
                            limit=SPATIAL_LIMIT, strict=False)
-    sol = from_marginal(spatial_error(found.taus[kind], found.change[kind]), spec.options.tau_max)
-    return dataclasses.replace(sol, continued=start > SPATIAL_START, n_spatial=found.n_spatial,
-                               n_spatial_previous=found.n_spatial_previous,
-                               spatial_converged=found.converged)
+    return _spatial_solutions(found, (kind,), start)[kind]
 
 
 def solve_spatial_minimum(spec: SweepSpec, params: dict, hint: int | None, leader: str | None,
@@ -225,8 +222,14 @@ def solve_spatial_minimum(spec: SweepSpec, params: dict, hint: int | None, leade
                            options=spec.options.marginal_kwargs(),
                            tol_spatial=spec.options.tol_spatial, start=start,
                            limit=MINIMUM_LIMIT, strict=False, hints=tau_hints)
+    return _spatial_solutions(found, spec.kinds, start)
+
+
+def _spatial_solutions(found, kinds: tuple[str, ...], start: int) -> dict[str, KindSolution]:
+    """KindSolution of each kind of a refinement in M started at ``start``; a kind without a
+    tau below its cap (tau_max, or the minimum for a capped kind) gets tau_min = that cap."""
     out = {}
-    for k in spec.kinds:
+    for k in kinds:
         sol = from_marginal(spatial_error(found.taus[k], found.change[k]), found.caps[k])
         out[k] = dataclasses.replace(sol, continued=start > SPATIAL_START,
                                      n_spatial=found.n_spatial,
