@@ -7,7 +7,9 @@ are noisy, best-of-3 is used where it matters).
 * per-point cost: in-worker compute time / grid points of a serial sweep (continuation off);
 * per-task overhead: (a) dispatch: wall time per no-op task carrying a chunk-sized result through
   each executor, (b) the store write of one chunk (Zarr), and the overhead fraction
-  (a + b) / (compute of one chunk) at several chunk lengths -- the default must stay < 5 %;
+  (a + b) / (compute of one chunk) at several chunk lengths -- the default must stay < 5 % --,
+  also with the dispatch shared by the k chunks of a batched task (the runner's
+  ``TASK_SECONDS``); end to end: the runner's own dispatch against one chunk per task;
 * speed-up 1 -> 2 workers: wall time of the same sweep on processes with 1 and 2 workers;
 * continuation: compute time of line sweeps with continuation off / on;
 * projection: Fig 5.18 size (200 x 200 points), from the per-point cost measured on random
@@ -34,7 +36,8 @@ from spectralshell.reports.figures import fig_5_18_scene
 from spectralshell.runner import open_pool, run_sweep
 from spectralshell.runner.engine import run_tasks
 from spectralshell.runner.layout import chunks, region
-from spectralshell.runner.solve import VARIABLES
+from spectralshell.runner.solve import VARIABLES, solve_chunks
+from spectralshell.runner.sweep import TASK_SECONDS, dispatch
 from spectralshell.runner.store import ZarrStore
 
 CHEAP = {"model": "mathieu", "params": {"nu": 0.1},
@@ -141,55 +144,68 @@ def overhead(cost: float, dask: bool) -> dict[str, float]:
         print(f"  Zarr write of one chunk of {c:3d} line points x 2 kinds: {1e3 * t:6.2f} ms")
     print(f"\n  overhead fraction = (dispatch + write) / compute of one chunk, cheapest points "
           f"(mathieu, {1e3 * cost:.3f} ms/point):")
-    print(f"  {'chunk':>6}" + "".join(f"{k:>12}" for k in per_task))
+    print(f"  one chunk per task, and batched as the runner does it (k chunks per task, "
+          f"k = ceil({TASK_SECONDS:g} s / chunk compute): dispatch / k + write)")
+    print(f"  {'chunk':>6}" + "".join(f"{k:>12}" for k in per_task)
+          + "".join(f"{k + ' batched':>19}" for k in per_task if k != "serial") + f"{'k':>5}")
     for c, w in writes.items():
         compute = 2 * c * cost
-        row = "".join(f"{100 * (per_task[k] + w) / compute:11.1f}%" for k in per_task)
+        k = math.ceil(TASK_SECONDS / compute)
+        row = "".join(f"{100 * (per_task[name] + w) / compute:11.1f}%" for name in per_task)
+        row += "".join(f"{100 * (per_task[name] / k + w) / compute:18.1f}%"
+                       for name in per_task if name != "serial")
         mark = "  <- default" if c == DEFAULT_CHUNK else ""
-        print(f"  {c:6d}{row}{mark}")
+        print(f"  {c:6d}{row}{k:5d}{mark}")
     return {**per_task, "write": writes[DEFAULT_CHUNK]}
 
 
 def end_to_end(dask: bool) -> dict[str, float]:
     """Overhead of real chunks (default length, cheapest points) on each executor, pool start
-    excluded: (wall x slots - summed in-worker compute) / summed compute."""
+    excluded: (wall x slots - summed in-worker compute) / summed compute, through the runner's
+    own dispatch (chunks batched into tasks of ~TASK_SECONDS, Zarr writes included) and, as the
+    baseline, one chunk per task."""
     print("\n== end to end, real chunks of the default length (mathieu, cheapest points), pool start "
-          "excluded")
-    scene = {**CHEAP, "grid": {"nu": [0.02, 0.05, 0.1, 0.2], "kappa": CHEAP["grid"]["kappa"]},
-             "params": {}}
+          f"excluded; the runner batches chunks into tasks of ~{TASK_SECONDS:g} s of compute")
+    scene = {**CHEAP, "grid": {"nu": [float(v) for v in np.linspace(0.02, 0.2, 16)],
+                               "kappa": CHEAP["grid"]["kappa"]}, "params": {}}
     spec = sweep_spec(scene)
-    tasks = [(spec, c) for c in chunks(spec)]
-    from spectralshell.runner.solve import solve_chunk
+    plan = chunks(spec)
+
+    def one_per_task(pool, spec, todo, record):
+        run_tasks(pool.executor, solve_chunks, [(spec, (c,)) for c in todo],
+                  in_flight=2 * pool.slots,
+                  on_result=lambda task, results: record(task[1][0], results[0]))
 
     out = {}
     setups = [("serial", {}), ("processes", {"workers": 2})]
     if dask:
         setups.append(("dask", {"scheduler": "local", "workers": 2}))
     for name, kw in setups:
+        fractions = {}
         try:
             with open_pool(name, **kw) as pool:
-                run_tasks(pool.executor, solve_chunk, tasks[:2], in_flight=2 * pool.slots,
-                          on_result=lambda t, r: None)  # warm up
-                with tempfile.TemporaryDirectory() as tmp:
-                    store = ZarrStore.create(Path(tmp) / "e.zarr", spec)
-                    total = []
+                one_per_task(pool, spec, plan[:2], lambda c, r: None)  # warm up
+                for how, run in (("one chunk per task", one_per_task), ("batched", dispatch)):
+                    with tempfile.TemporaryDirectory() as tmp:
+                        store = ZarrStore.create(Path(tmp) / "e.zarr", spec)
+                        total = []
 
-                    def record(task, result):
-                        store.write(region(spec, task[1]), result.arrays)
-                        total.append(result.seconds)
+                        def record(chunk, result):
+                            store.write(region(spec, chunk), result.arrays)
+                            total.append(result.seconds)
 
-                    t0 = time.perf_counter()
-                    run_tasks(pool.executor, solve_chunk, tasks, in_flight=2 * pool.slots,
-                              on_result=record)
-                    wall = time.perf_counter() - t0
+                        t0 = time.perf_counter()
+                        run(pool, spec, plan, record)
+                        wall = time.perf_counter() - t0
+                    compute = sum(total)
+                    fractions[how] = (wall * pool.slots - compute) / compute
+                    print(f"  {name:<10} {how:<19} {len(plan)} chunks x {2 * spec.chunk} points: "
+                          f"wall {wall:.2f} s on {pool.slots} slot(s), summed compute "
+                          f"{compute:.2f} s -> overhead {100 * fractions[how]:.1f} % of compute")
         except Exception as exc:  # noqa: BLE001 - report and go on
             print(f"  {name}: not measured ({type(exc).__name__}: {exc})")
             continue
-        compute = sum(total)
-        out[name] = (wall * pool.slots - compute) / compute
-        print(f"  {name:<10} {len(tasks)} chunks x {2 * spec.chunk} points: wall {wall:.2f} s on "
-              f"{pool.slots} slot(s), summed compute {compute:.2f} s -> overhead "
-              f"{100 * out[name]:.1f} % of compute")
+        out[name] = fractions["batched"]
     return out
 
 

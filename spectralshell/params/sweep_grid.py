@@ -85,11 +85,13 @@ OPTION_KEYS = ("tol", "n_temporal", "tau_max", "continuation", "tol_spatial", "o
 OVER_KINDS = ("each", "minimum")
 SWEEP_KEYS = ("chunk",)
 N_TEMPORAL_MAX = 400  # = solvers.marginal.N_MAX (a later stage: not importable here)
-#: Points per task along the line axis (lines longer than this are cut into equal pieces).
-#: Measured in validation/bench_sweep.py with the cheapest points (Mathieu, ~1.5 ms per grid
-#: point on a loaded 2-core machine): per-task overhead (dispatch + the chunk's Zarr write) is
-#: ~1 % of a 256-point chunk's compute on serial/processes and ~2-3 % on a Dask LocalCluster
-#: (a 128-point chunk: 3 % and 5-8 %); dearer models are far below.
+#: Points per chunk along the line axis (lines longer than this are cut into equal pieces): the
+#: unit of the store and of continuation; the runner batches consecutive chunks into tasks
+#: (runner.sweep.batches). Measured in validation/bench_sweep.py with the cheapest points
+#: (Mathieu, ~0.7 ms per grid point, 2-core machine): the Zarr write of a chunk (~8 ms, in the
+#: main process) and the dispatch of a task (~0.35 ms on processes, ~8 ms on a Dask
+#: LocalCluster) are 2.3 % (processes) and 4.4 % (Dask) of a 256-point chunk's compute with one
+#: chunk per task, and ~2.5 % on both with batching; dearer models are far below.
 DEFAULT_CHUNK = 256
 TOL_SPATIAL = 1e-3  # = solvers.spatial_refinement.TOL_SPATIAL (a later stage: not importable here)
 #: The cgs quantities each model accepts in a sweep in place of its dimensionless parameters.

@@ -7,13 +7,23 @@ from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
 from typing import Any
 
 
+class PartialFailure(Exception):
+    """Raised by a task that failed after finishing part of its work: ``done`` is delivered to
+    ``on_result`` like a result, and ``error`` is then the task's error (:func:`run_tasks`)."""
+
+    def __init__(self, done: Any, error: BaseException):
+        super().__init__(done, error)  # the args rebuild it when it is pickled back from a worker
+        self.done, self.error = done, error
+
+
 def run_tasks(executor: Executor, fn: Callable[..., Any], tasks: Iterable[tuple], *,
               in_flight: int, on_result: Callable[[tuple, Any], None]) -> None:
     """Call ``fn(*task)`` for every task on ``executor``, keeping at most ``in_flight`` submitted,
     and ``on_result(task, result)`` in this process as each one finishes (in completion order).
 
     On the first task error nothing more is submitted, queued tasks are cancelled, the running
-    ones finish and are still delivered to ``on_result``, and then the error is raised. On
+    ones finish and are still delivered to ``on_result``, and then the error is raised; a task
+    that raises :class:`PartialFailure` has its finished part delivered first. On
     KeyboardInterrupt (or an error in ``on_result``) everything pending is cancelled at once.
     """
     todo = iter(tasks)
@@ -38,6 +48,9 @@ def run_tasks(executor: Executor, fn: Callable[..., Any], tasks: Iterable[tuple]
                 if future.cancelled():
                     continue
                 error = future.exception()
+                if isinstance(error, PartialFailure):
+                    on_result(task, error.done)
+                    error = error.error
                 if error is not None:
                     if first_error is None:
                         first_error = error

@@ -62,6 +62,7 @@ from ..params.sweep_grid import SolverOptions, SweepSpec
 from ..solvers.marginal import N_MAX, MarginalTau, marginal_tau, truncation_taus
 from ..solvers.spatial_refinement import (MINIMUM_LIMIT, SPATIAL_LIMIT, SPATIAL_START,
                                           refine_minimum, refine_spatial, spatial_error)
+from .engine import PartialFailure
 from .layout import Chunk, block_index, block_shape, chunk_points
 
 #: Result variables of the ask 'tau_min' and their dtypes.
@@ -349,6 +350,23 @@ def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
     return ChunkResult(index=chunk.index, arrays=arrays, seconds=time.perf_counter() - t0,
                        continued=int(continued), fallbacks=int(fallbacks),
                        point_seconds=point_seconds)
+
+
+def solve_chunks(spec: SweepSpec, batch: tuple[Chunk, ...]) -> list[ChunkResult]:
+    """Solve the chunks of one task in order (:func:`solve_chunk` each).
+
+    Raises
+    ------
+    PartialFailure : a chunk failed; it carries the chunks solved before it (kept in the store)
+        and the chunk's error, as :func:`solve_chunk` raised it.
+    """
+    done: list[ChunkResult] = []
+    for chunk in batch:
+        try:
+            done.append(solve_chunk(spec, chunk))
+        except Exception as exc:  # noqa: BLE001 - delivered with the finished chunks
+            raise PartialFailure(done, exc) from None
+    return done
 
 
 def solve_points(factory, points: list, kinds: tuple[str, ...],
