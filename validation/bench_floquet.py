@@ -7,9 +7,10 @@
   (DOP853, rtol 1e-12), bracket +-0.02 around the answer, xtol = tol.
 
 Errors are against a reference from dense QZ at N = 80. Also: structured vs dense at fixed
-N = 40, 80, 160 (rows for the sphere and fibre), Fig 6.13 map points (marginal_tau with
-tau_max = 1/2 against QZ of the same two truncations), and the wall time of a 301-point
-two-kind Ince-Strutt diagram.
+N = 40, 80, 160 (rows for the sphere and fibre), with the time of the LAPACK eig of the
+half-size W alone (the structured path's floor, and the ratio it caps), Fig 6.13 map points
+(marginal_tau with tau_max = 1/2 against QZ of the same two truncations), and the wall time of
+a 301-point two-kind Ince-Strutt diagram.
 Run: python validation/bench_floquet.py
 """
 
@@ -27,7 +28,8 @@ from _bench import best_time, row
 from spectralshell.discretise.hill import assemble
 from spectralshell.models import fibre, sphere
 from spectralshell.models.mathieu import hill_system
-from spectralshell.solvers.marginal import dense_taus, solve_truncation
+from spectralshell.solvers.half_product import block_inverses, dense_half_product
+from spectralshell.solvers.marginal import dense_taus, preferred_form, solve_truncation
 
 KAPPA, NU, KIND = 0.26, 0.1, "subharmonic"
 
@@ -110,9 +112,12 @@ def main() -> None:
             baseline_s=t_mono, error=abs(m.tau_min - ref), baseline_error=abs(tau_mono - ref),
             note="errors against QZ at N = 80")
 
-    print("\nfixed truncation N: one structured solve vs dense scipy.linalg.eig(A, B), same pencil")
+    print("\nfixed truncation N: one structured solve vs dense scipy.linalg.eig(A, B), same pencil;\n"
+          "eig(W): LAPACK ?geev of the half-size W alone (real for harmonic, complex for "
+          "subharmonic),\nthe floor of the structured path; ceiling = dense / eig(W), the ratio it "
+          "could reach with nothing else")
     print(f"{'model':>28} {'N':>4} {'kind':>12} | {'structured s':>12} | {'dense eig s':>11} | "
-          f"{'ratio':>6} | {'|diff tau_min|':>14}")
+          f"{'ratio':>6} | {'eig(W) s':>9} {'ceiling':>7} | {'|diff tau_min|':>14}")
     models = {"mathieu": system,
               "sphere m=3 k=0.02 nu=0.006": sphere.hill_system(m=3, kappa=0.02, nu=0.006),
               "fibre m=3 k=0.02 nu=2e-4": fibre.hill_system(m=3, kappa=0.02, nu=2e-4)}
@@ -125,8 +130,12 @@ def main() -> None:
                 t_dense, values = best_time(lambda: sla.eig(A, B)[0], repeat=3)
                 values = values[np.isfinite(values) & (np.abs(values.imag) <= 1e-9 * np.abs(values))
                                 & (values.real > 0)].real
+                half = assemble(model, kind, n, preferred_form(kind))
+                W = dense_half_product(half, block_inverses(half))
+                t_w, _ = best_time(lambda: sla.eigvals(W, check_finite=False), repeat=5)
                 print(f"{name:>28} {n:4d} {kind:>12} | {t_fast:12.2e} | {t_dense:11.2e} | "
-                      f"{t_dense / t_fast:6.1f} | {abs(taus.min() - values.min()):14.1e}")
+                      f"{t_dense / t_fast:6.1f} | {t_w:9.2e} {t_dense / t_w:7.1f} | "
+                      f"{abs(taus.min() - values.min()):14.1e}")
                 if name != "mathieu":
                     row(task=f"{name}: every real tau of one truncation, N = {n}, {kind} "
                              "(package: assembly + dense eig of W)", package_s=t_fast,
