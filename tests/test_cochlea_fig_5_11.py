@@ -7,7 +7,8 @@ Oracles:
   tau = 0 exactly where sqrt(kappa k/2) = j/2, i.e. k_j = j^2/(2 kappa);
 * viscous principal subharmonic finger: the balance of the two harmonics e^{+-it/2} alone gives
   tau = |Z_k(i/2) + kappa|/kappa, minimised over k, with Z_k = 2 nu s beta (beta + k)/k,
-  beta = sqrt(s/nu + k^2) (thesis (5.9), written out here, not the package's form). The neglected
+  beta = sqrt(s/nu + k^2) (thesis (5.9) written out in the validation report's oracle
+  ``two_harmonic_tip``, not the package's model form). The neglected
   harmonics e^{+-3it/2} change the tip's k by a relative ~tau^2/8 (they add ~(tau kappa)^2/D(3i/2)
   = -tau^2 kappa/8 to Re D) and its tau only at second order in that.
 """
@@ -18,12 +19,12 @@ import json
 import numpy as np
 import pytest
 from scipy import special
-from scipy.optimize import minimize_scalar
 
 from spectralshell.errors import ParameterError
 from spectralshell.models.cochlea import wavenumber_system
 from spectralshell.params.physical import TABLE_5_1, cochlea_forced
 from spectralshell.reports.figures import FIGURES, make_figure
+from spectralshell.reports.validation import two_harmonic_tip
 from spectralshell.runner import map_points
 from spectralshell.solvers.marginal import marginal_tau
 from spectralshell.solvers.tongues import find_tips
@@ -70,17 +71,6 @@ def test_inviscid_tips_at_half_integer_frequencies():
         assert tip.tau == 0.0
 
 
-def _two_harmonic_tip(kappa, nu):
-    def z(k, s=0.5j):
-        beta = np.sqrt(s / nu + k * k)
-        return 2 * nu * s * beta * (beta + k) / k
-
-    k1 = 1 / (2 * kappa)
-    best = minimize_scalar(lambda k: abs(z(k) + kappa) / kappa, bracket=(0.95 * k1, k1, 1.05 * k1),
-                           tol=1e-12)
-    return best.x, best.fun
-
-
 @pytest.mark.parametrize("params", [OMEGA_500, OMEGA_1000], ids=["omega500", "omega1000"])
 def test_viscous_principal_tip_against_two_harmonic_balance(params):
     """Table 5.1 at omega = 500 and 1000 rad/s: the tip of the principal subharmonic finger
@@ -92,7 +82,7 @@ def test_viscous_principal_tip_against_two_harmonic_balance(params):
     rows = map_points(factory, list(grid), ("subharmonic",), executor="serial", tol=1e-12)
     tips, failures = find_tips(factory, grid, rows, ("subharmonic",), tol=1e-12)
     assert not failures and len(tips) == 1
-    k_tip, tau_tip = _two_harmonic_tip(kappa, nu)
+    k_tip, tau_tip = two_harmonic_tip(kappa, nu)
     assert 1e-3 < tau_tip < 1e-2  # damped: lifted off zero by the Stokes layers
     assert abs(tips[0].tau / tau_tip - 1) < tau_tip**2 / 4
     assert abs(tips[0].kappa / k_tip - 1) < tau_tip**2 / 4
@@ -120,7 +110,7 @@ def test_figure(tmp_path):
             assert tip["kind"] == ("subharmonic" if j % 2 else "harmonic")
             assert tip["k"] > panel["inviscid_tips_k"][j - 1]
         assert np.all(np.diff([t["tau"] for t in tips]) > 0)
-        k_tip, tau_tip = _two_harmonic_tip(params["kappa"], params["nu"])
+        k_tip, tau_tip = two_harmonic_tip(params["kappa"], params["nu"])
         assert tips[0]["k"] == pytest.approx(k_tip, rel=tau_tip**2 / 4)
         assert 1 in panel["unstable_integer_k"]
     assert data["1000.0"]["integer_k_tau_min"]["subharmonic"]["1"] < 0.1

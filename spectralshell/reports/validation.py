@@ -38,7 +38,7 @@ import mpmath
 import numpy as np
 import scipy.special as special
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize_scalar
 
 from .. import api
 from .._version import __version__
@@ -181,6 +181,24 @@ def mp_mode(m: int, zeta: float, seed: complex, component: str = "poloidal") -> 
                                (x0, x0 * (1 + mpmath.mpf("1e-7"))), solver="secant",
                                tol=mpmath.mpf(10) ** -40, verify=False)
         return complex(root)
+
+
+def two_harmonic_tip(kappa: float, nu: float) -> tuple[float, float]:
+    """(k, tau) of the tip of the principal subharmonic finger of the uniform cochlea over a
+    continuous wavenumber k, from the balance of the two harmonics e^{+-it/2} alone:
+    tau(k) = |Z_k(i/2) + kappa| / kappa, Z_k(s) = 2 nu s beta (beta + k)/k, beta = sqrt(s/nu + k^2)
+    (thesis (5.9) written out here, not the package's form), minimised over k near the inviscid
+    resonance k = 1/(2 kappa). The neglected harmonics e^{+-3it/2} shift k and tau by a relative
+    ~tau^2/8."""
+
+    def z(k: float, s: complex = 0.5j) -> complex:
+        beta = np.sqrt(s / nu + k * k)
+        return 2 * nu * s * beta * (beta + k) / k
+
+    k1 = 1 / (2 * kappa)
+    best = minimize_scalar(lambda k: abs(z(k) + kappa) / kappa, bracket=(0.95 * k1, k1, 1.05 * k1),
+                           tol=1e-12)
+    return float(best.x), float(best.fun)
 
 
 # ------------------------------------------------------------------ helpers of the cases
@@ -765,6 +783,57 @@ def cochlea_cases() -> list[Case]:
         source_kind="closed form",
         expected=math.sqrt(2 * TABLE_5_1["sigma"] * math.pi / (TABLE_5_1["rho"] * TABLE_5_1["length"])),
         compute=principal_dip, tolerance=20.0))
+
+    def principal_tip(ctx):
+        worst, notes = 0.0, []
+        for omega, panel in ctx.figure("fig-5.11").items():
+            tip = panel["tips"][0]
+            k, tau = two_harmonic_tip(panel["kappa"], panel["nu"])
+            if tip["kind"] != "subharmonic":
+                return Measured(math.inf, f"omega {float(omega):g}: first tip is {tip['kind']}")
+            worst = max(worst, abs(tip["k"] / k - 1), abs(tip["tau"] / tau - 1))
+            notes.append(f"omega {float(omega):g}: k {tip['k']:.7f} vs {k:.7f}, "
+                         f"tau {tip['tau']:.4e} vs {tau:.4e}")
+        return Measured(worst, "; ".join(notes))
+
+    cases.append(Case(
+        name="fig-5.11.principal-tip", section=COCHLEA,
+        quantity="tip (k, tau) of the principal subharmonic finger of Fig 5.11 (omega = 500, 1000 "
+                 "rad/s): largest relative deviation in k or tau",
+        source="two-harmonic balance of (5.9), written out (two_harmonic_tip); the neglected "
+               "harmonics account for ~tau^2/8 <= 2e-6", source_kind="closed form",
+        expected=0.0, compute=principal_tip, tolerance=1e-5))
+
+    def mostly_resonant(ctx):
+        panels = ctx.figure("fig-5.18")["panels"]
+        share = {name: float(np.mean([t is not None for row in p["tau_min"] for t in row]))
+                 for name, p in panels.items()}
+        return Measured("yes" if min(share.values()) >= 0.9 else "no", ", ".join(
+            f"{name}: tau_min < 1/2 in {100 * v:.0f} % of the cells" for name, v in share.items()))
+
+    cases.append(Case(
+        name="fig-5.18.mostly-resonant", section=COCHLEA,
+        quantity="parametric resonance (a marginal tau < 1/2 of either kind) in >= 90 % of the cells "
+                 "of both Fig 5.18 panels (human, gerbil)",
+        source="thesis 5.6.2: resonance possible for nearly all parameter values, human and gerbil",
+        source_kind="thesis", expected="yes", compute=mostly_resonant, tolerance=0.0))
+
+    def human_corner(ctx):
+        p = ctx.figure("fig-5.18")["panels"]["human"]
+        f, sigma = np.array(p["frequency_hz"]), np.array(p["sigma"])
+        cells = [(f[i], sigma[j]) for i, row in enumerate(p["tau_min"])
+                 for j, t in enumerate(row) if t is None]
+        ok = bool(cells) and all(fi == f.max() and sj < np.median(sigma) for fi, sj in cells)
+        return Measured("yes" if ok else "no", "no tau <= 1/2 at " + (", ".join(
+            f"f = {fi:g} Hz, sigma = {sj:.3g}" for fi, sj in cells) or "no cell"))
+
+    cases.append(Case(
+        name="fig-5.18.human-corner", section=COCHLEA,
+        quantity="the human cells of Fig 5.18 without resonance (no tau <= 1/2) exist and lie at the "
+                 "highest frequency and in the lower half of sigma",
+        source="thesis 5.6.2 / Fig 5.18: non-resonant only at the highest frequencies and lowest "
+               "sigma (white lower-right corner)", source_kind="thesis", expected="yes",
+        compute=human_corner, tolerance=0.0))
 
     def critical_tau(ctx):
         rows = ctx.figure("fig-5.14")["n_spatial"]
