@@ -111,9 +111,23 @@ class HillMatrices:
 
 def realify(d: np.ndarray) -> np.ndarray:
     """Real 2b x 2b blocks [[Re d, -Im d], [Im d, Re d]] of complex (k, b, b) blocks."""
-    top = np.concatenate([d.real, -d.imag], axis=2)
-    bottom = np.concatenate([d.imag, d.real], axis=2)
-    return np.concatenate([top, bottom], axis=1)
+    k, b, _ = d.shape
+    out = np.empty((k, 2 * b, 2 * b), dtype=d.real.dtype)
+    out[:, :b, :b] = out[:, b:, b:] = d.real
+    out[:, :b, b:] = -d.imag
+    out[:, b:, :b] = d.imag
+    return out
+
+
+def _rotation_kron(G: np.ndarray) -> np.ndarray:
+    """kron(J, G) = [[0 G, -G], [G, 0 G]], J = [[0, -1], [1, 0]], entry by entry as np.kron
+    forms it (0 G keeps its signed zeros) at a fraction of np.kron's call overhead."""
+    b = len(G)
+    out = np.empty((2 * b, 2 * b))
+    out[:b, :b] = out[b:, b:] = 0.0 * G
+    out[:b, b:] = -G
+    out[b:, :b] = G
+    return out
 
 
 def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real") -> HillMatrices:
@@ -135,21 +149,22 @@ def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real")
     if form == "two-sided":
         k = two_sided_indices(kind, n_temporal)
         diag = np.asarray(system.unforced(frequencies(kind, k)), dtype=complex)
-        lower = np.broadcast_to(1j * G, (len(k) - 1, b, b))
+        lower = np.full((len(k) - 1, b, b), 1j * G)
         upper = -lower
     else:
         n = real_indices(n_temporal)
         D = np.asarray(system.unforced(frequencies(kind, n)), dtype=complex)
-        JG = np.kron(np.array([[0.0, -1.0], [1.0, 0.0]]), G)
+        JG = _rotation_kron(G)
         diag = realify(D)
         lower = np.broadcast_to(JG, (n_temporal, 2 * b, 2 * b))
-        upper = np.array(np.broadcast_to(-JG, (n_temporal, 2 * b, 2 * b)))
-        zero = np.zeros_like(G)
-        if kind == "harmonic":
-            diag[0] = np.block([[D[0].real, zero], [zero, np.eye(b)]])
-            upper[0] = np.block([[zero, 2 * G], [zero, zero]])
-        else:
+        upper = np.full((n_temporal, 2 * b, 2 * b), -JG)
+        if kind == "harmonic":  # diag[0] = [[D_r(0), 0], [0, I]], upper[0] = [[0, 2G], [0, 0]]
+            diag[0, :b, b:] = diag[0, b:, :b] = 0.0
+            diag[0, b:, b:] = np.eye(b)
+            upper[0] = 0.0
+            upper[0, :b, b:] = 2 * G
+        else:  # self_coupling[0] = [[0, G], [G, 0]]
             self_coupling = np.zeros_like(diag)
-            self_coupling[0] = np.block([[zero, G], [G, zero]])
+            self_coupling[0, :b, b:] = self_coupling[0, b:, :b] = G
     return HillMatrices(kind=kind, form=form, n_temporal=int(n_temporal), diag=diag,
                         lower=lower, upper=upper, self_coupling=self_coupling)

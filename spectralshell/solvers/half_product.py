@@ -68,12 +68,14 @@ KRYLOV_FRACTION = 3  # give up when the Krylov space would exceed (operator orde
 
 def tau_from_squares(lam: np.ndarray, floor: float, exact_real: bool) -> np.ndarray:
     """tau = 1/sqrt(mu^2) for the real eigenvalues mu^2 of W above ``floor``, ascending."""
+    mu2 = lam.real
     if exact_real:
         real = lam.imag == 0.0
     else:
         real = np.abs(lam.imag) <= REAL_RTOL * np.abs(lam)
-    keep = real & (lam.real > floor)
-    return np.sort(1.0 / np.sqrt(lam.real[keep]))
+    tau = 1.0 / np.sqrt(mu2[real & (mu2 > floor)])
+    tau.sort()
+    return tau
 
 
 def is_realified(diag: np.ndarray) -> np.ndarray:
@@ -89,7 +91,8 @@ def is_realified(diag: np.ndarray) -> np.ndarray:
 class BlockInverses:
     """A_k^{-1} of every diagonal block of a pencil with K blocks of size s: for the realified
     blocks ``complex_rows`` as the complex b x b inverse ``complex_inv`` (half the storage and
-    memory traffic of the real 2b x 2b one), for the other ``rows`` as ``inv``."""
+    memory traffic of the real 2b x 2b one), for the other ``rows`` as ``inv``. Both position
+    lists are ascending, so that without realified blocks ``inv`` is every A_k^{-1} in order."""
 
     size: int
     rows: np.ndarray
@@ -99,30 +102,39 @@ class BlockInverses:
 
     def norms(self) -> np.ndarray:
         """1-norm of each A_k^{-1}, k = 0..K-1."""
+        plain = np.abs(self.inv).sum(axis=1).max(axis=-1, initial=0.0)
+        if not self.complex_rows.size:
+            return plain
         out = np.empty(len(self.rows) + len(self.complex_rows))
-        out[self.rows] = np.abs(self.inv).sum(axis=1).max(axis=-1, initial=0.0)
+        out[self.rows] = plain
         c = self.complex_inv
         out[self.complex_rows] = (np.abs(c.real) + np.abs(c.imag)).sum(axis=1).max(axis=-1,
                                                                                   initial=0.0)
         return out
 
     def full(self) -> np.ndarray:
-        """All A_k^{-1} as a (K, s, s) array."""
+        """All A_k^{-1} as a (K, s, s) array (``inv`` itself when no block is realified)."""
+        if not self.complex_rows.size:
+            return self.inv
         K = len(self.rows) + len(self.complex_rows)
         out = np.empty((K, self.size, self.size), dtype=self.inv.dtype)
         out[self.rows] = self.inv
-        if self.complex_rows.size:
-            out[self.complex_rows] = realify(self.complex_inv)
+        out[self.complex_rows] = realify(self.complex_inv)
         return out
 
     def subset(self, rows: slice) -> BlockInverses:
-        """The inverses of the contiguous blocks ``rows``, numbered from 0."""
-        keep = (self.rows >= rows.start) & (self.rows < rows.stop)
-        keep_c = (self.complex_rows >= rows.start) & (self.complex_rows < rows.stop)
-        return BlockInverses(size=self.size, rows=self.rows[keep] - rows.start,
-                             inv=self.inv[keep],
-                             complex_rows=self.complex_rows[keep_c] - rows.start,
-                             complex_inv=self.complex_inv[keep_c])
+        """The inverses of the contiguous blocks ``rows``, numbered from 0 (views of these)."""
+
+        def cut(positions: np.ndarray, blocks: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            if not positions.size:
+                return positions, blocks
+            first, stop = positions.searchsorted((rows.start, rows.stop))  # ascending
+            return positions[first:stop] - rows.start, blocks[first:stop]
+
+        (kept, inv), (kept_c, complex_inv) = (cut(self.rows, self.inv),
+                                              cut(self.complex_rows, self.complex_inv))
+        return BlockInverses(size=self.size, rows=kept, inv=inv, complex_rows=kept_c,
+                             complex_inv=complex_inv)
 
     def solver(self, targets: np.ndarray):
         """r -> (A_k^{-1} r_j)_j for k = targets[j], r of shape (len(targets), s)."""
@@ -181,11 +193,24 @@ def _norm1(blocks: np.ndarray | None) -> float:
 
 def _joined(parts: list[tuple[np.ndarray, BlockInverses]], size: int) -> BlockInverses:
     """One BlockInverses from parts, each (its block positions, its inverses numbered from 0)."""
-    return BlockInverses(size=size,
-                         rows=np.concatenate([at[p.rows] for at, p in parts]),
-                         inv=np.concatenate([p.inv for _, p in parts]),
-                         complex_rows=np.concatenate([at[p.complex_rows] for at, p in parts]),
-                         complex_inv=np.concatenate([p.complex_inv for _, p in parts]))
+    rows = np.concatenate([at[p.rows] for at, p in parts])
+    complex_rows = np.concatenate([at[p.complex_rows] for at, p in parts])
+    order, order_c = np.argsort(rows), np.argsort(complex_rows)
+    return BlockInverses(size=size, rows=rows[order],
+                         inv=np.concatenate([p.inv for _, p in parts])[order],
+                         complex_rows=complex_rows[order_c],
+                         complex_inv=np.concatenate([p.complex_inv for _, p in parts])[order_c])
+
+
+def _reusing(diag: np.ndarray, rows: slice, known: BlockInverses) -> BlockInverses:
+    """A_k^{-1} of every block, those at positions ``rows`` taken from ``known``."""
+    done = np.zeros(len(diag), dtype=bool)
+    done[rows] = True
+    parts = [(np.flatnonzero(done), known)]
+    todo = np.flatnonzero(~done)
+    if todo.size:
+        parts.append((todo, _inverses(diag[todo])))
+    return _joined(parts, diag.shape[1])
 
 
 def block_inverses(hill: HillMatrices,
@@ -194,23 +219,17 @@ def block_inverses(hill: HillMatrices,
     1-norm condition above COND_LIMIT, or ||A_k^{-1}|| ||B|| above it (then some tau ~< 1e-8,
     which the squared eigenvalues mu^2 = 1/tau^2 would lose; the caller falls back to QZ).
     ``known``: (block positions, their inverses), reused instead of inverting those blocks."""
-    K, s, _ = hill.diag.shape
-    done = np.zeros(K, dtype=bool)
-    parts = []
-    if known is not None and s >= SMALL_BLOCK:
-        done[known[0]] = True
-        parts.append((np.flatnonzero(done), known[1]))
-    todo = np.flatnonzero(~done)
     try:
-        if todo.size:
-            parts.append((todo, _inverses(hill.diag[todo])))
+        if known is None or hill.diag.shape[1] < SMALL_BLOCK:
+            inv = _inverses(np.ascontiguousarray(hill.diag))  # C order, as full() passes it on
+        else:
+            inv = _reusing(hill.diag, *known)
     except np.linalg.LinAlgError:
         return None
-    inv = parts[0][1] if len(parts) == 1 and not done.any() else _joined(parts, s)
     inv_norm = inv.norms()
     cond = np.abs(hill.diag).sum(axis=1).max(axis=-1) * inv_norm
     coupling = _norm1(hill.lower) + _norm1(hill.upper) + _norm1(hill.self_coupling)
-    if not np.all(np.isfinite(cond)) or max(cond.max(), inv_norm.max() * coupling) > COND_LIMIT:
+    if not cond.max() <= COND_LIMIT or inv_norm.max() * coupling > COND_LIMIT:  # NaN, inf: None
         return None
     return inv
 
@@ -223,18 +242,16 @@ def dense_half_product(hill: HillMatrices, inverses: BlockInverses) -> np.ndarra
         raise ValueError("the half product needs a bipartite pencil (no self-coupling in B)")
     K, s, _ = hill.diag.shape
     inv = inverses.full()
-    lower, upper = np.ascontiguousarray(hill.lower), np.ascontiguousarray(hill.upper)
-    zero = np.zeros((1, s, s), dtype=inv.dtype)
-    cm = np.concatenate([zero, inv[1:] @ lower, zero])    # cm[k] = C-_k, k = 0..K (0 at ends)
-    cp = np.concatenate([zero, inv[:-1] @ upper, zero])   # cp[k + 1] = C+_k, k = -1..K-1
-    p = np.arange(0, K, 2)
-    m = len(p)
-    W = np.zeros((m, s, m, s), dtype=np.result_type(inv, hill.lower))
-    i = np.arange(m)
-    W[i, :, i, :] = cm[p] @ cp[p] + cp[p + 1] @ cm[p + 1]
-    W[i[:-1], :, i[1:], :] = cp[p[:-1] + 1] @ cp[p[:-1] + 2]
-    W[i[1:], :, i[:-1], :] = cm[p[1:]] @ cm[p[1:] - 1]
-    return W.reshape(m * s, m * s)
+    dtype = np.result_type(inv, hill.lower)
+    cm, cp = np.zeros((2, K + 1, s, s), dtype=dtype)  # zero blocks at both ends
+    np.matmul(inv[1:], np.ascontiguousarray(hill.lower), out=cm[1:K])   # cm[k] = C-_k
+    np.matmul(inv[:-1], np.ascontiguousarray(hill.upper), out=cp[1:K])  # cp[k + 1] = C+_k
+    m = (K + 1) // 2  # even positions p = 0, 2, ..., K - 1 or K - 2
+    W = np.zeros((m * m, s, s), dtype=dtype)  # block (i, j) of W at i m + j
+    W[::m + 1] = cm[0:K:2] @ cp[0:K:2] + cp[1:K + 1:2] @ cm[1:K + 1:2]  # (i, i)
+    W[1::m + 1] = cp[1:K - 1:2] @ cp[2:K:2]                            # (i, i + 1)
+    W[m::m + 1] = cm[2:K:2] @ cm[1:K - 1:2]                            # (i + 1, i)
+    return W.reshape(m, m, s, s).transpose(0, 2, 1, 3).reshape(m * s, m * s)
 
 
 def _right_product(block: np.ndarray):

@@ -54,7 +54,8 @@ truncation is cut out of a larger one, a larger one reuses the inverses of the b
 (blocks of size >= 32). :func:`marginal_tau` assembles the second truncation first (every solve
 needs both) and cuts the first out of it. The dense eig calls LAPACK ?gebal/?geev directly
 (the same calls and workspace as ``scipy.linalg.matrix_balance``/``eigvals``, without their
-per-call overhead: the same numbers).
+per-call overhead: the same numbers), the routines and the workspace size looked up once per
+dtype and order of W.
 
 Infinite tau (mu = 0: B is singular, and the harmonic Im u_0 slot is a zero row) are removed as
 mu^2 <= 64 eps ||W_bal||_F, W_bal the diagonally balanced W that the eigen-solver works on: such
@@ -72,6 +73,9 @@ is reported as one tau = 0 whose uncertainty is its largest magnitude (:func:`qz
 
 from __future__ import annotations
 
+import functools
+import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,6 +92,7 @@ ZERO_CLUSTER = 1e-6
 N_MAX = 400
 METHODS = ("auto", "dense", "krylov")
 KRYLOV_MIN_ORDER = 600
+EPS = np.finfo(float).eps
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -130,20 +135,31 @@ def structured_taus(hill: HillMatrices, inv: BlockInverses | None = None) -> np.
     if inv is None:
         return None
     W = dense_half_product(hill, inv)
-    gebal = sla.lapack.get_lapack_funcs("gebal", (W,))
+    gebal = _eigen_routines(W.dtype, len(W))[0]
     balanced = gebal(W, scale=1, permute=0, overwrite_a=1)[0]  # scaling only (matrix_balance)
-    floor = 64 * np.finfo(float).eps * np.linalg.norm(balanced)
+    floor = 64 * EPS * np.linalg.norm(balanced)
     return tau_from_squares(_eigenvalues(balanced), floor, exact_real=hill.is_real)
+
+
+@functools.lru_cache(maxsize=256)
+def _eigen_routines(dtype: np.dtype, n: int) -> tuple[Callable, Callable, int]:
+    """LAPACK ?gebal, ?geev and ?geev's optimal workspace size for n x n matrices of ``dtype``,
+    looked up once per (dtype, n): on a small W the lookups cost as much as the balancing."""
+    gebal, geev, geev_lwork = sla.lapack.get_lapack_funcs(("gebal", "geev", "geev_lwork"),
+                                                          dtype=dtype)
+    work, info = geev_lwork(n, compute_vl=0, compute_vr=0)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"?geev workspace query failed (info = {info})")
+    return gebal, geev, int(work.real)
 
 
 def _eigenvalues(W: np.ndarray) -> np.ndarray:
     """Eigenvalues of the square W (overwritten) by LAPACK ?geev without eigenvectors, the
     calls ``scipy.linalg.eigvals`` makes (same workspace, so the same numbers) without its
     wrapper's checks; a real W's real eigenvalues have an exactly zero imaginary part."""
-    geev, geev_lwork = sla.lapack.get_lapack_funcs(("geev", "geev_lwork"), (W,))
-    work, info = geev_lwork(len(W), compute_vl=0, compute_vr=0)
-    out = geev(W, lwork=int(work.real), compute_vl=0, compute_vr=0, overwrite_a=1)
-    if info != 0 or out[-1] != 0:
+    _, geev, lwork = _eigen_routines(W.dtype, len(W))
+    out = geev(W, lwork=lwork, compute_vl=0, compute_vr=0, overwrite_a=1)
+    if out[-1] != 0:
         raise np.linalg.LinAlgError(f"?geev failed (info = {out[-1]})")
     return out[0] + 1j * out[1] if np.isrealobj(W) else out[0]
 
@@ -268,7 +284,7 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
     truncation's ``shifts``)."""
     if method not in METHODS:
         raise ValueError(f"method = {method!r} is invalid: must be one of {METHODS}")
-    if not np.any(system.forcing):
+    if not np.count_nonzero(system.forcing):
         return Truncation(tau=np.empty(0), method="structured")  # no finite marginal amplitude
     pencils = Pencils(system, kind) if pencils is None else pencils
     krylov = method == "krylov" or (method == "auto" and
@@ -302,7 +318,7 @@ def solve_truncation(system: HillSystem, kind: str,
 
 
 def _start(system: HillSystem) -> int:
-    return int(np.ceil(system.n_resonant)) + 8
+    return math.ceil(system.n_resonant) + 8
 
 
 def _next(n: int) -> int:
@@ -316,14 +332,14 @@ def _previous(n: int) -> int:
 def _matched(tau: np.ndarray, previous: np.ndarray, tol: float) -> np.ndarray:
     if not tau.size or not previous.size:
         return tau[:0]
-    dist = np.min(np.abs(tau[:, None] - previous[None, :]), axis=1)
+    dist = np.abs(tau[:, None] - previous[None, :]).min(axis=1)
     return tau[dist <= tol * np.maximum(1.0, tau)]
 
 
 def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_max) -> MarginalTau:
     tau, prev, spread = _capped(found.tau, tau_max), _capped(previous.tau, tau_max), found.spread
     if tau.size and prev.size:
-        err = max(abs(float(tau[0] - prev[0])), spread, 8 * np.finfo(float).eps * max(1.0, tau[0]))
+        err = max(abs(float(tau[0] - prev[0])), spread, 8 * EPS * max(1.0, tau[0]))
     elif tau.size:
         err = float(tau[0])  # nothing to compare with: the whole value is uncertain
     else:
@@ -337,7 +353,7 @@ def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_m
 
 
 def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
-    return tau[tau <= tau_max]
+    return tau if tau_max == np.inf else tau[tau <= tau_max]  # tau is never NaN
 
 
 def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
