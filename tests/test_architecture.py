@@ -6,7 +6,7 @@ from pathlib import Path
 import spectralshell
 
 ROOT = Path(spectralshell.__file__).parent
-LEAVES = {"errors", "_validate", "_version", "special"}
+LEAVES = {"errors", "_validate", "_version", "_threads", "special"}
 STAGES = ["params", "models", "discretise", "solvers", "results", "runner", "plots", "api", "reports", "cli",
           "__init__", "__main__"]
 

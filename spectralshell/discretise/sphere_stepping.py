@@ -74,8 +74,8 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sparse
 import scipy.sparse.linalg as spla
-from threadpoolctl import threadpool_limits
 
+from .._threads import one_blas_thread
 from .._validate import (require_choice, require_int_in_range, require_nonnegative,
                          require_positive, require_real)
 from ..errors import ConvergenceError, ParameterError
@@ -433,7 +433,7 @@ def degree_system(*, m: int, kappa: float, nu: float, tau: float = 0.0,
                             exterior_scale=0.0, spatial_error=0.0, operators=None,
                             _reduction=None)
     scale = max(1.0, exterior_scale_hint(nu=nu, s_scale=lam))
-    with threadpool_limits(limits=1):   # small dense matrices: threads only cost
+    with one_blas_thread():   # small dense matrices: threads only cost
         n, error, leading = _resolve(m, kappa, nu, component, n_radial, scale, tol, radial)
         if radial == "banded":
             return _banded_system(m, kappa, nu, tau, component, n, scale, error, leading, lam,

@@ -73,6 +73,7 @@ is reported as one tau = 0 whose uncertainty is its largest magnitude (:func:`qz
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 from collections.abc import Callable
@@ -81,6 +82,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from .._threads import one_blas_thread
 from ..discretise.hill import HillMatrices, assemble
 from ..errors import ConvergenceError
 from ..models.base import HillSystem
@@ -93,6 +95,10 @@ N_MAX = 400
 METHODS = ("auto", "dense", "krylov")
 KRYLOV_MIN_ORDER = 600
 EPS = np.finfo(float).eps
+#: Orders of W whose dense eig runs on one BLAS thread (:func:`structured_taus`): there OpenBLAS's
+#: threads only cost (2 threads vs 1 on a 2-core machine, sphere W: 1.1-2x slower at orders
+#: 162-598, the same at 82); the ~11 us switch is not worth it on smaller W.
+ONE_THREAD_ORDERS = range(100, KRYLOV_MIN_ORDER)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -136,9 +142,11 @@ def structured_taus(hill: HillMatrices, inv: BlockInverses | None = None) -> np.
         return None
     W = dense_half_product(hill, inv)
     gebal = _eigen_routines(W.dtype, len(W))[0]
-    balanced = gebal(W, scale=1, permute=0, overwrite_a=1)[0]  # scaling only (matrix_balance)
-    floor = 64 * EPS * np.linalg.norm(balanced)
-    return tau_from_squares(_eigenvalues(balanced), floor, exact_real=hill.is_real)
+    with one_blas_thread() if len(W) in ONE_THREAD_ORDERS else contextlib.nullcontext():
+        balanced = gebal(W, scale=1, permute=0, overwrite_a=1)[0]  # scaling only (matrix_balance)
+        floor = 64 * EPS * np.linalg.norm(balanced)
+        lam = _eigenvalues(balanced)
+    return tau_from_squares(lam, floor, exact_real=hill.is_real)
 
 
 @functools.lru_cache(maxsize=256)

@@ -46,7 +46,6 @@ stage's value is carried into the next step's stage 0 (v_{n+1} = v_s, stiffly ac
 
 from __future__ import annotations
 
-import functools
 import hashlib
 import math
 from collections import OrderedDict
@@ -59,7 +58,6 @@ import scipy.linalg as sla
 import scipy.sparse as sparse
 import scipy.sparse.linalg as spla
 from scipy.linalg.lapack import dgetri, dgetrs
-from threadpoolctl import ThreadpoolController
 
 try:                                    # SciPy's CSR product kernels (y += A x), used in place
     from scipy.sparse._sparsetools import csr_matvec as _csr_matvec
@@ -67,6 +65,7 @@ try:                                    # SciPy's CSR product kernels (y += A x)
 except ImportError:                     # pragma: no cover - private module moved: A @ x instead
     _csr_matvec = _csr_matvecs = None
 
+from .._threads import one_blas_thread
 from .._validate import require_int_in_range, require_positive, require_real
 from ..errors import ConvergenceError, ParameterError
 from .imex import STARTER, Multistep, RungeKutta, scheme as get_scheme
@@ -98,17 +97,6 @@ class Run:
     dt: float
     steps: int
     scheme: str
-
-
-@functools.lru_cache(maxsize=1)
-def _controller() -> ThreadpoolController:
-    return ThreadpoolController()
-
-
-def one_blas_thread():
-    """Context limiting BLAS/OpenMP to one thread. The libraries are looked up once (a new
-    ``threadpoolctl.threadpool_limits`` scans the process's libraries on every call, ~3 ms)."""
-    return _controller().limit(limits=1)
 
 
 def _leading_bits(A: np.ndarray, bits: int, axis: int) -> np.ndarray:
