@@ -16,6 +16,6 @@ def one_blas_thread():
     """Context limiting BLAS/OpenMP to one thread. The libraries are looked up once, at the first
     call (a new ``threadpoolctl.threadpool_limits`` scans the process's libraries on every call,
     ~3 ms; this costs ~11 us). On small and medium dense problems (orders up to a few hundred)
-    OpenBLAS's threads only cost: measured 3x on LAPACK ?geev of a structured complex W of order
-    162 and 25x on its Frobenius norm (2 threads vs 1, validation/bench_floquet.py)."""
+    OpenBLAS's threads only cost: the dense eig of the structured W of the sphere (balancing,
+    norm, ?geev) took 1.1-2x longer on 2 threads than on 1 at orders 162-598 (2-core machine)."""
     return _controller().limit(limits=1)
