@@ -88,10 +88,10 @@ N_TEMPORAL_MAX = 400  # = solvers.marginal.N_MAX (a later stage: not importable 
 #: Points per chunk along the line axis (lines longer than this are cut into equal pieces): the
 #: unit of the store and of continuation; the runner batches consecutive chunks into tasks
 #: (runner.sweep.batches). Measured in validation/bench_sweep.py with the cheapest points
-#: (Mathieu, ~0.7 ms per grid point, 2-core machine): the Zarr write of a chunk (~8 ms, in the
-#: main process) and the dispatch of a task (~0.35 ms on processes, ~8 ms on a Dask
-#: LocalCluster) are 2.3 % (processes) and 4.4 % (Dask) of a 256-point chunk's compute with one
-#: chunk per task, and ~2.5 % on both with batching; dearer models are far below.
+#: (Mathieu, ~0.5 ms per grid point, 2-core machine): the Zarr write of a chunk (~9 ms, in the
+#: main process) and the dispatch of a task (~0.5 ms on processes, ~10 ms on a Dask
+#: LocalCluster); end to end (wall x workers - compute) / compute was 3.2 % with one chunk per
+#: task and 1.8 % (processes) and 0.9 % (Dask) with batching; dearer models are far below.
 DEFAULT_CHUNK = 256
 TOL_SPATIAL = 1e-3  # = solvers.spatial_refinement.TOL_SPATIAL (a later stage: not importable here)
 #: The cgs quantities each model accepts in a sweep in place of its dimensionless parameters.

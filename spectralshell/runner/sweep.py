@@ -22,9 +22,9 @@ from .solve import ChunkResult, SweepError, solve_chunks, solve_points
 from .store import ZarrStore, check_out, empty_arrays, load_existing, to_dataset, write_netcdf
 
 IN_FLIGHT_PER_SLOT = 2  # tasks submitted per executor slot: keeps every worker busy
-#: Compute seconds aimed at per task once chunk costs are measured: a Dask task costs ~8 ms of
-#: dispatch (validation/bench_sweep.py), ~0.4 % of this; the progress bar still moves every
-#: TASK_SECONDS / slots.
+#: Compute seconds aimed at per task once chunk costs are measured: a Dask task costs ~10 ms of
+#: dispatch (validation/bench_sweep.py), ~0.5 % of this; the progress bar still moves about
+#: every TASK_SECONDS / slots.
 TASK_SECONDS = 2.0
 
 
@@ -38,13 +38,13 @@ def batches(todo: Sequence[Chunk], chunk_seconds: Callable[[], float | None],
             slots: int) -> Iterator[tuple[Chunk, ...]]:
     """The chunks to compute, in order, cut into consecutive runs, one run per task.
 
-    A run is one chunk while ``chunk_seconds()`` (the measured compute time of a recent chunk,
-    read as each task is submitted) is None, then as many chunks as fill TASK_SECONDS, but never
+    A run is one chunk while ``chunk_seconds()`` (the mean compute time of the last finished
+    chunks, read as each task is submitted) is None, then as many chunks as fill TASK_SECONDS, but never
     more than the remaining chunks / (IN_FLIGHT_PER_SLOT x ``slots``), so that the last tasks stay
     short and every slot keeps work to the end. Batching leaves the numbers unchanged (each
     chunk is solved on its own, :func:`~spectralshell.runner.solve.solve_chunks`) and the store
     layout too (it depends on the scene only); it cuts the per-task dispatch cost of cheap
-    chunks (Mathieu points, ~0.7 ms each) on a Dask cluster.
+    chunks (Mathieu points, ~0.5 ms each) on a Dask cluster.
     """
     start = 0
     while start < len(todo):
