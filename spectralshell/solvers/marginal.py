@@ -55,7 +55,7 @@ truncation is cut out of a larger one, a larger one reuses the inverses of the b
 needs both) and cuts the first out of it. The dense eig calls LAPACK ?gebal/?geev directly
 (the same calls and workspace as ``scipy.linalg.matrix_balance``/``eigvals``, without their
 per-call overhead: the same numbers), the routines and the workspace size looked up once per
-dtype and order of W.
+dtype and order of W; a W of order 100..599 is solved on one BLAS thread (ONE_THREAD_ORDERS).
 
 Infinite tau (mu = 0: B is singular, and the harmonic Im u_0 slot is a zero row) are removed as
 mu^2 <= 64 eps ||W_bal||_F, W_bal the diagonally balanced W that the eigen-solver works on: such
