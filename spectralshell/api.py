@@ -167,7 +167,7 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
 
 
 PARALLEL_MIN_POINTS = 400  # below this a process pool costs more than it saves
-CHUNKS_PER_WORKER = 32
+CHUNKS_PER_WORKER = 128
 MIN_CHUNK = 64
 
 
@@ -177,8 +177,10 @@ def _map(factory, points: list, kinds: tuple[str, ...], workers: int | None, pro
     grids, otherwise a process pool (all cores when ``workers`` is None)."""
     serial = workers == 1 or (workers is None and len(points) < PARALLEL_MIN_POINTS)
     # CHUNKS_PER_WORKER tasks per worker, of at least MIN_CHUNK points: the progress bar moves
-    # often, and the dispatch cost (~1.4 ms per task, validation/bench_sweep.py) stays ~1 % of a
-    # chunk's compute even for the cheapest points (Mathieu, ~2 ms each)
+    # often (a 200 x 200 Fig 6.13 map: every ~780 points, under one beat-rate row; with 32 per
+    # worker its first, dearest chunks took ~1.5 min), and the dispatch cost (~0.5 ms per task,
+    # validation/bench_sweep.py) stays ~1 % of a chunk's compute even for the cheapest points
+    # (Mathieu, ~0.5 ms each); each point is solved alone, so the numbers do not depend on it
     per_worker = -(-len(points) // (CHUNKS_PER_WORKER * (workers or os.cpu_count() or 1)))
     chunk = max(MIN_CHUNK, per_worker)
     return map_points(factory, points, kinds, executor="serial" if serial else "processes",
