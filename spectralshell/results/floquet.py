@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -37,6 +38,18 @@ def marginal_dict(m: MarginalTau) -> dict[str, Any]:
 def tau_warnings(values) -> list[str]:
     """The negative-stiffness flag if any tau exceeds 1/2."""
     return [NEGATIVE_STIFFNESS] if any(t > 0.5 for t in values) else []
+
+
+def resolution_warnings(res: Mapping[str, MarginalTau], tol: float) -> list[str]:
+    """A flag for each kind whose converged tau_min has an error estimate above ``tol``: the
+    truncation has converged (|change| < tol) but rounding limits the value, e.g. tau = 0 as a
+    multiple eigenvalue at a finger tip on the axis, which double precision splits by
+    ~sqrt(eps) (see :func:`spectralshell.solvers.marginal.qz_taus`); no larger N helps."""
+    return [f"{kind} tau_min = {m.tau_min:.6g} is resolved only to {m.error_estimate:.1e}, above "
+            f"tol = {tol:g}: rounding limits it (a multiple eigenvalue at tau = 0, or eps x "
+            "tau_min), not the truncation"
+            for kind, m in res.items()
+            if m.tau_min is not None and m.error_estimate is not None and m.error_estimate > tol]
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
