@@ -71,7 +71,9 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     ----------
     model : a name from ``spectralshell.params.registry.PARAMS`` ('mathieu', 'sphere', ...).
     kind : 'both', 'harmonic' (gamma = 0) or 'subharmonic' (gamma = i/2); only those are computed.
-    tol : absolute tolerance on tau_min; the truncation grows until it is met.
+    tol : absolute tolerance on tau_min; the truncation grows until it is met. Where rounding,
+        not the truncation, keeps the error estimate above tol (tau = 0 as a double eigenvalue
+        at an undamped finger tip) the result's ``warnings`` say so.
     n_temporal : fix the truncation N instead (the error estimate compares with a smaller N).
     tau_max : compute only the marginal tau <= tau_max (e.g. 0.5, the physical range); the
         truncation then grows only as far as those need, and tau_min is None when there is none.
