@@ -7,8 +7,9 @@
   (DOP853, rtol 1e-12), bracket +-0.02 around the answer, xtol = tol.
 
 Errors are against a reference from dense QZ at N = 80. Also: structured vs dense at fixed
-N = 40, 80, 160 (rows for the sphere and fibre), with the time of the LAPACK eig of the
-half-size W alone (the structured path's floor, and the ratio it caps), Fig 6.13 map points
+N = 40, 80, 160 (Mathieu; 40, 80 for the sphere and fibre), with the time of the eigenvalue
+step on the half-size W alone (the compiled tridiagonal kernel for Mathieu, LAPACK ?geev for
+the b = 2 models: the structured path's floor, and the ratio it caps), Fig 6.13 map points
 (marginal_tau with tau_max = 1/2 against QZ of the same two truncations), and the wall time of
 a 301-point two-kind Ince-Strutt diagram.
 Run: python validation/bench_floquet.py
@@ -29,7 +30,9 @@ from spectralshell._threads import one_blas_thread
 from spectralshell.discretise.hill import assemble
 from spectralshell.models import fibre, sphere
 from spectralshell.models.mathieu import hill_system
-from spectralshell.solvers.half_product import block_inverses, dense_half_product
+from spectralshell.solvers import tridiagonal
+from spectralshell.solvers.half_product import (block_inverses, dense_half_product,
+                                                tridiagonal_half_product)
 from spectralshell.solvers.marginal import dense_taus, preferred_form, solve_truncation
 
 KAPPA, NU, KIND = 0.26, 0.1, "subharmonic"
@@ -83,6 +86,19 @@ def map_points() -> None:
                 note="error = |tau_min - QZ's at the final N|; none <= 1/2 in both: no error")
 
 
+def eigen_step_time(half) -> float:
+    """Time of the package's eigenvalue step on the half-size W alone: the compiled kernel on
+    W's diagonals for a scalar model (tridiagonal W), else LAPACK ?geev of the dense W on one
+    BLAS thread (as marginal.ONE_THREAD_ORDERS runs it)."""
+    inv = block_inverses(half)
+    if half.diag.shape[1] == 1:
+        d, p = tridiagonal_half_product(half, inv)
+        return best_time(lambda: tridiagonal.eigenvalues(d, p), repeat=7)[0]
+    W = dense_half_product(half, inv)
+    with one_blas_thread():
+        return best_time(lambda: sla.eigvals(W, check_finite=False), repeat=5)[0]
+
+
 def dense_taus_of(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     """Real tau of the pencil (A, B) by QZ (the thesis's method), either sign."""
     values = sla.eigvals(A, B)
@@ -114,16 +130,16 @@ def main() -> None:
             note="errors against QZ at N = 80")
 
     print("\nfixed truncation N: one structured solve vs dense scipy.linalg.eig(A, B), same pencil;\n"
-          "eig(W): LAPACK ?geev of the half-size W alone (real for harmonic, complex for "
-          "subharmonic),\nthe floor of the structured path; ceiling = dense / eig(W), the ratio it "
-          "could reach with nothing else")
+          "eig(W): the eigenvalue step alone (the compiled tridiagonal kernel for Mathieu, b = 1; "
+          "LAPACK ?geev of the\nhalf-size W for b = 2), the floor of the structured path; "
+          "ceiling = dense / eig(W), the ratio it could reach with nothing else")
     print(f"{'model':>28} {'N':>4} {'kind':>12} | {'structured s':>12} | {'dense eig s':>11} | "
           f"{'ratio':>6} | {'eig(W) s':>9} {'ceiling':>7} | {'|diff tau_min|':>14}")
-    models = {"mathieu": system,
+    models = {"mathieu kappa=0.26 nu=0.1": system,
               "sphere m=3 k=0.02 nu=0.006": sphere.hill_system(m=3, kappa=0.02, nu=0.006),
               "fibre m=3 k=0.02 nu=2e-4": fibre.hill_system(m=3, kappa=0.02, nu=2e-4)}
     for name, model in models.items():
-        for n in (40, 80, 160) if name == "mathieu" else (40, 80):
+        for n in (40, 80, 160) if model is system else (40, 80):
             for kind in ("harmonic", "subharmonic"):
                 t_fast, (taus, _, _) = best_time(lambda: solve_truncation(model, kind, n), 5)
                 hill = assemble(model, kind, n, "real")
@@ -131,19 +147,18 @@ def main() -> None:
                 t_dense, values = best_time(lambda: sla.eig(A, B)[0], repeat=3)
                 values = values[np.isfinite(values) & (np.abs(values.imag) <= 1e-9 * np.abs(values))
                                 & (values.real > 0)].real
-                half = assemble(model, kind, n, preferred_form(kind))
-                W = dense_half_product(half, block_inverses(half))
-                with one_blas_thread():  # as the package runs it (marginal.ONE_THREAD_ORDERS)
-                    t_w, _ = best_time(lambda: sla.eigvals(W, check_finite=False), repeat=5)
+                half = assemble(model, kind, n, preferred_form(kind, model.block_size))
+                t_w = eigen_step_time(half)
                 print(f"{name:>28} {n:4d} {kind:>12} | {t_fast:12.2e} | {t_dense:11.2e} | "
                       f"{t_dense / t_fast:6.1f} | {t_w:9.2e} {t_dense / t_w:7.1f} | "
                       f"{abs(taus.min() - values.min()):14.1e}")
-                if name != "mathieu":
-                    row(task=f"{name}: every real tau of one truncation, N = {n}, {kind} "
-                             "(package: assembly + dense eig of W)", package_s=t_fast,
-                        baseline="dense scipy.linalg.eig(A, B), same pencil (assembled)",
-                        baseline_s=t_dense, error=abs(taus.min() - values.min()),
-                        note="error = |tau_min - tau_min(eig(A, B))|")
+                how = ("the O(N^2) tridiagonal kernel on W" if model.block_size == 1
+                       else "dense eig of W")
+                row(task=f"{name}: every real tau of one truncation, N = {n}, {kind} "
+                         f"(package: assembly + {how})", package_s=t_fast,
+                    baseline="dense scipy.linalg.eig(A, B), same pencil (assembled)",
+                    baseline_s=t_dense, error=abs(taus.min() - values.min()),
+                    note="error = |tau_min - tau_min(eig(A, B))|")
         print()
     map_points()
 

@@ -164,6 +164,11 @@ def _inverses(diag: np.ndarray) -> BlockInverses:
     K, s, _ = diag.shape
     every, none = np.arange(K), np.arange(0)
     empty = np.zeros((0, s // 2, s // 2), dtype=complex)
+    if s == 1:  # scalar blocks: reciprocals (np.linalg.inv's call costs more than the division)
+        if not diag.all():
+            raise np.linalg.LinAlgError("a 1 x 1 block of A is zero")
+        return BlockInverses(size=s, rows=every, inv=1.0 / diag, complex_rows=none,
+                             complex_inv=empty)
     if s < SMALL_BLOCK:  # the savings below do not pay for their own overhead
         return BlockInverses(size=s, rows=every, inv=np.linalg.inv(diag), complex_rows=none,
                              complex_inv=empty)
@@ -252,6 +257,23 @@ def dense_half_product(hill: HillMatrices, inverses: BlockInverses) -> np.ndarra
     W[1::m + 1] = cp[1:K - 1:2] @ cp[2:K:2]                            # (i, i + 1)
     W[m::m + 1] = cm[2:K:2] @ cm[1:K - 1:2]                            # (i + 1, i)
     return W.reshape(m, m, s, s).transpose(0, 2, 1, 3).reshape(m * s, m * s)
+
+
+def tridiagonal_half_product(hill: HillMatrices,
+                             inverses: BlockInverses) -> tuple[np.ndarray, np.ndarray]:
+    """W of a pencil with 1 x 1 blocks (a scalar model in the two-sided form) as its diagonal d
+    and off-diagonal products p_i = W_{i,i+1} W_{i+1,i}, which fix its eigenvalues: with
+    pi_k = C+_k C-_{k+1} (the product of T's entries (k, k+1) and (k+1, k)) the formulas of
+    :func:`dense_half_product` become W_{p,p} = pi_{p-1} + pi_p and
+    W_{p,p+2} W_{p+2,p} = pi_p pi_{p+1} on even positions p (pi = 0 outside the pencil)."""
+    if not hill.bipartite or hill.diag.shape[1] != 1:
+        raise ValueError("the tridiagonal half product needs a bipartite pencil of 1 x 1 blocks")
+    K = len(hill.diag)
+    inv = inverses.full()[:, 0, 0]
+    pi = np.zeros(K + 1, dtype=np.result_type(inv, hill.lower))  # pi[k + 1] = pi_k
+    pi[1:K] = inv[:-1] * hill.upper[:, 0, 0] * inv[1:] * hill.lower[:, 0, 0]
+    m = (K + 1) // 2
+    return pi[0:2 * m:2] + pi[1:2 * m:2], pi[1:2 * m - 2:2] * pi[2:2 * m - 1:2]
 
 
 def _right_product(block: np.ndarray):
