@@ -152,7 +152,7 @@ def structured_taus(hill: HillMatrices, inv: BlockInverses | None = None) -> np.
     if hill.diag.shape[1] == 1:  # a scalar model: W is tridiagonal, O(N^2) kernel
         d, p = tridiagonal_half_product(hill, inv)
         lam = tridiagonal.eigenvalues(d, p)
-        if lam is not None:  # else (~1 % of cases) LAPACK below
+        if lam is not None:  # else (~0.1 % of Mathieu W) LAPACK below
             floor = 64 * EPS * math.sqrt(np.vdot(d, d).real + 2 * np.abs(p).sum())
             return tau_from_squares(lam, floor, exact_real=False)
     W = dense_half_product(hill, inv)
