@@ -47,9 +47,9 @@ def test_mathieu_w_against_40_digit_mpmath(kind, kappa, nu):
     d, p = mathieu_w(kind, 16, kappa, nu)
     found = tridiagonal.eigenvalues(d, p)
     assert found is not None
-    mp.mp.dps = 40
-    exact = np.array([complex(z) for z in mp.eig(mp.matrix(dense(d, p).tolist()), left=False,
-                                                  right=False)])
+    with mp.workdps(40):
+        exact = np.array([complex(z) for z in mp.eig(mp.matrix(dense(d, p).tolist()),
+                                                      left=False, right=False)])
     scale = np.sqrt(np.vdot(d, d).real + 2 * np.abs(p).sum())
     assert nearest_distance(found, exact) <= 2e-15 * scale
     real = lambda z: z[np.abs(z.imag) <= 1e-9 * np.abs(z)].real.max()
