@@ -8,7 +8,8 @@
  * uses only field operations (the complex symmetric QL of Cullum & Willoughby, "Lanczos
  * algorithms for large symmetric eigenvalue computations", vol. 1, ch. 6, in rational form).
  * Each sweep costs O(n) and keeps the matrix tridiagonal; LAPACK's Hessenberg QR on the same
- * matrix fills in its upper triangle and costs O(n^2) per sweep.
+ * matrix fills in its upper triangle and costs O(n^2) per sweep. The iteration runs on T scaled
+ * to unit size, so that the squares it forms neither overflow nor underflow.
  *
  * The complex rotations behind it are not unitary, so digits can be lost (up to ~1e-11
  * relative on the Mathieu tests). Each eigenvalue then gets one Newton step on det(T - x)
