@@ -118,8 +118,8 @@ def block_table() -> None:
         for kind in KINDS:
             n = 4
             t_k, k = best_time(lambda: truncation_taus(system, kind, n, method="krylov"), repeat=1)
-            t_d, d = best_time(lambda: structured_taus(assemble(system, kind, n,
-                                                                preferred_form(kind, system.block_size))), repeat=1)
+            form = preferred_form(kind, system.block_size)
+            t_d, d = best_time(lambda: structured_taus(assemble(system, kind, n, form)), repeat=1)
             print(f" 250 {kind:>12} N = {n}: krylov {t_k:.2e} s, dense W {t_d:.2e} s, "
                   f"|diff tau_min| = {abs(k.tau[0] - d[0]):.1e}, real tau <= {k.complete_to:.3f} "
                   f"listed: {k.tau.size} vs {np.sum(d <= k.complete_to * (1 + 1e-9))}")
