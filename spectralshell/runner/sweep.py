@@ -39,9 +39,9 @@ def batches(todo: Sequence[Chunk], chunk_seconds: Callable[[], float | None],
     """The chunks to compute, in order, cut into consecutive runs, one run per task.
 
     A run is one chunk while ``chunk_seconds()`` (the mean compute time of the last finished
-    chunks, read as each task is submitted) is None, then as many chunks as fill TASK_SECONDS, but never
-    more than the remaining chunks / (IN_FLIGHT_PER_SLOT x ``slots``), so that the last tasks stay
-    short and every slot keeps work to the end. Batching leaves the numbers unchanged (each
+    chunks, read as each task is submitted) is None, then as many chunks as fill TASK_SECONDS,
+    but never more than the remaining chunks / (IN_FLIGHT_PER_SLOT x ``slots``), so that the
+    last tasks stay short and every slot keeps work to the end. Batching leaves the numbers unchanged (each
     chunk is solved on its own, :func:`~spectralshell.runner.solve.solve_chunks`) and the store
     layout too (it depends on the scene only); it cuts the per-task dispatch cost of cheap
     chunks (Mathieu points, ~0.5 ms each) on a Dask cluster.

@@ -66,7 +66,8 @@ per-call overhead: the same numbers), the routines and the workspace size looked
 dtype and order of W; a W of order 100..599 is solved on one BLAS thread (ONE_THREAD_ORDERS).
 
 Infinite tau (mu = 0: B is singular, and the harmonic Im u_0 slot is a zero row) are removed as
-mu^2 <= 64 eps ||W_bal||_F, W_bal the diagonally balanced W that the eigen-solver works on: such
+mu^2 <= 64 eps ||W_bal||_F, W_bal the diagonally balanced W that the eigen-solver works on (for
+the tridiagonal kernel its symmetric form, ||W_bal||_F^2 = sum |d_i|^2 + 2 sum |p_i|): such
 eigenvalues are indistinguishable from zero. Spurious, truncation-made eigenvalues are removed by
 requiring each reported tau to reappear at the previous truncation.
 
