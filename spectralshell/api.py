@@ -312,7 +312,8 @@ def natural_modes(model: str, *, count: int | None = None, precision: int | None
 
     Parameters
     ----------
-    count : number of modes (default: every mode the dispersion relation has).
+    count : number of modes (default: every mode the dispersion relation has; a larger count
+        returns them all, with a warning).
     precision : digits (e.g. 30) of an mpmath polish of every root (reference values).
     zeta : shorthand for kappa = 1, nu = zeta (the modes depend on zeta = nu/sqrt(kappa) only).
     physical : cgs values {rho, mu, radius, sigma} instead of kappa, nu: the modes are then
@@ -536,14 +537,19 @@ _INVISCID = {"sphere": (lambda0_squared, "closed form (7.4)"),
                        "(derivations/fibre_linear_result.md, 4a)")}
 
 
+FEWER_INVISCID = ("count = {} asks for more modes than nu = 0 has: its one mode is returned (the "
+                  "viscous branches vanish with the viscosity)")
+
+
 def _inviscid_modes(model, p, count, precision, options) -> NaturalModesResult:
     """nu = 0: the exact modes gamma = +-i lambda0 (sphere (7.4), fibre kappa m (m^2-1)/2); the
     viscous branches (the sphere's toroidal mode, the fast Stokes-layer modes) are absent."""
     if getattr(p, "component", None) == "toroidal":
         raise ParameterError("nu = 0 is invalid for toroidal modes: without viscosity the "
                              "toroidal component carries no mode")
-    if count is not None:
-        require_int_in_range("count", count, 1, 1)
+    warnings = ()
+    if count is not None and require_int_in_range("count", count, 1) > 1:
+        warnings = (FEWER_INVISCID.format(count),)
     squared, method = _INVISCID[model]
     lam = np.sqrt(squared(p.m, p.kappa))
     digits = None
@@ -554,7 +560,7 @@ def _inviscid_modes(model, p, count, precision, options) -> NaturalModesResult:
     return NaturalModesResult(model=model, params=_unforced(p), gamma=np.array([1j * lam]),
                               error_estimate=np.array([4 * np.finfo(float).eps * lam]),
                               principal_sheet=np.array([True]), on_cut=np.array([False]),
-                              precision=precision, gamma_digits=digits,
+                              precision=precision, gamma_digits=digits, warnings=warnings,
                               provenance=provenance({**options, "method": method}))
 
 

@@ -74,7 +74,7 @@ BAD_ARGV = [
     ("n-temporal-huge", ["floquet", "mathieu", "--kappa", "1", "--n-temporal", "100000"]),
     ("exponents-viscous-sphere", ["exponents", "sphere", *SPHERE, "--tau", "0.3"]),
     ("zeta-out-of-domain", ["modes", "sphere", "--m", "2", "--zeta", "1e-20"]),
-    ("count-too-large", ["modes", "sphere", "--m", "2", "--zeta", "0.1", "--count", "9"]),
+    ("count-zero", ["modes", "sphere", "--m", "2", "--zeta", "0.1", "--count", "0"]),
     ("lp-m-too-large", ["lp", "--m", "9"]),
     ("lp-not-normal-mode", ["lp", "--m", "3", "--k", "1"]),
     ("lp-k-too-large", ["lp", "--m", "2", "--k", "5"]),

@@ -230,8 +230,10 @@ def test_api_inviscid_closed_form():
     with mp.workdps(30):
         exact = mp.sqrt(mp.mpf(0.2) * 12)
         assert abs(mp.mpf(res.gamma_digits[0][1]) - exact) < mp.mpf(10) ** -23
+    more = ss.natural_modes("fibre", m=3, kappa=0.2, nu=0.0, count=2)  # flagged, not refused
+    assert more.gamma.tolist() == res.gamma.tolist() and "count = 2" in more.warnings[0]
     with pytest.raises(ParameterError, match="count"):
-        ss.natural_modes("fibre", m=3, kappa=0.2, nu=0.0, count=2)
+        ss.natural_modes("fibre", m=3, kappa=0.2, nu=0.0, count=0)
 
 
 def test_api_zeta_shorthand_and_count():

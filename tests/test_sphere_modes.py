@@ -19,6 +19,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import spectralshell as ss
 from spectralshell.errors import ConvergenceError, ParameterError
 from spectralshell.models.base import ModalSystem
 from spectralshell.models.sphere import lambda0_squared, poloidal_unforced, toroidal_unforced
@@ -371,7 +372,7 @@ def test_invalid_model_parameters(kwargs, name):
         modal_system(**kwargs)
 
 
-@pytest.mark.parametrize("kwargs,name", [({"count": 0}, "count"), ({"count": 3}, "count"),
+@pytest.mark.parametrize("kwargs,name", [({"count": 0}, "count"), ({"count": -2}, "count"),
                                          ({"count": True}, "count"), ({"precision": 8}, "precision"),
                                          ({"precision": 2.5}, "precision")])
 def test_invalid_solver_options(kwargs, name):
@@ -447,3 +448,21 @@ def test_no_mode_is_missed_argument_principle(m, zeta, component):
     assert abs(count - round(count)) < 1e-6
     assert round(count) == int(np.sum(beta.real >= delta))
     assert np.all(beta.real > -1e-13 * abs(beta))
+
+
+def test_count_beyond_the_modes_returns_all_with_a_warning(capsys):
+    """The issue's own example, ``modes sphere --m 2 --kappa 1 --nu 0.01 --count 3``: the physical
+    sheet holds two poloidal modes (the argument-principle test above), so all two come back,
+    least damped first, with a warning saying why, and exit status 0."""
+    from spectralshell.cli import main
+
+    every = ss.natural_modes("sphere", m=2, kappa=1.0, nu=0.01)
+    more = ss.natural_modes("sphere", m=2, kappa=1.0, nu=0.01, count=3)
+    assert more.gamma.tolist() == every.gamma.tolist() and len(more.gamma) == 2
+    assert not every.warnings and "count = 3" in more.warnings[0] and "all 2" in more.warnings[0]
+    assert main(["modes", "sphere", "--m", "2", "--kappa", "1", "--nu", "0.01", "--count", "3",
+                 "--json"]) == 0
+    out, err = capsys.readouterr()
+    modes = json.loads(out)["modes"]
+    assert len(modes) == 2 and modes[0]["gamma_re"] > modes[1]["gamma_re"]
+    assert "count = 3" in err

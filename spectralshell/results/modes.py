@@ -14,6 +14,9 @@ ON_CUT = ("mode(s) {} lie on the branch cut to within their error (|Re beta| <= 
           "not resolved at this precision; to working accuracy they decay as real exponentials "
           "(raise `precision` to resolve the sheet where the Basset-type part of the load is not "
           "exponentially small)")
+FEWER = ("count = {} asks for more modes than the dispersion relation has: all {} are returned (on "
+         "the physical sheet it has no others; the rest of the spectrum is continuous, along the "
+         "branch cut gamma <= 0)")
 UNPHYSICAL = ("mode(s) {} lie on the unphysical sheet (Re beta < 0): roots of the dispersion relation "
               "whose exterior field grows at infinity, not decaying modes")
 
@@ -61,6 +64,8 @@ class NaturalModesResult:
         bad = [i for i, (p, c) in enumerate(zip(roots.principal_sheet, roots.on_cut)) if not p and not c]
         if bad:
             warnings.append(UNPHYSICAL.format(", ".join(str(i) for i in bad)))
+        if (options.get("count") or 0) > len(roots.gamma):
+            warnings.append(FEWER.format(options["count"], len(roots.gamma)))
         return cls(model=model, params=dict(params), gamma=roots.gamma,
                    error_estimate=roots.error_estimate, principal_sheet=roots.principal_sheet,
                    on_cut=roots.on_cut, precision=roots.precision, provenance=prov,

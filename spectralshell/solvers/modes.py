@@ -150,7 +150,8 @@ def find_modes(system: ModalSystem, *, count: int | None = None, precision: int 
 
     Parameters
     ----------
-    count : number of modes returned, 1 <= count <= system.n_modes (default: all of them).
+    count : number of modes returned, >= 1 (default, and when it exceeds system.n_modes: all of
+        them; the caller compares with ``len(gamma)`` to flag the shortfall).
     precision : None (double precision) or digits (>= 16) of an mpmath polish.
     tol : relative step size at which Newton's method stops in double precision.
     max_iter : Newton steps per seed; max_seeds : seeds drawn at most.
@@ -161,7 +162,7 @@ def find_modes(system: ModalSystem, *, count: int | None = None, precision: int 
     ConvergenceError : fewer than system.n_modes distinct modes found from the seeds, or a polish
         that does not converge.
     """
-    count = system.n_modes if count is None else require_int_in_range("count", count, 1, system.n_modes)
+    count = system.n_modes if count is None else require_int_in_range("count", count, 1)
     if precision is not None:
         precision = require_int_in_range("precision", precision, 16, PRECISION_MAX)
     found: list[_Root] = []
