@@ -92,13 +92,17 @@ def _make_dir(out: str | Path) -> Path:
 
 
 def _atomic_write(path: str | Path, writer: Callable[[Path], Any]) -> None:
-    """Write via a temporary file in the same directory, so no partial file is ever left."""
+    """Write via a temporary file in the same directory, so no partial file is ever left; the
+    file gets the permissions of a plainly created one (mkstemp's are owner-only)."""
     path = Path(path)
     suffix = "".join(path.suffixes) or ".tmp"
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".partial-", suffix=suffix)
     os.close(fd)
     try:
         writer(Path(tmp))
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):

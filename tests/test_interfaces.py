@@ -1,6 +1,8 @@
 """The API and CLI contracts of the foundation issue: JSON shapes, errors, exit codes, files."""
 
 import json
+import os
+import stat
 import subprocess
 import sys
 
@@ -55,6 +57,10 @@ def test_tongues_writes_png_csv_npz_and_json(capsys, tmp_path):
     arrays = np.load(npz)
     assert arrays["subharmonic_tau"].size == arrays["subharmonic_kappa"].size > 0
     assert not list(tmp_path.glob(".partial-*"))
+    umask = os.umask(0)
+    os.umask(umask)
+    for path in (png, csv, npz):  # as a plainly created file, not mkstemp's owner-only 0600
+        assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask
 
 
 @pytest.mark.parametrize("args", [
