@@ -161,6 +161,8 @@ def cmd_floquet(args) -> int:
     extra = _physical(args)
     if args.tol_spatial is not None:
         extra["tol_spatial"] = _number("tol_spatial", args.tol_spatial)
+    if args.tau_max is not None:
+        extra["tau_max"] = _number("tau_max", args.tau_max)
     res = api.floquet(args.model, kind=args.kind, **_solver(args), **extra, **_params(args, args.model))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), lambda: _floquet_text(res))
@@ -569,6 +571,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tol-spatial", dest="tol_spatial", metavar="X",
                    help="cochlea without --n-spatial: tolerance of tau_min in the number of "
                         "spatial modes (default 1e-3)")
+    p.add_argument("--tau-max", dest="tau_max", metavar="X",
+                   help="compute only the marginal tau <= X, e.g. 0.5 (positive stiffness; "
+                        "default: all)")
 
     p = _computation(sub, "tongues", "Ince-Strutt diagram over a kappa range", cmd_tongues, models,
                      skip=("kappa",))

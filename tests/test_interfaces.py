@@ -142,3 +142,29 @@ def test_figures_reproduce(capsys, tmp_path, name):
     if name == "fig-2.2":  # undamped: fingers touch the axis at sqrt(kappa) = k/2, k = 1..3
         tips = sorted(t["kappa"] for t in data[0]["tips"])
         np.testing.assert_allclose(tips, [0.25, 1.0, 2.25], atol=1e-11)
+
+
+def test_floquet_tau_max_flag_and_the_hint_when_tau_min_runs_away(capsys):
+    """The toroidal sphere has no converging harmonic tau (the smallest real tau of a truncation
+    grows with N: 24, 133, 268 at N = 10, 20, 40); its subharmonic tau_min is 1.91867... .
+    ``--tau-max 0.5`` asks for the physical range only and succeeds; without it the
+    non-convergence message points to that flag. Oracle: QZ of the real-form pencil at N = 40."""
+    from spectralshell.discretise.hill import assemble
+    from spectralshell.models.sphere import hill_system
+    from spectralshell.solvers.marginal import dense_taus
+
+    params = ["--m", "3", "--kappa", "0.02", "--nu", "0.006", "--component", "toroidal"]
+    system = hill_system(m=3, kappa=0.02, nu=0.006, component="toroidal")
+    qz = {kind: dense_taus(assemble(system, kind, 40, "real")) for kind in ("harmonic", "subharmonic")}
+    assert not np.any((qz["harmonic"] > 0) & (qz["harmonic"] <= 0.5))
+    code, out, _ = run_cli(capsys, "floquet", "sphere", *params, "--tau-max", "0.5", "--json")
+    data = json.loads(out)
+    assert code == 0 and data["provenance"]["options"]["tau_max"] == 0.5
+    assert data["harmonic"]["tau_min"] is None and data["subharmonic"]["tau_min"] is None
+    code, out, _ = run_cli(capsys, "floquet", "sphere", *params, "--tau-max", "5", "--kind",
+                           "subharmonic", "--json")
+    expected = min(t for t in qz["subharmonic"] if t > 0)
+    assert code == 0 and json.loads(out)["subharmonic"]["tau_min"] == pytest.approx(expected, rel=1e-12)
+    code, _, err = run_cli(capsys, "floquet", "sphere", *params, "--kind", "harmonic")
+    assert code == 1 and "--tau-max 0.5" in err
+    assert run_cli(capsys, "floquet", "sphere", *params, "--tau-max", "-1")[0] == 2

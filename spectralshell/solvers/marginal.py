@@ -444,7 +444,13 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
             return _result(kind, found, previous, n, n_prev, tol, tau_max)
         if n >= n_max:
             change = abs(tau[0] - prev[0]) if tau.size and prev.size else float("nan")
+            beyond = ""
+            if tau_max > 0.5 and min(tau[:1].tolist() + prev[:1].tolist()) > 0.5:
+                beyond = (f"; these tau_min ({tau[0] if tau.size else prev[0]:.6g} at the last N) "
+                          "exceed 1/2, where the stiffness turns negative: --tau-max 0.5 (API "
+                          "tau_max=0.5) asks only for the physical range")
             raise ConvergenceError(
                 f"{kind} tau_min did not converge to tol={tol:g} by n_temporal={n} "
-                f"(last change {change:.3g}); relax --tol, or fix --n-temporal and read the error estimate")
+                f"(last change {change:.3g}); relax --tol, or fix --n-temporal and read the error "
+                f"estimate{beyond}")
         previous, n_prev = found, n
