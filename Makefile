@@ -35,7 +35,7 @@ fftw:
 $(PY):
 	$(PYTHON) -m venv $(VENV)
 
-$(STAMP): pyproject.toml spectralshell/solvers/_tridiagonal.c | $(PY)
+$(STAMP): pyproject.toml spectralshell/solvers/_tridiagonal.c spectralshell/special/_lentz.c | $(PY)
 	@$(MAKE) --no-print-directory fftw
 	$(PY) -m pip install -q --upgrade pip
 	$(PY) -m pip install -q -e '.[test]'

@@ -317,3 +317,24 @@ def test_invalid_input_raises_value_error_naming_parameter(name, param, m, z):
     with pytest.raises(ValueError, match=rf"^{param} = .* is invalid: must be ") as info:
         FUNCS[name](m, z)
     assert isinstance(info.value, ParameterError)
+
+
+def test_compiled_continued_fraction_against_mpmath_and_its_failure_path():
+    """The compiled Lentz kernel behind both Bessel modules (``special/_lentz.c``), called
+    directly on one array of mixed orders (integer: the fibre's I_{m+1}/I_m; half-integer: the
+    sphere's) and arguments from |z| = 1e-3 to 3000, near the imaginary axis included, against
+    mpmath besseli ratios at 30 digits; a non-finite z is reported as a ParameterError naming z."""
+    from spectralshell.special.spherical import ratio_i_continued_fraction
+
+    rng = np.random.default_rng(7)
+    order = np.concatenate([rng.integers(0, 61, 40).astype(float), rng.integers(0, 61, 40) + 0.5])
+    z = 10.0 ** rng.uniform(-3, np.log10(3000), 80) * np.exp(1j * rng.uniform(-0.49, 0.49, 80) * np.pi)
+    got = ratio_i_continued_fraction(order, z, "test")
+    with mpmath.workdps(30):
+        for nu, x, value in zip(order, z, got):
+            ref = mpmath.besseli(nu + 1, mpmath.mpc(x)) / mpmath.besseli(nu, mpmath.mpc(x))
+            # condition of the ratio: |z d/dz log ratio| <= |z| + 2 nu + 2 (DLMF 10.29.2)
+            tol = 1e-14 * (abs(x) + 2 * nu + 2)
+            assert float(abs(mpmath.mpc(complex(value)) - ref) / abs(ref)) <= tol, (nu, x)
+    with pytest.raises(ParameterError, match=r"^z = .* is invalid: .*continued fraction for test"):
+        ratio_i_continued_fraction(np.array([0.5, 0.5]), np.array([1.0, np.inf + 0j]), "test")

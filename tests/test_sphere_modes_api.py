@@ -66,7 +66,7 @@ def test_cli_modes_json_contract(capsys):
                                   ["--m", "2", "--zeta", "0.1", "--nu", "0.1"],
                                   ["--m", "2", "--radius", "2", "--sigma", "1"],
                                   ["--m", "2", "--zeta", "0.1", "--count", "x"],
-                                  ["--m", "2", "--zeta", "0.1", "--count", "5"]])
+                                  ["--m", "2", "--zeta", "0.1", "--count", "0"]])
 def test_cli_modes_bad_input_exit_2(capsys, argv):
     assert main(["modes", "sphere", *argv]) == 2
     err = capsys.readouterr().err
