@@ -158,7 +158,8 @@ def main() -> None:
                          f"(package: assembly + {how})", package_s=t_fast,
                     baseline="dense scipy.linalg.eig(A, B), same pencil (assembled)",
                     baseline_s=t_dense, error=abs(taus.min() - values.min()),
-                    note="error = |tau_min - tau_min(eig(A, B))|")
+                    note=f"error = |tau_min - tau_min(eig(A, B))|; the eigen step alone takes "
+                         f"{t_w:.2e} s: ratio ceiling {t_dense / t_w:.1f}x with it")
         print()
     map_points()
 
