@@ -140,7 +140,9 @@ def _floquet_text(res) -> str:
         if m is None:
             continue
         if m.tau_min is None:
-            lines.append(f"  {kind:<12} no marginal tau (N = {m.n_temporal})")
+            bound = res.provenance.get("options", {}).get("tau_max")
+            below = "" if bound is None else f" <= {bound:g}"
+            lines.append(f"  {kind:<12} no marginal tau{below} (N = {m.n_temporal})")
             continue
         taus = ", ".join(f"{t:.10g}" for t in m.tau[:6]) + (" ..." if m.tau.size > 6 else "")
         lines.append(f"  {kind:<12} tau_min = {m.tau_min:.12g}   error <= {m.error_estimate:.1e}   "

@@ -161,6 +161,8 @@ def test_floquet_tau_max_flag_and_the_hint_when_tau_min_runs_away(capsys):
     data = json.loads(out)
     assert code == 0 and data["provenance"]["options"]["tau_max"] == 0.5
     assert data["harmonic"]["tau_min"] is None and data["subharmonic"]["tau_min"] is None
+    code, out, _ = run_cli(capsys, "floquet", "sphere", *params, "--tau-max", "0.5")
+    assert code == 0 and out.count("no marginal tau <= 0.5") == 2
     code, out, _ = run_cli(capsys, "floquet", "sphere", *params, "--tau-max", "5", "--kind",
                            "subharmonic", "--json")
     expected = min(t for t in qz["subharmonic"] if t > 0)
