@@ -45,6 +45,16 @@ def _solver_flags(p: argparse.ArgumentParser) -> None:
                    help="fix the temporal truncation N instead of converging to --tol")
 
 
+def _tau_max_flag(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--tau-max", dest="tau_max", metavar="X",
+                   help="compute only the marginal tau <= X, e.g. 0.5 (positive stiffness; "
+                        "default: all)")
+
+
+def _tau_max(args: argparse.Namespace) -> dict[str, float]:
+    return {} if args.tau_max is None else {"tau_max": _number("tau_max", args.tau_max)}
+
+
 def _params(args: argparse.Namespace, model: str, *, skip: Sequence[str] = ()) -> dict[str, Any]:
     given = {n: getattr(args, n) for m in PARAMS for n in param_names(m)
              if n not in skip and getattr(args, n, None) is not None}
@@ -163,9 +173,8 @@ def cmd_floquet(args) -> int:
     extra = _physical(args)
     if args.tol_spatial is not None:
         extra["tol_spatial"] = _number("tol_spatial", args.tol_spatial)
-    if args.tau_max is not None:
-        extra["tau_max"] = _number("tau_max", args.tau_max)
-    res = api.floquet(args.model, kind=args.kind, **_solver(args), **extra, **_params(args, args.model))
+    res = api.floquet(args.model, kind=args.kind, **_solver(args), **extra, **_tau_max(args),
+                      **_params(args, args.model))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), lambda: _floquet_text(res))
 
@@ -201,7 +210,7 @@ def cmd_tongues(args) -> int:
         raise ParameterError("--kappa is required: a range START:STOP:NUM, e.g. 0:3:301")
     res = api.tongues(args.model, kappa=args.kappa, kind=args.kind, tips=not args.no_tips,
                       workers=args.workers, progress=sys.stderr.isatty() and not args.json,
-                      **_solver(args), **_params(args, args.model, skip=("kappa",)))
+                      **_solver(args), **_tau_max(args), **_params(args, args.model, skip=("kappa",)))
     _warn(res.warnings)
     written = _write_tongues(res, png=args.png, csv=args.csv, npz=args.npz)
     return _report(args.json, res.to_dict(), lambda: _tongues_text(res), written)
@@ -573,13 +582,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tol-spatial", dest="tol_spatial", metavar="X",
                    help="cochlea without --n-spatial: tolerance of tau_min in the number of "
                         "spatial modes (default 1e-3)")
-    p.add_argument("--tau-max", dest="tau_max", metavar="X",
-                   help="compute only the marginal tau <= X, e.g. 0.5 (positive stiffness; "
-                        "default: all)")
+    _tau_max_flag(p)
 
     p = _computation(sub, "tongues", "Ince-Strutt diagram over a kappa range", cmd_tongues, models,
                      skip=("kappa",))
     p.add_argument("--kappa", help="range START:STOP:NUM, e.g. 0:3:301")
+    _tau_max_flag(p)
     p.add_argument("--png", help="write the diagram as PNG")
     p.add_argument("--csv", help="write points kind,kappa,tau as CSV")
     p.add_argument("--npz", help="write arrays as NPZ")

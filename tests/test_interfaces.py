@@ -170,3 +170,19 @@ def test_floquet_tau_max_flag_and_the_hint_when_tau_min_runs_away(capsys):
     code, _, err = run_cli(capsys, "floquet", "sphere", *params, "--kind", "harmonic")
     assert code == 1 and "--tau-max 0.5" in err
     assert run_cli(capsys, "floquet", "sphere", *params, "--tau-max", "-1")[0] == 2
+
+
+def test_tongues_tau_max_flag(capsys):
+    """``tongues --tau-max 0.5`` lists only tau <= 1/2 at every kappa: the same values as the
+    unbounded diagram's below 1/2 (Mathieu, whose diagram tests check against scipy's Mathieu
+    characteristic values), and records the bound in the provenance."""
+    args = ["tongues", "mathieu", "--nu", "0.1", "--kappa", "0:3:13", "--no-tips", "--json"]
+    code, out, _ = run_cli(capsys, *args)
+    full = json.loads(out)
+    code_b, out_b, _ = run_cli(capsys, *args, "--tau-max", "0.5")
+    bounded = json.loads(out_b)
+    assert code == code_b == 0 and bounded["provenance"]["options"]["tau_max"] == 0.5
+    for kind in ("harmonic", "subharmonic"):
+        for every, below in zip(full[kind]["tau"], bounded[kind]["tau"]):
+            assert below == pytest.approx([t for t in every if t <= 0.5], abs=1e-9)
+    assert any(bounded["subharmonic"]["tau"]) and len(bounded["subharmonic"]["tau"]) == 13
