@@ -62,8 +62,23 @@ def _params(args: argparse.Namespace, model: str, *, skip: Sequence[str] = ()) -
     for name in given:
         if name not in allowed:
             raise ParameterError(f"--{name.replace('_', '-')} is not a parameter of model {model!r}")
-    text_fields = {f.name for f in dataclasses.fields(PARAMS[model]) if f.type in (str, "str")}
-    return {n: (v if n in text_fields else _number(n, v)) for n, v in given.items()}
+    types = {f.name: f.type for f in dataclasses.fields(PARAMS[model])}
+    return {n: _typed(n, v, types[n]) for n, v in given.items()}
+
+
+def _typed(name: str, text: str, kind: object) -> Any:
+    """A flag's text as its parameter's type: str kept, an integer literal for an int field
+    (so that the validator's message repeats what was typed), otherwise a float."""
+    if kind in (str, "str"):
+        return text
+    if kind in (int, "int"):
+        for convert in (int, float):
+            try:
+                return convert(text)
+            except ValueError:
+                pass
+        return text  # the parameter's own validator says what is allowed
+    return _number(name, text)
 
 
 def _number(name: str, text: str) -> float:
@@ -354,8 +369,13 @@ def cmd_lp(args) -> int:
 def cmd_figure(args) -> int:
     from .reports.figures import FIGURES, make_figure
 
+    if args.name == "list":
+        width = max(map(len, FIGURES))
+        print("\n".join(f"{name:<{width}}  {text}" for name, (text, _) in FIGURES.items()))
+        return 0
     if args.name not in FIGURES:
-        raise ParameterError(f"figure = {args.name!r} is invalid: must be one of {', '.join(FIGURES)}")
+        raise ParameterError(f"figure = {args.name!r} is invalid: must be one of {', '.join(FIGURES)} "
+                             "(or 'list')")
     out = Path(args.out)
     _make_dir(out)
     for path in make_figure(args.name, out, progress=sys.stderr.isatty(), workers=args.workers):
@@ -639,9 +659,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_lp)
 
     p = sub.add_parser("figure", help="reproduce a thesis figure (PNG + JSON data)")
-    p.add_argument("name", help="e.g. fig-2.2, fig-2.3")
-    p.add_argument("--out", default=".", help="output directory")
-    p.add_argument("--workers", type=int, default=None)
+    p.add_argument("name", help="a thesis figure, e.g. fig-6.3; 'list' prints every name with "
+                                "what it shows")
+    p.add_argument("--out", default=".", help="output directory (default: the current one)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="processes for the figure sweeps (default: all cores)")
     p.set_defaults(func=cmd_figure)
 
     p = sub.add_parser("validate", help="run the validation cases; write report.md and PNGs "

@@ -201,6 +201,14 @@ def test_messages_name_parameter_and_range(capsys, workdir):
     assert "kappa = -1" in err and "must be" in err
 
 
+@pytest.mark.parametrize("text, shown", [("1", "1"), ("2.5", "2.5"), ("two", "'two'")])
+def test_integer_messages_repeat_what_was_typed(text, shown, capsys, workdir):
+    """An integer parameter's message shows the typed value (not 1.0) and the integer range."""
+    err = _assert_one_line_exit_2(["floquet", "sphere", "--m", text, "--kappa", "0.02"], capsys,
+                                  workdir)
+    assert err.startswith(f"spectralshell: error: m = {shown} is invalid: must be an integer in [2, 200]")
+
+
 # ----------------------------------------------------------------- interrupted sweep (SIGINT)
 
 LONG_SCENE = ('model = "sphere"\nask = ["tau_min"]\n[params]\nnu = 0.002\n[grid]\n'

@@ -144,6 +144,14 @@ def test_figures_reproduce(capsys, tmp_path, name):
         np.testing.assert_allclose(tips, [0.25, 1.0, 2.25], atol=1e-11)
 
 
+def test_figure_list_names_every_figure(capsys):
+    from spectralshell.reports.figures import FIGURES
+
+    code, out, _ = run_cli(capsys, "figure", "list")
+    assert code == 0
+    assert [line.split()[0] for line in out.splitlines()] == list(FIGURES)
+
+
 def test_floquet_tau_max_flag_and_the_hint_when_tau_min_runs_away(capsys):
     """The toroidal sphere has no converging harmonic tau (the smallest real tau of a truncation
     grows with N: 24, 133, 268 at N = 10, 20, 40); its subharmonic tau_min is 1.91867... .

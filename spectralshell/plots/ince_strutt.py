@@ -36,7 +36,8 @@ def draw(ax, result: TonguesResult, *, tau_max: float = 1.0, title: str | None =
     label = ", ".join(f"{names.get(k, k)} = {v:g}" if isinstance(v, (int, float)) else f"{v}"
                       for k, v in result.params.items())
     ax.set_title(title or f"{result.model}: {label}", fontsize=9)
-    ax.legend(loc="upper right", fontsize=7)
+    # below the axes: inside, the legend would hide marginal points wherever it stood
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4, fontsize=7, frameon=False)
 
 
 def save(results: Sequence[TonguesResult], path: str | Path, *, tau_max: float = 1.0,
@@ -44,7 +45,7 @@ def save(results: Sequence[TonguesResult], path: str | Path, *, tau_max: float =
     """Write one PNG with a panel per result (row-major, ``columns`` per row; default one row)."""
     columns = columns or len(results)
     rows = -(-len(results) // columns)
-    fig, axes = plt.subplots(rows, columns, figsize=(6.4 * columns, 4.2 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, columns, figsize=(6.4 * columns, 4.6 * rows), squeeze=False)
     for ax, res in zip(axes.flat, results):
         draw(ax, res, tau_max=tau_max, **draw_options)
     return save_figure(fig, path, dpi=120)
