@@ -364,7 +364,7 @@ def _matched(tau: np.ndarray, previous: np.ndarray, tol: float) -> np.ndarray:
 def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_max) -> MarginalTau:
     tau, prev, spread = _capped(found.tau, tau_max), _capped(previous.tau, tau_max), found.spread
     if tau.size and prev.size:
-        err = max(abs(float(tau[0] - prev[0])), spread, 8 * EPS * max(1.0, tau[0]))
+        err = float(max(abs(float(tau[0] - prev[0])), spread, 8 * EPS * max(1.0, tau[0])))
     elif tau.size:
         err = float(tau[0])  # nothing to compare with: the whole value is uncertain
     else:
