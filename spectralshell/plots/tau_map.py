@@ -33,7 +33,7 @@ def save(res: TauMapResult, path: str | Path, *,
          boxes: Sequence[tuple[tuple[float, float], tuple[float, float], str, str]] = (),
          min_cells: int = 6) -> Path:
     """Write the map as PNG; ``boxes`` are ((x0, x1), (y0, y1), label, colour) rectangles."""
-    fig, ax = plt.subplots(figsize=(7.5, 5.5))
+    fig, ax = plt.subplots(figsize=(7.5, 5.8))
     shown = np.ma.masked_where(~res.has_tau, res.tau_min)
     # the colour scale stops short of white, which is reserved for "no instability"
     mesh = ax.pcolormesh(res.x, res.y, shown, cmap="Blues_r", vmin=0.0, vmax=1.3 * res.tau_max,
@@ -46,7 +46,8 @@ def save(res: TauMapResult, path: str | Path, *,
                                linestyle="-" if colour == "tab:blue" else "--", linewidth=1.5,
                                label=label))
     if boxes:
-        ax.legend(loc="upper right", fontsize=7)
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), ncol=len(boxes), fontsize=7,
+                  frameon=False)  # below the axes: inside, it would cover cells of the map
     ax.set_xlabel(LABELS.get(res.x_name, f"{res.x_name} ({res.units[res.x_name]})"))
     ax.set_ylabel(LABELS.get(res.y_name, f"{res.y_name} ({res.units[res.y_name]})"))
     ax.set_title(f"{res.model}: minimum τ over m = {res.degrees[0]}..{res.degrees[-1]} "
