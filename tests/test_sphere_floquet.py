@@ -123,3 +123,24 @@ def test_tau_max_skips_truncation_the_answer_does_not_use():
     harmonic = marginal_tau(system, "harmonic", tol=1e-10, tau_max=0.5)
     assert harmonic.tau_min == pytest.approx(harmonic_full.tau_min, abs=1e-10)
     np.testing.assert_allclose(harmonic.tau, harmonic_full.tau[harmonic_full.tau <= 0.5], atol=1e-9)
+
+
+def test_a_fold_is_reported_as_no_finger_tip():
+    """m = 2, nu = 0.002: the harmonic finger's two real tau (2.74 and 3.31 at kappa = 0.017, QZ
+    of the dense pencil) merge and turn complex before kappa = 0.019, where the smallest real tau
+    is near 20. tau_min(kappa) has a sampled minimum there but no smooth tip: refine_tip must say
+    so instead of returning a tip."""
+    from spectralshell.errors import ConvergenceError
+    from spectralshell.solvers.tongues import refine_tip
+
+    def factory(kappa):
+        return hill_system(m=2, kappa=kappa, nu=0.002)
+
+    def positive_taus(kappa):
+        tau = dense_taus(assemble(factory(kappa), "harmonic", 40, "real"))
+        return tau[tau > 0]
+
+    below, above = positive_taus(0.017), positive_taus(0.019)
+    assert np.sum(below < 4) == 2 and not np.any(above < 10)  # the fold lies in between
+    with pytest.raises(ConvergenceError, match="not smooth there"):
+        refine_tip(factory, "harmonic", 0.017, 0.019, float(below.min()))

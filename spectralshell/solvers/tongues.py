@@ -108,7 +108,9 @@ def refine_tip(factory: SystemFactory, kind: str, lo: float, hi: float, tau_gues
     g_lo, g_hi = slope(lo), slope(hi)
     if not (g_lo <= 0.0 <= g_hi):
         raise ConvergenceError(f"{kind} finger near kappa in [{lo:.6g}, {hi:.6g}] has no minimum "
-                               f"inside the bracket (slopes {g_lo:.3g}, {g_hi:.3g})")
+                               f"inside the bracket (slopes {g_lo:.3g}, {g_hi:.3g}): tau_min is not "
+                               "smooth there (it jumps to another branch, e.g. where the finger's "
+                               "real tau turn complex), so the sampled minimum is not a finger tip")
     xtol, rtol = 1e-14, 4 * np.finfo(float).eps
     kappa = lo if g_lo == 0.0 else hi if g_hi == 0.0 else brentq(slope, lo, hi, xtol=xtol, rtol=rtol)
     kappa_error = 2 * (xtol + rtol * abs(kappa))
