@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import os
 import sys
 import tempfile
@@ -305,12 +306,28 @@ def cmd_modes(args) -> int:
     return _report(args.json, res.to_dict(), lambda: _modes_text(res))
 
 
+#: Im gamma/|Re gamma| below which a mode is labelled overdamped in practice: it then decays by
+#: e^(-pi/ratio) < e^(-314) before its first sign change (the threshold of the mode-structure
+#: notes of spectralshell.models.sphere_modes).
+PRACTICALLY_REAL = 0.01
+
+
+def _mode_kind(gamma: complex, error: float) -> str:
+    """Text label of a natural mode: real within its error, practically real, or oscillatory."""
+    if gamma.imag <= error:
+        return "overdamped"
+    ratio = gamma.imag / abs(gamma.real) if gamma.real else math.inf
+    if ratio < PRACTICALLY_REAL:
+        return f"overdamped in practice: Im/|Re| = {ratio:.1e}"
+    return "oscillatory"
+
+
 def _modes_text(res) -> str:
     unit = res.params.get("units", "dimensionless, time unit 1/omega")
     lines = [f"{res.model} natural modes: {_fmt_params(res.params)}   (X ~ exp(gamma t), {unit})"]
     digits = res.gamma_digits or [None] * len(res.gamma)
     for g, e, d in zip(res.gamma, res.error_estimate, digits):
-        kind = "oscillatory" if g.imag > e else "overdamped"
+        kind = _mode_kind(g, e)
         value = f"{d[0]} {'' if d[1].startswith('-') else '+'}{d[1]}i" if d else f"{g.real:+.12g} {g.imag:+.12g}i"
         lines.append(f"  gamma = {value}   error <= {e:.1e}   ({kind})")
     return "\n".join(lines)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import spectralshell as ss
-from spectralshell.cli import main
+from spectralshell.cli import _mode_kind, main
 
 
 def run_cli(capsys, *args):
@@ -194,3 +194,16 @@ def test_tongues_tau_max_flag(capsys):
         for every, below in zip(full[kind]["tau"], bounded[kind]["tau"]):
             assert below == pytest.approx([t for t in every if t <= 0.5], abs=1e-9)
     assert any(bounded["subharmonic"]["tau"]) and len(bounded["subharmonic"]["tau"]) == 13
+
+
+def test_modes_text_labels_a_practically_real_mode():
+    """m = 2, zeta = 5: the least damped mode has Im gamma = 3.366e-13 (a 30-digit polish agrees,
+    so the mode is off the real axis), but |Re gamma| is 1.4e11 times larger: the text calls it
+    overdamped in practice and gives the ratio; an inviscid mode is oscillatory."""
+    res = ss.natural_modes("sphere", m=2, zeta=5.0, count=1, precision=30)
+    assert res.gamma_digits[0][1].startswith("3.3659263")
+    g = complex(res.gamma[0])
+    assert _mode_kind(g, float(res.error_estimate[0])) == "overdamped in practice: Im/|Re| = 7.4e-12"
+    assert _mode_kind(g, 1e-12) == "overdamped"  # real to within a larger error
+    assert _mode_kind(2.19j, 1e-15) == "oscillatory"
+    assert _mode_kind(-1.09 + 1.58j, 1e-14) == "oscillatory"
