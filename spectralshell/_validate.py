@@ -74,11 +74,12 @@ def _int_range(lo: int, hi: int | None) -> str:
 
 
 def require_choice(name: str, value: object, choices: Iterable[str]) -> str:
-    """Return ``value`` if it is one of ``choices``."""
+    """Return ``value`` as a plain str if it is one of ``choices`` (a str subclass such as
+    numpy's str_ comes back as str, so that messages and results print it plainly)."""
     choices = tuple(choices)
     if not isinstance(value, str) or value not in choices:
         raise _fail(name, value, "one of " + ", ".join(repr(c) for c in choices))
-    return value
+    return str(value)
 
 
 def require_writable_directory(name: str, value: object, directory: Path) -> None:

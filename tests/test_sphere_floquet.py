@@ -100,6 +100,15 @@ def test_bad_sphere_parameters(bad, fragment):
         ss.floquet("sphere", **params)
 
 
+def test_numpy_strings_come_back_plain():
+    """Names drawn from numpy arrays (np.str_) are accepted and reported as plain str, in results
+    and in messages (no "np.str_('sphere')")."""
+    res = ss.floquet(np.str_("sphere"), m=3, kappa=0.02, nu=0.006, kind=np.str_("subharmonic"))
+    assert type(res.model) is str and res.params["component"] == "poloidal"
+    with pytest.raises(ss.ParameterError, match="of model 'sphere': must be 0"):
+        ss.exponents(np.str_("sphere"), tau=0.3, m=2, kappa=0.1, nu=0.01)
+
+
 def test_cli_sphere_floquet_json(capsys):
     from spectralshell.cli import main
     import json
