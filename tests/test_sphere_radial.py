@@ -352,6 +352,15 @@ def _pencil_with(values, n_infinite, seed=0):
     return P @ A @ Q, P @ B @ Q
 
 
+def test_order_of_a_conjugate_pair_does_not_depend_on_rounding():
+    """Real parts equal to rounding (a conjugate pair from QZ): Im s > 0 first, either way."""
+    for eps in (3e-15, -3e-15, 0.0):
+        got = finite_eigenvalues(np.diag([-1 - 2j, -1 + eps + 2j, -0.5, -1.001 + 5j]),
+                                 np.eye(4))
+        np.testing.assert_allclose(got, [-0.5, -1 + eps + 2j, -1 - 2j, -1.001 + 5j], rtol=1e-14)
+    assert finite_eigenvalues(np.diag([1.0, 0.0]), np.diag([0.0, 1.0])).size == 1
+
+
 def test_finite_eigenvalues_drop_infinite_and_sort():
     vals = np.array([-1 + 2j, -1 - 2j, -0.5, -3.0, 0.25])
     L, M = _pencil_with(vals, 4)

@@ -17,7 +17,7 @@ import spectralshell as ss
 from spectralshell.discretise.hill import assemble
 from spectralshell.models.mathieu import hill_system
 from spectralshell.solvers import marginal, tridiagonal
-from spectralshell.solvers.half_product import (block_inverses, dense_half_product,
+from spectralshell.solvers.half_product import (REAL_RTOL, block_inverses, dense_half_product,
                                                 tridiagonal_half_product)
 
 
@@ -164,9 +164,17 @@ def test_structured_taus_match_qz_and_the_lapack_fallback(kind, monkeypatch):
     assert len(kernel) == len(qz) and np.allclose(kernel, qz, rtol=1e-10)
     monkeypatch.setattr(tridiagonal, "eigenvalues", lambda d, p: None)
     lapack = marginal.structured_taus(hill)
-    # the large tau are tiny mu^2, which LAPACK has to ~eps ||W|| only
-    assert len(lapack) == len(kernel) and np.allclose(lapack, kernel, rtol=1e-6)
-    assert np.allclose(lapack[kernel < 10], kernel[kernel < 10], rtol=1e-12)
+    # The large tau are tiny mu^2 = 1/tau^2, which LAPACK has to ~eps ||W|| only: once that
+    # rounding exceeds REAL_RTOL mu^2 a real mu^2 can fail the realness test (here tau = 3879
+    # of the subharmonic kind with one BLAS build, Im/Re = 2e-9). Where mu^2 is 10x above that
+    # level both lists must agree; above it LAPACK may miss a tau but must not invent one.
+    norm_w = np.linalg.norm(dense_half_product(hill, block_inverses(hill)))
+    decided = kernel < (10 * np.finfo(float).eps * norm_w / REAL_RTOL) ** -0.5
+    assert decided.sum() > 20
+    assert np.allclose(lapack[: decided.sum()], kernel[decided], rtol=1e-6)
+    assert all(np.isclose(kernel, t, rtol=1e-6).any() for t in lapack)
+    small = kernel < 10
+    assert np.allclose(lapack[: small.sum()], kernel[small], rtol=1e-12)
 
 
 def test_floquet_against_qz_at_random_parameters():

@@ -19,6 +19,9 @@ Method
    |beta| <= ``infinite_tol`` |alpha|, i.e. |s| >= sigma / infinite_tol: with both matrices of
    unit size, a genuine eigenvalue that large cannot be told from an infinite one in double
    precision.
+4. Order by decreasing Re s; values whose real parts agree to ``TIE_RTOL`` |s| (the two of a
+   conjugate pair, whose computed real parts differ by rounding) by decreasing Im s, so that
+   the order does not depend on the last bits of QZ.
 
 Least-damped modes
 ------------------
@@ -49,6 +52,7 @@ from ..errors import ConvergenceError, ParameterError
 INFINITE_TOL = 1e-10
 IMAG_TOL = 1e-12
 SINGULAR_TOL = 1e-13
+TIE_RTOL = 1e-10
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -133,7 +137,7 @@ def finite_eigenvalues(L, M, *, vectors: bool = False, infinite_tol: float = INF
                                "alpha = beta = 0 (det(L - s M) vanishes for all s)")
     finite = np.abs(beta) > infinite_tol * np.abs(alpha)
     values = sigma * alpha[finite] / beta[finite]
-    order = np.lexsort((-values.imag, -values.real))
+    order = _decreasing_real_part(values)
     values = values[order]
     if not np.all(np.isfinite(values)):
         raise ConvergenceError("QZ returned non-finite eigenvalues")
@@ -142,6 +146,15 @@ def finite_eigenvalues(L, M, *, vectors: bool = False, infinite_tol: float = INF
     V = col[:, None] * V[:, finite][:, order]
     V = V / np.linalg.norm(V, axis=0)
     return values, V
+
+
+def _decreasing_real_part(values: np.ndarray) -> np.ndarray:
+    """Indices ordering ``values`` by decreasing Re, ties within ``TIE_RTOL`` by decreasing Im."""
+    order = np.argsort(-values.real, kind="stable")
+    v = values[order]
+    step = -np.diff(v.real) > TIE_RTOL * np.maximum(np.abs(v[1:]), np.abs(v[:-1]))
+    tie_group = np.concatenate([[0], np.cumsum(step)])[: v.size]
+    return order[np.lexsort((-v.imag, tie_group))]
 
 
 def _match(fine: tuple, coarse: tuple, rtol: float, vectors: bool, infinite_tol: float):
