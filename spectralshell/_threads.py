@@ -12,6 +12,12 @@ def _controller() -> ThreadpoolController:
     return ThreadpoolController()
 
 
+def blas_libraries() -> str:
+    """The BLAS/OpenMP libraries loaded in this process, as 'name version' joined by '; '."""
+    return "; ".join(sorted({f"{d.get('internal_api')} {d.get('version')}"
+                             for d in _controller().info()}))
+
+
 def one_blas_thread():
     """Context limiting BLAS/OpenMP to one thread. The libraries are looked up once, at the first
     call (a new ``threadpoolctl.threadpool_limits`` scans the process's libraries on every call,

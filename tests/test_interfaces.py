@@ -113,6 +113,29 @@ def test_results_are_reproducible_and_carry_provenance():
     assert a.provenance["version"] == ss.__version__ and a.provenance["options"]["tol"] == 1e-10
 
 
+def test_provenance_names_the_library_versions():
+    """Dense eigensolvers round differently between numpy/scipy/BLAS builds: every result says
+    which ones computed it (floquet, natural modes, the CLI's JSON)."""
+    import platform
+
+    import mpmath
+    import numpy
+    import scipy
+    from threadpoolctl import threadpool_info
+
+    want = {"python": platform.python_version(), "numpy": numpy.__version__,
+            "scipy": scipy.__version__, "mpmath": mpmath.__version__}
+    for result in (ss.floquet("mathieu", kappa=0.7, nu=0.02),
+                   ss.natural_modes("sphere", m=2, kappa=1.0, nu=0.01)):
+        libs = result.provenance["libraries"]
+        assert {k: libs[k] for k in want} == want
+        assert all(f"{d['internal_api']} {d['version']}" in libs["blas"] for d in threadpool_info())
+    data = json.loads(subprocess.run(
+        [sys.executable, "-m", "spectralshell", "modes", "sphere", "--m", "2", "--zeta", "0.01",
+         "--json"], capture_output=True, text=True, check=True).stdout)
+    assert data["provenance"]["libraries"]["numpy"] == numpy.__version__
+
+
 def test_tongues_serial_and_parallel_agree():
     serial = ss.tongues("mathieu", kappa="0.1:2:12", nu=0.05, workers=1, tips=False)
     parallel = ss.tongues("mathieu", kappa="0.1:2:12", nu=0.05, workers=2, tips=False)

@@ -87,6 +87,7 @@ def test_uniform_kappa_on_the_grid_reproduces_the_decoupled_run():
     assert grid_run.modes == plain.modes == ((2, 0), (3, 1))     # nothing else is coupled
     assert np.max(np.abs(grid_run.radial - plain.radial)) < 1e-10 * np.max(np.abs(plain.radial))
     assert grid_run.provenance["kappa_mean"] == pytest.approx(0.5, abs=1e-14)
+    assert grid_run.provenance["libraries"]["numpy"] == np.__version__
 
 
 def test_rotated_axisymmetric_pattern_gives_the_rotated_trajectory():

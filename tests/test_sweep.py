@@ -47,6 +47,7 @@ def test_dataset_is_labelled_nan_free_and_complete(serial):
     assert ds["kappa"].attrs["units"] == "1" and ds["kind"].values.tolist() == ["harmonic", "subharmonic"]
     assert ds.attrs["version"] == ss.__version__ and ds.attrs["scene_hash"] == sweep_spec(SCENE).digest
     assert json.loads(ds.attrs["solver_options"])["tau_max"] == 2.0
+    assert json.loads(ds.attrs["libraries"])["numpy"] == np.__version__
     assert bool(ds["computed"].all()) and bool(ds["has_tau"].any()) and not bool(ds["has_tau"].all())
     for name in ("tau_min", "error_estimate"):
         assert np.isfinite(ds[name].values).all()

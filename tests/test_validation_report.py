@@ -12,6 +12,7 @@ import os
 from pathlib import Path
 
 import pytest
+import scipy
 
 from spectralshell.cli import main
 from spectralshell.reports import validation
@@ -27,6 +28,7 @@ def _check_report(out: Path, cases: list) -> dict:
     assert HEADER in text and f"**{len(cases)} of {len(cases)} cases pass**" in text
     assert [c["name"] for c in data["cases"]] == [c.name for c in cases]
     assert all(c["passed"] for c in data["cases"]) and data["passed"]
+    assert data["libraries"]["scipy"] == scipy.__version__ and f"scipy {scipy.__version__}" in text
     for case in cases:
         assert f"`{case.name}`" in text
     assert "## Where the thesis is wrong" in text and "### Confirmed misprints" in text

@@ -26,7 +26,6 @@ import dataclasses
 import json
 import math
 import os
-import platform
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -41,7 +40,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
 from .. import api
-from .._version import __version__
+from .._version import __version__, libraries
 from ..discretise.sphere_radial import radial_operators
 from ..params.physical import BALLOONS, CARDIAC, TABLE_4_1, TABLE_6_1, balloon, fibre_forced
 from ..solvers.eigen import least_damped
@@ -1075,7 +1074,8 @@ def markdown(report: Report, chart: str | None) -> str:
     n, failed = len(report.outcomes), len(report.failures)
     kinds = {k: sum(o.case.source_kind == k for o in report.outcomes) for k in SOURCE_KINDS}
     lines = [f"# spectralshell validation report ({'quick' if report.quick else 'full'})", "",
-             f"spectralshell {__version__}, Python {platform.python_version()}, "
+             f"spectralshell {__version__}, "
+             + ", ".join(f"{k} {v}" for k, v in libraries().items()) + ", "
              f"{datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}, {report.seconds:.1f} s.", "",
              f"**{n - failed} of {n} cases pass**" + (f", **{failed} fail**." if failed else "."), "",
              "Sources: " + ", ".join(f"{k} {v}" for k, v in kinds.items() if v) + ". "
@@ -1118,7 +1118,7 @@ def write(report: Report, out: Path) -> list[Path]:
 
     chart = validation_chart.save_errors(
         [(o.case.name, o.error, o.case.tolerance, o.passed) for o in report.outcomes], out / "errors.png")
-    data = {"version": __version__, "quick": report.quick, "seconds": report.seconds,
+    data = {"version": __version__, "libraries": libraries(), "quick": report.quick, "seconds": report.seconds,
             "passed": report.passed, "figure_errors": report.figure_errors,
             "figures": {name: report.checked_by.get(name, []) for name in report.figures},
             "cases": [{"name": o.case.name, "section": o.case.section, "quantity": o.case.quantity,

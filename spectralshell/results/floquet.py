@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from .._version import __version__
+from .._version import __version__, libraries
 from ..solvers.exponents import Exponents
 from ..solvers.marginal import MarginalTau
 from ..solvers.tongues import Tip
@@ -20,8 +20,10 @@ NEGATIVE_STIFFNESS = "tau > 1/2: the stiffness kappa (1 + 2 tau sin t) becomes n
 
 
 def provenance(options: dict[str, Any]) -> dict[str, Any]:
-    """Package version and the solver options that produced a result."""
-    return {"package": "spectralshell", "version": __version__, "options": dict(options)}
+    """Package version, the library versions (:func:`spectralshell._version.libraries`) and the
+    solver options that produced a result."""
+    return {"package": "spectralshell", "version": __version__, "libraries": libraries(),
+            "options": dict(options)}
 
 
 def _float(x) -> float | None:

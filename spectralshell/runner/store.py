@@ -39,7 +39,7 @@ import numpy as np
 import xarray as xr
 
 from .._validate import require_writable_directory
-from .._version import __version__
+from .._version import __version__, libraries
 from ..errors import ParameterError
 from ..params.sweep_grid import LONG_NAMES, SweepSpec
 from .layout import store_chunks
@@ -75,11 +75,13 @@ def empty_arrays(spec: SweepSpec) -> dict[str, np.ndarray]:
 
 
 def provenance(spec: SweepSpec) -> dict[str, Any]:
-    """Dataset attributes: package version, the scene as given (JSON: ``ss.sweep(json.loads(
+    """Dataset attributes: package and library versions (JSON, of the process that created the
+    store), the scene as given (JSON: ``ss.sweep(json.loads(
     ds.attrs["scene"]))`` reruns it), its canonical form and hash, the solver options."""
     canonical = spec.canonical()
     return {"title": f"spectralshell sweep: {spec.model}, ask {', '.join(spec.ask)}",
-            "package": "spectralshell", "version": __version__, "model": spec.model,
+            "package": "spectralshell", "version": __version__,
+            "libraries": json.dumps(libraries(), sort_keys=True), "model": spec.model,
             "scene": spec.source or json.dumps(canonical, sort_keys=True),
             "scene_canonical": json.dumps(canonical, sort_keys=True), "scene_hash": spec.digest,
             "params": json.dumps(dict(spec.fixed)),
