@@ -31,3 +31,13 @@ def libraries() -> dict[str, str]:
     Looked up once per process.
     """
     return dict(_libraries())
+
+
+def libraries_line() -> str:
+    """:func:`libraries` as one line, 'python 3.11.7, numpy 2.4.6, ...' (report headers)."""
+    return ", ".join(f"{k} {v}" for k, v in _libraries())
+
+
+def stamp() -> dict[str, object]:
+    """The part of every provenance that names the software: package, version, libraries."""
+    return {"package": "spectralshell", "version": __version__, "libraries": libraries()}

@@ -26,7 +26,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from _bench import FLAG, PREFIX  # noqa: E402
 
-from spectralshell._version import libraries  # noqa: E402
+from spectralshell._version import libraries_line  # noqa: E402
 
 
 def scripts(only: list[str] | None) -> list[Path]:
@@ -61,9 +61,8 @@ def markdown(records: list[dict], status: dict[str, tuple[int, float, int]]) -> 
     series = [r for r in records if r["type"] == "growth"]
     load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
     lines = ["# spectralshell benchmarks", "",
-             f"{datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}, "
-             + ", ".join(f"{k} {v}" for k, v in libraries().items())
-             + f", {os.cpu_count()} cores, load average {load[0]:.1f} at the "
+             f"{datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}, {libraries_line()}, "
+             f"{os.cpu_count()} cores, load average {load[0]:.1f} at the "
              "end. Times are wall-clock seconds from one run of `make bench` (best of several calls "
              "where the script says so); ratio = baseline time / package time (> 1: the package is "
              "faster); errors are against each script's stated reference.", "",

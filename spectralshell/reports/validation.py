@@ -40,7 +40,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
 from .. import api
-from .._version import __version__, libraries
+from .._version import __version__, libraries, libraries_line
 from ..discretise.sphere_radial import radial_operators
 from ..params.physical import BALLOONS, CARDIAC, TABLE_4_1, TABLE_6_1, balloon, fibre_forced
 from ..solvers.eigen import least_damped
@@ -1074,8 +1074,7 @@ def markdown(report: Report, chart: str | None) -> str:
     n, failed = len(report.outcomes), len(report.failures)
     kinds = {k: sum(o.case.source_kind == k for o in report.outcomes) for k in SOURCE_KINDS}
     lines = [f"# spectralshell validation report ({'quick' if report.quick else 'full'})", "",
-             f"spectralshell {__version__}, "
-             + ", ".join(f"{k} {v}" for k, v in libraries().items()) + ", "
+             f"spectralshell {__version__}, {libraries_line()}, "
              f"{datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}, {report.seconds:.1f} s.", "",
              f"**{n - failed} of {n} cases pass**" + (f", **{failed} fail**." if failed else "."), "",
              "Sources: " + ", ".join(f"{k} {v}" for k, v in kinds.items() if v) + ". "

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from .._version import __version__, libraries
+from .._version import stamp
 from ..solvers.exponents import Exponents
 from ..solvers.marginal import MarginalTau
 from ..solvers.tongues import Tip
@@ -20,10 +20,9 @@ NEGATIVE_STIFFNESS = "tau > 1/2: the stiffness kappa (1 + 2 tau sin t) becomes n
 
 
 def provenance(options: dict[str, Any]) -> dict[str, Any]:
-    """Package version, the library versions (:func:`spectralshell._version.libraries`) and the
-    solver options that produced a result."""
-    return {"package": "spectralshell", "version": __version__, "libraries": libraries(),
-            "options": dict(options)}
+    """Package and library versions (:func:`spectralshell._version.stamp`) and the solver
+    options that produced a result."""
+    return {**stamp(), "options": dict(options)}
 
 
 def _float(x) -> float | None:

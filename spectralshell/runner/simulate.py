@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from .._version import __version__, libraries
+from .._version import stamp
 from ..discretise.sphere_stepping import scene_blocks, shape_coefficients
 from ..errors import ParameterError, SpectralShellError
 from ..params.simulation import Expression, SimulationScene, simulation_scene
@@ -109,10 +109,8 @@ def _runs(systems: list, initials: list, scheme: str, step: float, steps: int, e
 
 
 def _provenance(scheme, step, steps, every, degrees, method, started) -> dict:
-    return {"package": "spectralshell", "version": __version__, "libraries": libraries(),
-            "scheme": scheme, "dt": step,
-            "steps": steps, "samples_every": every, "degrees": degrees, "method": method,
-            "seconds": time.perf_counter() - started}
+    return {**stamp(), "scheme": scheme, "dt": step, "steps": steps, "samples_every": every,
+            "degrees": degrees, "method": method, "seconds": time.perf_counter() - started}
 
 
 def _degrees(systems) -> list[dict]:

@@ -39,7 +39,7 @@ import numpy as np
 import xarray as xr
 
 from .._validate import require_writable_directory
-from .._version import __version__, libraries
+from .._version import stamp
 from ..errors import ParameterError
 from ..params.sweep_grid import LONG_NAMES, SweepSpec
 from .layout import store_chunks
@@ -79,9 +79,10 @@ def provenance(spec: SweepSpec) -> dict[str, Any]:
     store), the scene as given (JSON: ``ss.sweep(json.loads(
     ds.attrs["scene"]))`` reruns it), its canonical form and hash, the solver options."""
     canonical = spec.canonical()
+    software = stamp()  # NetCDF attributes are flat: the libraries as JSON
     return {"title": f"spectralshell sweep: {spec.model}, ask {', '.join(spec.ask)}",
-            "package": "spectralshell", "version": __version__,
-            "libraries": json.dumps(libraries(), sort_keys=True), "model": spec.model,
+            **software, "libraries": json.dumps(software["libraries"], sort_keys=True),
+            "model": spec.model,
             "scene": spec.source or json.dumps(canonical, sort_keys=True),
             "scene_canonical": json.dumps(canonical, sort_keys=True), "scene_hash": spec.digest,
             "params": json.dumps(dict(spec.fixed)),
