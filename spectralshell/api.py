@@ -36,7 +36,7 @@ from .results.maps import TauMapResult
 from .results.modes import NaturalModesResult
 from .results.spatial import SpatialFloquetResult
 from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
-                              provenance, resolution_warnings, tau_warnings)
+                              provenance, resolution_warnings, tau_warnings, certification_warnings)
 from .solvers.exponents import floquet_exponents
 from .solvers.marginal import N_MAX, marginal_tau
 from .solvers.spatial_refinement import (TOL_SPATIAL, refine_spatial, solve_at,
@@ -108,6 +108,7 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     warnings = tau_warnings(t for m in res.values() for t in m.tau)
     if n_temporal is None:
         warnings += resolution_warnings(res, options["tol"])
+    warnings += certification_warnings(res)
     return FloquetResult(model=model, params=dataclasses.asdict(p), harmonic=res.get("harmonic"),
                          subharmonic=res.get("subharmonic"),
                          provenance=provenance({"kind": kind, **options}), warnings=tuple(warnings))

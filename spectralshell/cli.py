@@ -165,14 +165,16 @@ def _floquet_text(res) -> str:
         m = getattr(res, kind)
         if m is None:
             continue
+        complete = "" if math.isinf(m.complete_to) else f" (complete to {m.complete_to:.4g})"
         if m.tau_min is None:
             bound = res.provenance.get("options", {}).get("tau_max")
             below = "" if bound is None else f" <= {bound:g}"
-            lines.append(f"  {kind:<12} no marginal tau{below} (N = {m.n_temporal})")
+            lines.append(f"  {kind:<12} no marginal tau{below}, proved{complete} "
+                         f"(N = {m.n_temporal})")
             continue
         taus = ", ".join(f"{t:.10g}" for t in m.tau[:6]) + (" ..." if m.tau.size > 6 else "")
         lines.append(f"  {kind:<12} tau_min = {m.tau_min:.12g}   error <= {m.error_estimate:.1e}   "
-                     f"N = {m.n_temporal}   all tau: {taus}")
+                     f"N = {m.n_temporal}   all tau{complete}: {taus}")
     return "\n".join(lines)
 
 

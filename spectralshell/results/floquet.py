@@ -30,10 +30,21 @@ def _float(x) -> float | None:
 
 
 def marginal_dict(m: MarginalTau) -> dict[str, Any]:
-    """JSON form of one kind: tau (list), tau_min, n_temporal, error_estimate (+ method)."""
+    """JSON form of one kind: tau (list), tau_min, n_temporal, error_estimate, method and
+    complete_to (``tau`` is proved to hold every real tau up to it; null: no bound, a model
+    without forcing)."""
     return {"tau": [float(t) for t in m.tau], "tau_min": _float(m.tau_min),
             "n_temporal": m.n_temporal, "error_estimate": _float(m.error_estimate),
-            "method": m.method}
+            "method": m.method,
+            "complete_to": None if np.isinf(m.complete_to) else float(m.complete_to)}
+
+
+def certification_warnings(res: Mapping[str, MarginalTau]) -> list[str]:
+    """A flag for each kind whose list is not proved complete up to its tau_min (possible only
+    with a fixed n_temporal: the converging loop raises instead)."""
+    return [f"{kind} tau_min = {m.tau_min:.6g} is not certified: a smaller real tau is excluded "
+            f"only below complete_to = {m.complete_to:.4g} at this truncation"
+            for kind, m in res.items() if m.tau_min is not None and m.complete_to < m.tau_min]
 
 
 def tau_warnings(values) -> list[str]:

@@ -59,7 +59,8 @@ from ..models.base import HillSystem
 from ..models.registry import hill_system
 from ..params.registry import make_params
 from ..params.sweep_grid import SolverOptions, SweepSpec
-from ..solvers.marginal import N_MAX, MarginalTau, marginal_tau, truncation_taus
+from ..solvers.marginal import (N_MAX, MarginalTau, Truncation, converged_pair, marginal_tau,
+                                truncation_taus)
 from ..solvers.spatial_refinement import (MINIMUM_LIMIT, SPATIAL_LIMIT, SPATIAL_START,
                                           refine_minimum, refine_spatial, spatial_error)
 from .engine import PartialFailure
@@ -141,10 +142,10 @@ def continuation_start(system: HillSystem, hint: tuple[int, int] | None) -> int 
     return k - 1 if k >= 3 else None
 
 
-def _capped(system: HillSystem, kind: str, n: int, tau_max: float,
-            hint: float | None) -> tuple[np.ndarray, float]:
+def _truncation(system: HillSystem, kind: str, n: int, tau_max: float,
+                hint: float | None) -> tuple[Truncation, np.ndarray]:
     found = truncation_taus(system, kind, n, tau_max=tau_max, hint=hint)  # Arnoldi for big blocks
-    return found.tau[found.tau <= tau_max], found.spread
+    return found, found.tau[found.tau <= tau_max]
 
 
 def _first(tau: np.ndarray, otherwise: float | None) -> float | None:
@@ -155,21 +156,23 @@ def solve_continued(system: HillSystem, kind: str, options: SolverOptions, start
                     tau_hint: float | None = None) -> KindSolution | None:
     """The solver's loop from index ``start`` (one below the neighbour's pair) of this point's
     truncation sequence; None -- leave it to the full solve -- when no pair with a tau <= tau_max
-    converges up to one step beyond the neighbour's pair, or none has a tau at all. The first
-    truncation's ``hint`` is ``tau_hint`` (the neighbour's tau_min), each later one's the
-    previous truncation's tau_min."""
+    passes the solver's test (:func:`~spectralshell.solvers.marginal.converged_pair`) up to one
+    step beyond the neighbour's pair, or none has a tau at all. The first truncation's ``hint``
+    is ``tau_hint`` (the neighbour's tau_min), each later one's the previous truncation's
+    tau_min."""
     seq = truncation_sequence(system)
-    prev, _ = _capped(system, kind, seq[start], options.tau_max, tau_hint)
+    previous, prev = _truncation(system, kind, seq[start], options.tau_max, tau_hint)
     for i in range(start + 1, min(start + 4, len(seq))):
-        tau, spread = _capped(system, kind, seq[i], options.tau_max, _first(prev, tau_hint))
-        if tau.size and prev.size and abs(float(tau[0] - prev[0])) < options.tol:
+        found, tau = _truncation(system, kind, seq[i], options.tau_max, _first(prev, tau_hint))
+        if tau.size and prev.size and converged_pair(found, previous, options.tol,
+                                                     options.tau_max):
             change = abs(float(tau[0] - prev[0]))
-            error = max(change, spread, 8 * np.finfo(float).eps * max(1.0, float(tau[0])))
+            error = max(change, found.spread, 8 * np.finfo(float).eps * max(1.0, float(tau[0])))
             return KindSolution(has_tau=True, tau_min=float(tau[0]), error_estimate=error,
                                 n_temporal=seq[i], n_previous=seq[i - 1], continued=True)
         if not tau.size and not prev.size:
             return None
-        prev = tau
+        previous, prev = found, tau
     return None
 
 

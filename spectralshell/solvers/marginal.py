@@ -57,6 +57,25 @@ truncation:
   needs N <= 175), even with its block elimination replaced by a band LU (35x cheaper
   products; ARPACK's own work then dominates), so the threshold stands for b = 2.
 
+What an answer proves
+---------------------
+Each truncation states ``complete_to``: its list of real tau is complete up to it (inf for
+the dense and QZ paths, the certified radius for Krylov and shift-invert). A pair of successive truncations is accepted
+(:func:`converged_pair`) only if it also certifies its answer (:func:`certified_bound`): every
+non-real eigenvalue of the larger truncation below the claimed amplitude sits farther from the
+real axis than SEPARATION times its change from the smaller one, so no real tau can hide among
+them. An empty answer therefore means "proved: no real tau <= tau_max", and with tau_max = inf
+it is not given at all (the truncation is raised to find a tau, or a ConvergenceError states the
+amplitude up to which none exists). This catches the strongly damped Mathieu equation
+(nu >~ 20), whose periodic solutions vary by ~exp(pi nu / 2) within a cycle: no double-precision
+Hill truncation resolves them, and before this test the solver answered "no tau" for nu = 30
+where a time-stepped monodromy matrix has marginal tau 1923.87 (harmonic) and 2030.16
+(subharmonic; tests/test_hostile_oracle.py). A bound on the neglected Fourier tail
+(2 tau ||D(s_k)^{-1} G|| < 1 beyond N) was tried as a resolution test and dropped: the sphere's
+barely damped Psi row has a resonance near k = 170 at m = 6, kappa = 1.4, nu = 2.4e-4, which
+holds that bound below 0.2 up to N = 184 while the subharmonic tau_min = 0.52608108 has
+settled at N = 82.
+
 Truncations of one solve share their pencils and block inverses (:class:`Pencils`): a smaller
 truncation is cut out of a larger one, a larger one reuses the inverses of the blocks it shares
 (blocks of size >= 32). :func:`marginal_tau` assembles the second truncation first (every solve
@@ -105,6 +124,10 @@ N_MAX = 400
 METHODS = ("auto", "dense", "krylov")
 KRYLOV_MIN_ORDER = 600
 EPS = np.finfo(float).eps
+#: A non-real eigenvalue certifies "no real tau here" once its distance from the real axis is
+#: SEPARATION x its change between two truncations (:func:`certified_bound`); measured: 1e3..1e13
+#: on well-conditioned pencils, 0.4..7 on the ill-conditioned Mathieu pencils at nu >= 30.
+SEPARATION = 100.0
 #: Orders of W whose dense eig runs on one BLAS thread (:func:`structured_taus`): there OpenBLAS's
 #: threads only cost (2 threads vs 1 on a 2-core machine, sphere W: 1.1-2x slower at orders
 #: 162-598, the same at 82); the ~11 us switch is not worth it on smaller W.
@@ -145,6 +168,15 @@ class MarginalTau:
 def structured_taus(hill: HillMatrices, inv: BlockInverses | None = None) -> np.ndarray | None:
     """Every real tau >= 0 of a bipartite pencil by dense eig of the half-size product W (None if
     A is ill conditioned; see the module notes). ``inv``: the block inverses, if already known."""
+    found = structured_spectrum(hill, inv)
+    return None if found is None else tau_from_squares(*found)
+
+
+def structured_spectrum(hill: HillMatrices,
+                        inv: BlockInverses | None = None) -> tuple[np.ndarray, float, bool] | None:
+    """Every eigenvalue mu^2 = 1/tau^2 of the half-size product W of a bipartite pencil, with the
+    floor below which mu^2 counts as zero (tau infinite) and whether real mu^2 are exactly real
+    (``tau_from_squares`` takes these three); None if A is ill conditioned."""
     if not hill.bipartite:
         raise ValueError("structured_taus needs a bipartite pencil (no self-coupling in B)")
     inv = block_inverses(hill) if inv is None else inv
@@ -155,14 +187,14 @@ def structured_taus(hill: HillMatrices, inv: BlockInverses | None = None) -> np.
         lam = tridiagonal.eigenvalues(d, p)
         if lam is not None:  # else (~0.1 % of Mathieu W) LAPACK below
             floor = 64 * EPS * math.sqrt(np.vdot(d, d).real + 2 * np.abs(p).sum())
-            return tau_from_squares(lam, floor, exact_real=False)
+            return lam, floor, False
     W = dense_half_product(hill, inv)
     gebal = _eigen_routines(W.dtype, len(W))[0]
     with one_blas_thread() if len(W) in ONE_THREAD_ORDERS else contextlib.nullcontext():
         balanced = gebal(W, scale=1, permute=0, overwrite_a=1)[0]  # scaling only (matrix_balance)
         floor = 64 * EPS * np.linalg.norm(balanced)
         lam = _eigenvalues(balanced)
-    return tau_from_squares(lam, floor, exact_real=hill.is_real)
+    return lam, floor, hill.is_real
 
 
 @functools.lru_cache(maxsize=256)
@@ -210,18 +242,23 @@ def dense_taus(hill: HillMatrices) -> np.ndarray:
 def qz_taus(hill: HillMatrices) -> tuple[np.ndarray, float]:
     """Real tau >= 0 by QZ; a defective zero eigenvalue is reported as one exact 0.
 
-    Returns (tau, spread): eigenvalues within ZERO_CLUSTER of 0 that are not a simple +-tau pair
-    (symmetric to 1 %, as the tau -> -tau symmetry makes every simple one) are the rounding
-    spread of a multiple zero and are merged into tau = 0 with ``spread`` their largest magnitude.
+    Returns (tau, spread): see :func:`qz_real_taus`.
     """
-    tau = _finite_eigenvalues(hill)
+    return qz_real_taus(_finite_eigenvalues(hill), hill.is_real)
+
+
+def qz_real_taus(tau: np.ndarray, exact_real: bool) -> tuple[np.ndarray, float]:
+    """Real tau >= 0 of the finite QZ eigenvalues ``tau`` of a pencil, and ``spread``:
+    eigenvalues within ZERO_CLUSTER of 0 that are not a simple +-tau pair (symmetric to 1 %, as
+    the tau -> -tau symmetry makes every simple one) are the rounding spread of a multiple zero
+    and are merged into tau = 0 with ``spread`` their largest magnitude."""
     near = np.abs(tau) <= ZERO_CLUSTER
     cluster = tau[near]
     simple_pair = (len(cluster) == 2 and np.all(cluster.imag == 0)
                    and abs(cluster.real.sum()) <= 1e-2 * np.abs(cluster.real).max())
     if simple_pair or not near.any():
         near[:] = False
-    positive = _real_part_of_real(tau[~near], hill.is_real)
+    positive = _real_part_of_real(tau[~near], exact_real)
     positive = positive[positive >= 0]
     if not near.any():
         return positive, 0.0
@@ -238,14 +275,61 @@ def preferred_form(kind: str, block_size: int) -> str:
 class Truncation:
     """Real tau >= 0 of one truncation: ascending ``tau``, the ``method`` that found them, the
     uncertainty ``spread`` of a reported tau = 0 (QZ path), ``complete_to``: every real
-    tau <= complete_to is listed (inf: the whole real spectrum), and the ``shifts`` of the
-    shift-invert cover (a plan for the next truncation; empty on the other paths)."""
+    tau <= complete_to of the truncation is listed (inf: the whole real spectrum); the ``shifts`` of the shift-invert cover (a plan for the next
+    truncation; empty on the other paths), and ``spectrum``: every finite eigenvalue tau
+    (complex, folded by :func:`_folded`) where the path computed them all (dense and QZ), else
+    None.
+    """
 
     tau: np.ndarray
     method: str
     spread: float = 0.0
     complete_to: float = np.inf
     shifts: tuple[Shift, ...] = ()
+    spectrum: np.ndarray | None = None
+
+
+def _folded(tau: np.ndarray) -> np.ndarray:
+    """|Re tau| + i |Im tau|: one representative of each eigenvalue quadruple (tau, -tau and,
+    by the reality conditions (2.7)/(2.8), their conjugates), so that two truncations' spectra
+    compare without a branch choice."""
+    return np.abs(tau.real) + 1j * np.abs(tau.imag)
+
+
+def _spectrum_from_squares(lam: np.ndarray, floor: float) -> np.ndarray:
+    """Folded tau = 1/sqrt(mu^2) of the mu^2 above ``floor``."""
+    lam = lam[np.abs(lam) > floor]
+    return _folded(1.0 / np.sqrt(lam.astype(complex)))
+
+
+def certified_bound(found: Truncation, previous: Truncation) -> float:
+    """The amplitude up to which two successive truncations prove their list of real tau
+    complete: both truncations' ``complete_to``, lowered to the smallest |tau| of any non-real
+    eigenvalue of the larger truncation that lies closer to the real axis than SEPARATION times
+    its distance to the nearest eigenvalue of the smaller one.
+
+    Notes
+    -----
+    Rounding and truncation move each eigenvalue by about its change between the truncations.
+    A non-real eigenvalue far from the axis against that change cannot be a real one displaced;
+    one that is not (an ill-conditioned pencil: strong damping, where the periodic solutions
+    vary over many orders of magnitude within a cycle and their Fourier coefficients lose
+    them) could be, so the claim "no other real tau" stops below it. Real eigenvalues
+    (|Im tau| <= REAL_RTOL |tau|) and the zero cluster (|tau| <= ZERO_CLUSTER) are reported, not
+    tested. Paths that do not compute the whole spectrum (Krylov, shift-invert) certify their
+    own ``complete_to``.
+    """
+    bound = min(found.complete_to, previous.complete_to)
+    if found.spectrum is None or previous.spectrum is None or not previous.spectrum.size:
+        return bound
+    z = found.spectrum
+    z = z[(np.abs(z) <= bound) & (np.abs(z) > ZERO_CLUSTER)
+          & (np.abs(z.imag) > REAL_RTOL * np.abs(z))]
+    if not z.size:
+        return bound
+    change = np.abs(z[:, None] - previous.spectrum[None, :]).min(axis=1)
+    loose = np.abs(z.imag) <= SEPARATION * change
+    return float(min(bound, np.abs(z[loose]).min())) if loose.any() else bound
 
 
 def half_order(system: HillSystem, n_temporal: int) -> int:
@@ -320,18 +404,26 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
         found = None if inv is None else smallest_taus(hill, tau_max=tau_max, inverses=inv,
                                                        max_rounds=1 if bounded else None)
         if found is not None and (found.tau.size or found.complete_to >= tau_max):
-            return Truncation(tau=found.tau, method="krylov", complete_to=found.complete_to)
+            return Truncation(tau=found.tau, method="krylov",
+                              complete_to=found.complete_to)
         if bounded and inv is not None:
             cover = interval_taus(hill, tau_max, hint=hint, plan=plan, smallest_only=True,
                                   none_below=0.0 if found is None else found.complete_to)
             if cover is not None:
                 return Truncation(tau=cover.tau, method="shift-invert",
-                                  complete_to=cover.complete_to, shifts=cover.shifts)
+                                  complete_to=cover.complete_to,
+                                  shifts=cover.shifts)
     hill, inv = pencils.get(n_temporal, preferred_form(kind, system.block_size))
     if inv is None:
-        taus, spread = qz_taus(pencils.get(n_temporal, "real")[0])
-        return Truncation(tau=taus, method="qz", spread=spread)
-    return Truncation(tau=structured_taus(hill, inv), method="structured")
+        hill = pencils.get(n_temporal, "real")[0]
+        eigenvalues = _finite_eigenvalues(hill)
+        taus, spread = qz_real_taus(eigenvalues, hill.is_real)
+        return Truncation(tau=taus, method="qz", spread=spread,
+                          spectrum=_folded(eigenvalues))
+    lam, floor, exact_real = structured_spectrum(hill, inv)
+    return Truncation(tau=tau_from_squares(lam, floor, exact_real), method="structured",
+                      complete_to=1.0 / math.sqrt(floor) if floor > 0 else 0.0,
+                      spectrum=_spectrum_from_squares(lam, floor))
 
 
 def solve_truncation(system: HillSystem, kind: str,
@@ -374,11 +466,59 @@ def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_m
         kept = np.concatenate([tau[:1], kept[kept > tau[0]]])
     return MarginalTau(kind=kind, tau=kept, tau_min=float(tau[0]) if tau.size else None,
                        n_temporal=n, n_previous=n_prev, error_estimate=err, method=found.method,
-                       complete_to=min(found.complete_to, previous.complete_to))
+                       complete_to=certified_bound(found, previous))
 
 
 def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
     return tau if tau_max == np.inf else tau[tau <= tau_max]  # tau is never NaN
+
+
+def converged_pair(found: Truncation, previous: Truncation, tol: float,
+                   tau_max: float) -> bool:
+    """The convergence test of two successive truncations (the larger one ``found``): both have
+    a tau_min <= tau_max, they differ by less than ``tol``, and the pair certifies that no smaller
+    real tau exists (:func:`certified_bound` >= tau_min); or neither has one and the pair
+    certifies that none exists up to a finite ``tau_max``."""
+    tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
+    if tau.size and prev.size:
+        return (abs(float(tau[0] - prev[0])) < tol
+                and certified_bound(found, previous) >= tau[0])
+    return (not tau.size and not prev.size and math.isfinite(tau_max)
+            and certified_bound(found, previous) >= tau_max)
+
+
+def _not_converged(kind: str, found: Truncation, previous: Truncation, n: int, tol: float,
+                   tau_max: float) -> ConvergenceError:
+    """Why the last pair of truncations failed :func:`converged_pair`, and what to change."""
+    tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
+    bound = certified_bound(found, previous)
+    if not tau.size and not prev.size:
+        return ConvergenceError(
+            f"{kind}: no marginal tau found up to n_temporal={n}, but that is proved only for "
+            f"tau <= {bound:.4g} (beyond it the truncations' eigenvalues near the real axis do "
+            "not settle: an ill-conditioned Hill pencil, e.g. under strong damping): "
+            f"tau_max <= {bound:.4g} (--tau-max) accepts 'none below it'; a larger tau needs a "
+            "smaller damping or another method")
+    if tau.size and prev.size and abs(float(tau[0] - prev[0])) < tol:
+        return ConvergenceError(
+            f"{kind} tau_min = {float(tau[0]):.6g} has converged to tol={tol:g} at "
+            f"n_temporal={n}, but the truncations prove no smaller real tau only below "
+            f"{bound:.4g} (their eigenvalues near the real axis do not settle: an "
+            "ill-conditioned Hill pencil, e.g. under strong damping); fix n_temporal "
+            "(--n-temporal) to get the values with that bound (complete_to), or lower the damping")
+    change = abs(float(tau[0] - prev[0])) if tau.size and prev.size else float("nan")
+    beyond = ""
+    if tau_max > 0.5 and min(tau[:1].tolist() + prev[:1].tolist()) > 0.5:
+        beyond = (f"; these tau_min ({tau[0] if tau.size else prev[0]:.6g} at the last N) "
+                  "exceed 1/2, where the stiffness turns negative: tau_max=0.5 (--tau-max 0.5) "
+                  "asks only for the physical range")
+    lowest = min([bound] + tau[:1].tolist() + prev[:1].tolist())
+    return ConvergenceError(
+        f"{kind} tau_min did not converge to tol={tol:g} by n_temporal={n} "
+        f"(last change {change:.3g}; that no marginal tau exists is proved only for "
+        f"tau <= {lowest:.4g}); "
+        f"relax tol (--tol), or fix n_temporal (--n-temporal) and read the error "
+        f"estimate{beyond}")
 
 
 def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
@@ -392,13 +532,17 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
     system : the model's physics (D(s), G).
     kind : 'harmonic' (gamma = 0) or 'subharmonic' (gamma = i/2).
     tol : with ``n_temporal=None``, N is raised (N -> N + max(6, N // 2), starting above the
-        model's resonant index) until tau_min changes by less than ``tol`` (absolute).
-    n_temporal : fixed truncation N instead; the error estimate then compares with a smaller N.
+        model's resonant index) until two successive truncations pass :func:`converged_pair`:
+        tau_min changes by less than ``tol`` (absolute) and the pair proves that no smaller real
+        tau exists (``complete_to`` >= tau_min).
+    n_temporal : fixed truncation N instead; the error estimate then compares with a smaller N,
+        and ``complete_to`` says how far the list is proved complete (it may lie below tau_min).
     tau_max : only tau <= tau_max are wanted (e.g. 1/2, where the stiffness stays positive, or
         the amplitude a stability question asks about): larger ones are dropped at every
         truncation before the convergence test, so the truncation is raised only as far as the
-        wanted values need. ``tau_min`` is None when no tau <= tau_max exists at two successive
-        truncations.
+        wanted values need. ``tau_min`` is None only when two successive truncations prove that
+        no tau <= tau_max exists (``complete_to`` >= tau_max); with tau_max = inf an empty answer
+        is never returned unless the model has no forcing (N is raised to find a tau instead).
     method : 'auto' (default), 'dense' or 'krylov', per truncation (module notes). tau_min and
         its error estimate do not depend on it; ``tau`` lists every real tau <= tau_max with
         'dense', and those up to ``complete_to`` (at least tau_min) with 'krylov' (whose
@@ -410,7 +554,8 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
 
     Raises
     ------
-    ConvergenceError : tau_min has not converged to ``tol`` by N = ``n_max``.
+    ConvergenceError : no pair of truncations up to N = ``n_max`` passes the test; the message
+        says which part failed and what to change.
     """
     pencils = Pencils(system, kind)
     start = {"hint": hint, "plan": ()}  # continuation from one truncation to the next
@@ -424,6 +569,9 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                          hint=None if found.shifts else float(capped[0]))
         return found
 
+    if not np.count_nonzero(system.forcing):  # no finite marginal amplitude at all
+        return MarginalTau(kind=kind, tau=np.empty(0), tau_min=None, n_temporal=0, n_previous=0,
+                           error_estimate=None, method="structured")
     if n_temporal is not None:
         n_prev = _previous(n_temporal)
         return _result(kind, solve(n_temporal), solve(n_prev), n_temporal, n_prev, tol, tau_max)
@@ -438,19 +586,8 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
     while True:
         n = min(_next(n_prev), n_max)
         found = solve(n)
-        tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
-        both_empty = not tau.size and not prev.size
-        if both_empty or (tau.size and prev.size and abs(tau[0] - prev[0]) < tol):
+        if converged_pair(found, previous, tol, tau_max):
             return _result(kind, found, previous, n, n_prev, tol, tau_max)
         if n >= n_max:
-            change = abs(tau[0] - prev[0]) if tau.size and prev.size else float("nan")
-            beyond = ""
-            if tau_max > 0.5 and min(tau[:1].tolist() + prev[:1].tolist()) > 0.5:
-                beyond = (f"; these tau_min ({tau[0] if tau.size else prev[0]:.6g} at the last N) "
-                          "exceed 1/2, where the stiffness turns negative: --tau-max 0.5 (API "
-                          "tau_max=0.5) asks only for the physical range")
-            raise ConvergenceError(
-                f"{kind} tau_min did not converge to tol={tol:g} by n_temporal={n} "
-                f"(last change {change:.3g}); relax --tol, or fix --n-temporal and read the error "
-                f"estimate{beyond}")
+            raise _not_converged(kind, found, previous, n, tol, tau_max)
         previous, n_prev = found, n
