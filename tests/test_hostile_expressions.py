@@ -15,6 +15,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -262,6 +263,16 @@ def test_cli_expression_flags_exit_2_with_one_line(flag, text, capsys, monkeypat
     field = "initial.shape" if flag == "--shape" else "kappa"
     assert err.count("\n") == 1 and err.startswith(f"spectralshell: error: {field} = ")
     assert list(tmp_path.iterdir()) == [] and not SENTINEL.exists()
+
+
+def test_text_that_makes_the_parser_warn_still_gives_one_line():
+    """Python's parser warns about e.g. '1and' or '1(theta)' (a second line on stderr): the
+    warnings are dropped, the text refused."""
+    for text in ("1and theta", "1(theta)", "theta is 1"):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            _refused("initial.shape", text)
+        assert caught == [], text
 
 
 def test_scene_file_with_a_hostile_kappa_exits_2(tmp_path, capsys, monkeypatch):

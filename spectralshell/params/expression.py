@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import ast
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -99,7 +100,9 @@ def _checked_tree(name: str, text: str) -> ast.expr:
     if len(text) > MAX_LENGTH:
         raise invalid(name, text, f"{GRAMMAR}, at most {MAX_LENGTH} characters (given {len(text)})")
     try:
-        body = ast.parse(text.strip(), mode="eval").body
+        with warnings.catch_warnings():     # e.g. "invalid decimal literal": no second line
+            warnings.simplefilter("ignore", SyntaxWarning)
+            body = ast.parse(text.strip(), mode="eval").body
     except (SyntaxError, ValueError, RecursionError, MemoryError) as exc:
         reason = exc.msg if isinstance(exc, SyntaxError) else type(exc).__name__
         raise invalid(name, text, f"{GRAMMAR} (not parseable: {reason})") from None
