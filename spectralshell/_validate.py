@@ -15,9 +15,16 @@ from pathlib import Path
 
 from .errors import ParameterError
 
+SHOWN = 80
 
-def _fail(name: str, value: object, allowed: str) -> ParameterError:
-    return ParameterError(f"{name} = {value!r} is invalid: must be {allowed}")
+
+def invalid(name: str, value: object, allowed: str) -> ParameterError:
+    """The error for ``name`` = ``value`` outside ``allowed``, on one line: a value whose repr is
+    longer than SHOWN characters is cut there."""
+    shown = repr(value).replace("\n", " ")
+    if len(shown) > SHOWN:
+        shown = f"{shown[:SHOWN]}... ({len(shown)} characters)"
+    return ParameterError(f"{name} = {shown} is invalid: must be {allowed}")
 
 
 def require_real(name: str, value: object) -> float:
@@ -27,12 +34,12 @@ def require_real(name: str, value: object) -> float:
             try:
                 value = float(value)
             except ValueError:
-                raise _fail(name, value, "a finite real number") from None
+                raise invalid(name, value, "a finite real number") from None
         else:
-            raise _fail(name, value, "a finite real number")
+            raise invalid(name, value, "a finite real number")
     value = float(value)
     if not math.isfinite(value):
-        raise _fail(name, value, "a finite real number")
+        raise invalid(name, value, "a finite real number")
     return value
 
 
@@ -40,7 +47,7 @@ def require_nonnegative(name: str, value: object) -> float:
     """Return ``value`` as a finite float >= 0."""
     v = require_real(name, value)
     if v < 0:
-        raise _fail(name, value, "a finite real number >= 0")
+        raise invalid(name, value, "a finite real number >= 0")
     return v
 
 
@@ -48,14 +55,14 @@ def require_positive(name: str, value: object) -> float:
     """Return ``value`` as a finite float > 0."""
     v = require_real(name, value)
     if v <= 0:
-        raise _fail(name, value, "a finite real number > 0")
+        raise invalid(name, value, "a finite real number > 0")
     return v
 
 
 def require_int_in_range(name: str, value: object, lo: int, hi: int | None = None) -> int:
     """Return ``value`` as an int with ``lo <= value <= hi`` (``hi=None``: no upper bound)."""
     if isinstance(value, bool):
-        raise _fail(name, value, _int_range(lo, hi))
+        raise invalid(name, value, _int_range(lo, hi))
     if isinstance(value, numbers.Integral):
         v = int(value)
     elif isinstance(value, numbers.Real) and float(value).is_integer():
@@ -63,9 +70,9 @@ def require_int_in_range(name: str, value: object, lo: int, hi: int | None = Non
     elif isinstance(value, str) and value.strip().lstrip("+-").isdigit():
         v = int(value)
     else:
-        raise _fail(name, value, _int_range(lo, hi))
+        raise invalid(name, value, _int_range(lo, hi))
     if v < lo or (hi is not None and v > hi):
-        raise _fail(name, value, _int_range(lo, hi))
+        raise invalid(name, value, _int_range(lo, hi))
     return v
 
 
@@ -78,7 +85,7 @@ def require_choice(name: str, value: object, choices: Iterable[str]) -> str:
     numpy's str_ comes back as str, so that messages and results print it plainly)."""
     choices = tuple(choices)
     if not isinstance(value, str) or value not in choices:
-        raise _fail(name, value, "one of " + ", ".join(repr(c) for c in choices))
+        raise invalid(name, value, "one of " + ", ".join(repr(c) for c in choices))
     return str(value)
 
 

@@ -23,22 +23,25 @@ A scene (TOML file, TOML string or mapping)::
     [output]
     dir = "simulate-output"
 
-Expressions use sympy syntax with the symbols theta and phi (e.g. "0.05*sin(theta)**2*cos(2*phi)").
+Expressions (e.g. "0.05*sin(theta)**2*cos(2*phi)") are arithmetic in theta and phi: numbers, pi, e,
++ - * / **, parentheses and sin, cos, tan, exp, log, sqrt, abs; nothing else is accepted (no Python,
+no sympy). They must be finite everywhere on the sphere, and a kappa expression positive; see
+:mod:`spectralshell.params.expression` for the grammar and its limits (length, nesting, exponents).
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 
 from .._validate import (require_choice, require_int_in_range, require_nonnegative,
                          require_positive, require_real)
 from ..errors import ParameterError
+from .expression import Expression, parse_expression
 from .scene import load_scene
 
 KEYS = {"model", "params", "initial", "simulate", "output"}
@@ -48,14 +51,6 @@ SIMULATE_KEYS = {"t_end", "scheme", "dt", "n_radial", "tol", "l_max"}
 DEFAULT_AMPLITUDE = 0.05
 L_MAX = 24
 _MODE = re.compile(r"^\s*(\d+)\s*:\s*([+-]?\d+)\s*(?::\s*([^,]+?))?\s*$")
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class Expression:
-    """A real function of (theta, phi) given as text; ``function`` evaluates it with numpy."""
-
-    text: str
-    function: Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -87,28 +82,6 @@ class SimulationScene:
         """The physical parameters as JSON values."""
         kappa = self.kappa.text if isinstance(self.kappa, Expression) else self.kappa
         return {"kappa": kappa, "nu": self.nu, "tau": self.tau}
-
-
-def parse_expression(name: str, text: str) -> Expression:
-    """An expression in theta, phi (sympy syntax) as a numpy function.
-
-    Raises
-    ------
-    ParameterError : not parseable, or containing other symbols than theta and phi.
-    """
-    import sympy as sp  # lazy: sympy costs ~0.3 s to import
-
-    theta, phi = sp.symbols("theta phi", real=True)
-    try:
-        expr = sp.parse_expr(str(text), local_dict={"theta": theta, "phi": phi, "pi": sp.pi})
-    except (SyntaxError, TypeError, ValueError, sp.SympifyError, AttributeError) as exc:
-        raise ParameterError(f"{name} = {text!r} is invalid: not an expression in theta, phi "
-                             f"({exc})") from None
-    extra = sorted(str(s) for s in expr.free_symbols - {theta, phi})
-    if extra:
-        raise ParameterError(f"{name} = {text!r} is invalid: unknown symbol {extra[0]!r} (only "
-                             "theta (polar) and phi (azimuth) are allowed)")
-    return Expression(text=str(text), function=sp.lambdify((theta, phi), expr, "numpy"))
 
 
 def parse_modes(name: str, spec: Any, amplitude: float) -> dict[tuple[int, int], float]:
@@ -178,7 +151,7 @@ def simulation_scene(scene: str | Path | Mapping) -> SimulationScene:
     except ParameterError:
         if not isinstance(kappa_spec, str):
             raise
-        kappa = parse_expression("kappa", kappa_spec)
+        kappa = parse_expression("kappa", kappa_spec, positive=True)
     nu = require_nonnegative("nu", params["nu"])
     tau = require_real("tau", params.get("tau", 0.0))
     warnings = []
