@@ -773,14 +773,17 @@ def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: 
 
 
 def sweep_summary(scene: str | Path | Mapping, **kwargs: Any) -> dict[str, Any]:
-    """Run :func:`sweep` and return ``{"points", "computed", "skipped", "out", "seconds"}``."""
+    """Run :func:`sweep` and return ``{"points", "computed", "skipped", "damaged", "out",
+    "seconds"}`` (damaged: points recomputed because their chunk of the store was damaged)."""
     from .runner import sweep_summary as run
 
     return run(scene, **kwargs)
 
 
 def open_sweep(path: str | Path):
-    """Load a stored sweep (.zarr or .nc) as an ``xarray.Dataset``."""
+    """Load a stored sweep (.zarr or .nc) as an ``xarray.Dataset``; a Zarr store is verified
+    chunk by chunk first (:class:`~spectralshell.errors.StoreDamaged` if any chunk is missing,
+    unreadable or altered)."""
     from .runner import open_sweep as load
 
     return load(path)

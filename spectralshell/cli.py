@@ -485,7 +485,9 @@ def cmd_run(args) -> int:
 
 def _sweep_text(summary: dict) -> str:
     where = f" -> {summary['out']}" if summary["out"] else ""
-    return (f"sweep: {summary['points']} points ({summary['computed']} computed, "
+    repaired = (f", {summary['damaged']} of them replacing damaged chunks of the store"
+                if summary["damaged"] else "")
+    return (f"sweep: {summary['points']} points ({summary['computed']} computed{repaired}, "
             f"{summary['skipped']} already in the store) in {summary['seconds']:.1f} s{where}")
 
 
@@ -713,7 +715,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", default=None, metavar="ADDRESS|local",
                    help="Dask scheduler tcp://HOST:PORT, or 'local' for a LocalCluster")
     p.add_argument("--json", action="store_true",
-                   help='print exactly one object {"points", "computed", "skipped", "out", "seconds"}')
+                   help='print exactly one object {"points", "computed", "skipped", "damaged", "out", '
+                        '"seconds"}')
     p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("simulate", help="time-step the sphere (spectral IMEX): mode amplitudes, "

@@ -19,3 +19,13 @@ class ConvergenceError(SpectralShellError, RuntimeError):
 
 class BackendUnavailable(SpectralShellError, ImportError):
     """An optional backend (e.g. an extra) is not installed; the message names the extra."""
+
+
+class StoreDamaged(ParameterError):
+    """A sweep store holds chunks that are missing, unreadable or altered since they were
+    written; the message counts them and says how to recompute them."""
+
+
+class StoreBusy(ParameterError):
+    """A sweep store is being written by another process; the message names it (pid, host,
+    since when)."""

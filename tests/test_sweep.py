@@ -53,7 +53,7 @@ def test_dataset_is_labelled_nan_free_and_complete(serial):
         assert np.isfinite(ds[name].values).all()
     none = ~ds["has_tau"].values
     assert (ds["tau_min"].values[none] == 2.0).all() and (ds["error_estimate"].values[none] == 0).all()
-    assert serial.summary() == {"points": 96, "computed": 96, "skipped": 0, "out": None,
+    assert serial.summary() == {"points": 96, "computed": 96, "skipped": 0, "damaged": 0, "out": None,
                                 "seconds": serial.summary()["seconds"]}
 
 
@@ -364,7 +364,7 @@ def test_cli_sweep_json_then_plot(tmp_path, capsys):
     out = tmp_path / "m.zarr"
     assert cli.main(["sweep", str(scene), "--out", str(out), "--executor", "serial", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert set(data) == {"points", "computed", "skipped", "out", "seconds"}
+    assert set(data) == {"points", "computed", "skipped", "damaged", "out", "seconds"}
     assert (data["points"], data["computed"], data["skipped"]) == (24, 24, 0)
     assert cli.main(["sweep", str(scene), "--out", str(out), "--executor", "serial", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["computed"] == 0
@@ -431,7 +431,7 @@ def test_ctrl_c_during_a_store_write_waits_for_the_chunk(tmp_path):
 
     store._arrays = {**arrays, "tau_min": Interrupting()}
     with pytest.raises(KeyboardInterrupt):
-        store.write(where, block)
+        store.write(chunk, block)
     written = open_sweep(tmp_path / "w.zarr")
     assert bool(written["computed"].values[where].all())  # the chunk was completed first
     assert np.all(written["tau_min"].values[where] == 0.25)

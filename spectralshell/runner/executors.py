@@ -4,7 +4,8 @@
   tests).
 * ``processes``: ``concurrent.futures.ProcessPoolExecutor`` with ``workers`` processes (default:
   every core), started by 'fork' where available (see :func:`_process_context`), each limited to
-  cores // workers BLAS threads (threadpoolctl), so that workers do not oversubscribe the cores.
+  cores // workers BLAS threads (threadpoolctl), so that workers do not oversubscribe the cores,
+  and each ending when the process that started it ends, even by ``kill -9`` (:func:`_die_with`).
 * ``dask``: ``distributed.Client(...).get_executor()``, for a running scheduler
   (``scheduler='tcp://HOST:PORT'``, connection timeout :data:`CONNECT_TIMEOUT` seconds, which
   also bounds the wait for a first worker) or a ``LocalCluster`` on the loopback address
@@ -14,11 +15,15 @@
 
 from __future__ import annotations
 
+import ctypes
 import logging
 import multiprocessing
 import os
 import re
 import signal
+import sys
+import threading
+import time
 from collections.abc import Iterator
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
 from contextlib import contextmanager
@@ -42,20 +47,55 @@ def _process_context():
     return multiprocessing.get_context("fork" if "fork" in methods else None)
 
 
+PR_SET_PDEATHSIG = 1  # prctl option (linux/prctl.h): a signal for this process when its parent dies
+ORPHAN_POLL = 1.0  # seconds between parent checks where the kernel cannot signal (not Linux)
+
+
 def _quit_quietly(signum: int, _frame) -> None:
     os._exit(128 + signum)
 
 
-def _init_worker(threads: int) -> None:
+def _kernel_kills_orphan() -> bool:
+    """Ask Linux to SIGKILL this process when its parent ends (``prctl(PR_SET_PDEATHSIG)``;
+    strictly: when the parent's thread that started it ends -- :func:`open_pool`'s caller,
+    which keeps it until the pool is shut down); False where that is unavailable."""
+    if not sys.platform.startswith("linux"):
+        return False
+    libc = ctypes.CDLL(None, use_errno=True)
+    return libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) == 0
+
+
+def _exit_when_orphaned(parent: int) -> None:
+    """End this process once ``parent`` is no longer its parent (it ended, and the process was
+    re-parented), checking every ORPHAN_POLL seconds."""
+    while os.getppid() == parent:
+        time.sleep(ORPHAN_POLL)
+    os._exit(128 + signal.SIGKILL)
+
+
+def _die_with(parent: int) -> None:
+    """End this worker when its parent ``parent`` (the sweep) ends, even by ``kill -9``: by the
+    kernel on Linux, else by a watchdog thread polling ``os.getppid()``; at once if the parent
+    ended before this was set up."""
+    if not _kernel_kills_orphan():
+        threading.Thread(target=_exit_when_orphaned, args=(parent,), daemon=True).start()
+    if os.getppid() != parent:
+        os._exit(128 + signal.SIGKILL)
+
+
+def _init_worker(threads: int, parent: int) -> None:
     """Worker initialiser: at most ``threads`` BLAS/OpenMP threads in this process (a forked
     worker inherits the parent's thread pools, so environment variables would come too late),
-    and Ctrl-C (SIGINT to the whole process group) ends the worker at once and quietly -- the
+    Ctrl-C (SIGINT to the whole process group) ends the worker at once and quietly -- the
     main process reports the interruption and keeps the finished chunks; a worker waiting for
-    its next task would otherwise print a KeyboardInterrupt traceback."""
+    its next task would otherwise print a KeyboardInterrupt traceback -- and the worker ends
+    with its ``parent`` process (:func:`_die_with`), so that none is left computing, holding
+    memory, when the sweep is killed."""
     from threadpoolctl import threadpool_limits
 
     threadpool_limits(limits=threads)
     signal.signal(signal.SIGINT, _quit_quietly)
+    _die_with(parent)
 
 
 class SerialExecutor(Executor):
@@ -203,7 +243,7 @@ def open_pool(executor: str = "processes", *, workers: int | None = None,
     n = max(1, min(n, max_tasks)) if max_tasks else n
     threads = max(1, (os.cpu_count() or 1) // n)
     pool = ProcessPoolExecutor(max_workers=n, mp_context=_process_context(),
-                               initializer=_init_worker, initargs=(threads,))
+                               initializer=_init_worker, initargs=(threads, os.getpid()))
     try:
         yield Pool(pool, n, "processes", f"{n} processes")
     except BaseException:

@@ -91,3 +91,8 @@ def block_index(spec: SweepSpec, j: int, kind_position: int) -> tuple[int, ...]:
     """Index in the chunk's block of point j along the line and kind number ``kind_position``."""
     return tuple(kind_position if a.name == "kind" else j if i == spec.line_axis else 0
                  for i, a in enumerate(spec.axes))
+
+
+def chunk_key(spec: SweepSpec, chunk: Chunk) -> str:
+    """Name of the chunk's Zarr chunk files ('0.3.0': block numbers along each axis)."""
+    return ".".join(str(o // s) for o, s in zip(chunk.origin, store_chunks(spec)))

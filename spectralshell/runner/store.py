@@ -18,8 +18,11 @@ and, for a model with spatial modes (the cochlea):
 
 A Zarr store (format 2, consolidated metadata) is created whole -- metadata, coordinates and
 fill values -- in a hidden directory that is then renamed into place, so it is always readable.
-Each finished chunk is written as one Zarr chunk per variable (each an atomic file write), its
-``computed`` flags last: a chunk counts as finished only once all its variables are on disk.
+Each finished chunk is written as one Zarr chunk per variable, its ``computed`` flags last, then
+its completion record (:mod:`.integrity`): reading a store back (:func:`open_sweep`, or a
+rerun), a chunk counts as finished only if its record matches the values read, so that
+missing, unreadable or foreign chunk files are found, never served. Only one process writes a
+store at a time (:mod:`.lock`).
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ import threading
 import uuid
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -40,9 +44,11 @@ import xarray as xr
 
 from .._validate import require_writable_directory
 from .._version import stamp
-from ..errors import ParameterError
-from ..params.sweep_grid import LONG_NAMES, SweepSpec
-from .layout import store_chunks
+from ..errors import ParameterError, StoreDamaged
+from ..params.sweep_grid import LONG_NAMES, SweepSpec, sweep_spec
+from .integrity import (DECODE_ERRORS, census, read_records, read_variable, record_path,
+                        write_record)
+from .layout import Chunk, chunk_key, chunks, region, store_chunks
 from .solve import SPATIAL_VARIABLES, VARIABLES, variables
 
 #: Every variable a store may hold, in the order a loaded Dataset lists them.
@@ -93,17 +99,19 @@ def provenance(spec: SweepSpec) -> dict[str, Any]:
                            "gamma = 0, subharmonic gamma = i/2"}
 
 
-def to_dataset(spec: SweepSpec, arrays: dict[str, np.ndarray]) -> xr.Dataset:
-    """The labelled Dataset of a sweep's arrays (coordinates with units, provenance attrs)."""
+def to_dataset(spec: SweepSpec, arrays: dict[str, np.ndarray],
+               attrs: dict[str, Any] | None = None) -> xr.Dataset:
+    """The labelled Dataset of a sweep's arrays (coordinates with units; ``attrs``, by default
+    the provenance of this process)."""
     coords = {}
     for a in spec.axes:
-        attrs = {"long_name": LONG_NAMES.get(a.name, a.name), "spacing": a.spacing}
+        meta = {"long_name": LONG_NAMES.get(a.name, a.name), "spacing": a.spacing}
         if a.units:
-            attrs["units"] = a.units
-        coords[a.name] = xr.Variable((a.name,), np.array(a.values), attrs)
+            meta["units"] = a.units
+        coords[a.name] = xr.Variable((a.name,), np.array(a.values), meta)
     data = {name: xr.Variable(spec.dims, arrays[name], _VAR_ATTRS[name])
             for name in stored_variables(spec)}
-    return xr.Dataset(data, coords=coords, attrs=provenance(spec))
+    return xr.Dataset(data, coords=coords, attrs=provenance(spec) if attrs is None else attrs)
 
 
 def check_out(out: str | os.PathLike | None) -> Path | None:
@@ -128,18 +136,116 @@ def check_out(out: str | os.PathLike | None) -> Path | None:
     return path
 
 
-def _open(path: Path) -> xr.Dataset:
+def _open_netcdf(path: Path, name: str) -> xr.Dataset:
     try:
-        if path.suffix == ".zarr":
-            return xr.open_zarr(path)
         return xr.open_dataset(path)
     except Exception as exc:  # noqa: BLE001 - any unreadable file
-        raise ParameterError(f"out = {str(path)!r} exists and is not a readable spectralshell "
-                             f"sweep ({type(exc).__name__}): choose another path") from None
+        raise _unreadable(path, name, exc) from None
 
 
-def load_existing(path: Path, spec: SweepSpec) -> dict[str, np.ndarray] | None:
-    """Arrays of an existing store of the same scene (None if there is no store).
+def _unreadable(path: Path, name: str, exc: Exception) -> ParameterError:
+    return ParameterError(f"{name} = {str(path)!r} exists and is not a readable spectralshell "
+                          f"sweep ({type(exc).__name__}): choose another path")
+
+
+def _other_scene(path: Path, found: str | None, spec: SweepSpec) -> ParameterError:
+    what = f"a different sweep (scene hash {found})" if found else "no spectralshell sweep"
+    return ParameterError(f"out = {str(path)!r} holds {what}, not this scene (hash "
+                          f"{spec.digest}): choose another --out or delete it; sweeps are never "
+                          "mixed")
+
+
+@dataclass(frozen=True, eq=False)
+class StoredSweep:
+    """A store's contents as read back: ``arrays`` of every stored variable (the values of
+    finished chunks, those of :func:`empty_arrays` elsewhere; ``computed`` true exactly on
+    finished chunks), its ``attrs``, the ``damaged`` chunks (numbers) and the coordinates
+    whose stored values differ from the scene's."""
+
+    arrays: dict[str, np.ndarray]
+    attrs: dict[str, Any]
+    damaged: frozenset[int] = frozenset()
+    coordinates: tuple[str, ...] = ()
+
+    def damage(self, spec: SweepSpec) -> str:
+        """'3 of 8 chunks missing, unreadable or altered[, coordinates kappa]' ('' if none)."""
+        parts = []
+        if self.damaged:
+            parts.append(f"{len(self.damaged)} of {len(chunks(spec))} chunks missing, "
+                         "unreadable or altered since they were written")
+        if self.coordinates:
+            parts.append(f"coordinates {', '.join(self.coordinates)} altered")
+        return "; ".join(parts)
+
+
+def _stored_spec(path: Path, attrs: dict[str, Any]) -> SweepSpec:
+    """The SweepSpec of a store's own scene (attrs 'scene'), checked against its hash."""
+    try:
+        spec = sweep_spec(json.loads(attrs["scene"]))
+    except (KeyError, TypeError, ValueError):
+        raise ParameterError(f"sweep = {str(path)!r} is invalid: not a spectralshell sweep (no "
+                             "valid scene in its attributes)") from None
+    if spec.digest != attrs.get("scene_hash"):
+        raise ParameterError(f"sweep = {str(path)!r} is invalid: its scene hashes to "
+                             f"{spec.digest}, its attributes say {attrs.get('scene_hash')} "
+                             "(altered, or written by another spectralshell version)")
+    return spec
+
+
+def _coordinate_intact(group, axis) -> bool:
+    try:
+        return np.array_equal(group[axis.name][...], np.array(axis.values))
+    except (KeyError, *DECODE_ERRORS):
+        return False
+
+
+def read_zarr(path: Path, spec: SweepSpec | None = None) -> tuple[SweepSpec, StoredSweep]:
+    """Read a Zarr sweep store and verify every chunk against its completion record (records
+    first: a chunk a running writer finishes meanwhile reads as unfinished, not as damaged).
+    Without ``spec``, the store's own scene is used; with it, the store must hold that scene.
+
+    Raises
+    ------
+    ParameterError : not a readable spectralshell store, another scene, or variables of the
+        wrong shape or chunking.
+    """
+    import zarr
+
+    name = "sweep" if spec is None else "out"
+    try:
+        group = zarr.open_group(str(path), mode="r")
+        attrs = dict(group.attrs)
+    except Exception as exc:  # noqa: BLE001 - any unreadable metadata
+        raise _unreadable(path, name, exc) from None
+    if spec is None:
+        spec = _stored_spec(path, attrs)
+    elif attrs.get("scene_hash") != spec.digest:
+        raise _other_scene(path, attrs.get("scene_hash"), spec)
+    wanted = stored_variables(spec)
+    found = {v: group[v] for v in wanted if v in group}
+    if len(found) < len(wanted) or any(a.shape != spec.shape or a.chunks != store_chunks(spec)
+                                       for a in found.values()):
+        raise ParameterError(f"{name} = {str(path)!r} is a damaged store (variables missing, or "
+                             "of the wrong shape): delete it and rerun")
+    records = read_records(path)
+    arrays, unreadable = {}, frozenset()
+    for variable, dtype in wanted.items():
+        arrays[variable], bad = read_variable(found[variable], spec, dtype)
+        unreadable |= bad
+    state = census(spec, arrays, unreadable, records)
+    done = np.zeros(spec.shape, dtype=bool)
+    for chunk in chunks(spec):
+        if chunk.index in state.finished:
+            done[region(spec, chunk)] = True
+    empty = empty_arrays(spec)
+    arrays = {v: np.where(done, values, empty[v]) for v, values in arrays.items()}
+    coordinates = tuple(a.name for a in spec.axes if not _coordinate_intact(group, a))
+    return spec, StoredSweep(arrays, attrs, state.damaged, coordinates)
+
+
+def load_existing(path: Path, spec: SweepSpec) -> StoredSweep | None:
+    """What an existing store of the same scene holds (None if there is no store); a Zarr
+    store's chunks are verified (:func:`read_zarr`).
 
     Raises
     ------
@@ -147,19 +253,18 @@ def load_existing(path: Path, spec: SweepSpec) -> dict[str, np.ndarray] | None:
     """
     if not path.exists():
         return None
-    with _open(path) as ds:
+    if path.suffix == ".zarr":
+        return read_zarr(path, spec)[1]
+    with _open_netcdf(path, "out") as ds:
         found = ds.attrs.get("scene_hash")
         if found != spec.digest:
-            what = f"a different sweep (scene hash {found})" if found else "no spectralshell sweep"
-            raise ParameterError(f"out = {str(path)!r} holds {what}, not this scene (hash "
-                                 f"{spec.digest}): choose another --out or delete it; sweeps "
-                                 "are never mixed")
+            raise _other_scene(path, found, spec)
         wanted = stored_variables(spec)
-        missing = [v for v in wanted if v not in ds]
-        if missing or tuple(ds["tau_min"].dims) != spec.dims:
+        if any(v not in ds for v in wanted) or tuple(ds["tau_min"].dims) != spec.dims:
             raise ParameterError(f"out = {str(path)!r} is a damaged store (variables or "
                                  "dimensions missing): delete it and rerun")
-        return {name: np.asarray(ds[name].values, dtype=dtype) for name, dtype in wanted.items()}
+        return StoredSweep({name: np.asarray(ds[name].values, dtype=dtype)
+                            for name, dtype in wanted.items()}, dict(ds.attrs))
 
 
 class ZarrStore:
@@ -169,9 +274,10 @@ class ZarrStore:
         import zarr
 
         self.path = path
-        group = zarr.open_group(str(path), mode="r+")
-        self._names = tuple(variables(spec))
-        self._arrays = {name: group[name] for name in stored_variables(spec)}
+        self.spec = spec
+        self._group = zarr.open_group(str(path), mode="r+")
+        self._dtypes = stored_variables(spec)
+        self._arrays = {name: self._group[name] for name in self._dtypes}
 
     @classmethod
     def create(cls, path: Path, spec: SweepSpec) -> "ZarrStore":
@@ -190,13 +296,41 @@ class ZarrStore:
                 shutil.rmtree(tmp, ignore_errors=True)
         return cls(path, spec)
 
-    def write(self, where: tuple[slice, ...], block: dict[str, np.ndarray]) -> None:
-        """Write one finished chunk: the variables, then its ``computed`` flags; a Ctrl-C
-        arriving meanwhile takes effect once the chunk is written (:func:`_sigint_deferred`)."""
+    def write(self, chunk: Chunk, block: dict[str, np.ndarray]) -> None:
+        """Write one finished chunk (``block``: its solved variables): the variables, then its
+        ``computed`` flags, then its completion record; a Ctrl-C arriving meanwhile takes effect
+        once the chunk is written (:func:`_sigint_deferred`)."""
+        where = region(self.spec, chunk)
+        full = {**block, "computed": np.ones(block["tau_min"].shape, dtype=bool)}
+        values = {name: np.asarray(full[name], dtype=dtype) for name, dtype in self._dtypes.items()}
         with _sigint_deferred():
-            for name in self._names:
-                self._arrays[name][where] = block[name]
-            self._arrays["computed"][where] = np.ones(block["tau_min"].shape, dtype=bool)
+            for name, array in self._arrays.items():
+                array[where] = values[name]
+            write_record(self.path, self.spec, chunk, values)
+
+    def repair(self, stored: StoredSweep) -> None:
+        """Prepare a store read back as ``stored`` for a rerun: remove the temporary files of
+        writes a killed writer left, rewrite the altered coordinates from the scene, and remove
+        the damaged chunks' files and records (whatever they became: a directory or a link is
+        never written through), so that they are recomputed."""
+        for leftover in self.path.glob("*/*.partial"):
+            _remove(leftover)
+        for axis in self.spec.axes:
+            if axis.name in stored.coordinates:
+                self._group[axis.name][...] = np.array(axis.values)
+        for chunk in chunks(self.spec):
+            if chunk.index in stored.damaged:
+                _remove(record_path(self.path, self.spec, chunk))
+                for name in self._arrays:
+                    _remove(self.path / name / chunk_key(self.spec, chunk))
+
+
+def _remove(path: Path) -> None:
+    """Remove a file, link or directory tree, if there is one."""
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path)
+    else:
+        path.unlink(missing_ok=True)
 
 
 @contextmanager
@@ -236,16 +370,26 @@ def write_netcdf(ds: xr.Dataset, path: Path) -> None:
 
 
 def open_sweep(path: str | os.PathLike) -> xr.Dataset:
-    """Load a stored sweep (.zarr or .nc) into memory.
+    """Load a stored sweep (.zarr or .nc) into memory; a Zarr store's chunks are verified
+    first, and unfinished ones read as not ``computed``.
 
     Raises
     ------
     ParameterError : no such store, or not a spectralshell sweep.
+    StoreDamaged : chunks of the Zarr store are missing, unreadable or altered (rerunning the
+        sweep into it recomputes exactly those).
     """
     path = Path(path)
     if not path.exists():
         raise ParameterError(f"sweep = {str(path)!r} is invalid: no such file or store")
-    with _open(path) as ds:
+    if path.suffix == ".zarr":
+        spec, stored = read_zarr(path)
+        damage = stored.damage(spec)
+        if damage:
+            raise StoreDamaged(f"sweep = {str(path)!r} is damaged: {damage}; rerun its sweep "
+                               f"with --out {str(path)!r} to recompute exactly those")
+        return to_dataset(spec, stored.arrays, stored.attrs)
+    with _open_netcdf(path, "sweep") as ds:
         if "scene_hash" not in ds.attrs or "tau_min" not in ds:
             raise ParameterError(f"sweep = {str(path)!r} is invalid: not a spectralshell sweep")
         order = [v for v in KNOWN_VARIABLES if v in ds]

@@ -7,6 +7,7 @@ import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures.process import BrokenProcessPool
+from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -18,6 +19,7 @@ from ..params.sweep_grid import SweepSpec, sweep_spec
 from .engine import run_tasks
 from .executors import check_executor, open_pool
 from .layout import Chunk, chunks, region
+from .lock import writer_lock
 from .solve import ChunkResult, SweepError, solve_chunks, solve_points
 from .store import ZarrStore, check_out, empty_arrays, load_existing, to_dataset, write_netcdf
 
@@ -84,6 +86,9 @@ class SweepRun:
     """A finished sweep: its Dataset, and how many grid points there are, were computed now,
     and were skipped (already in the store); the store path and the wall time in seconds.
 
+    damaged : points computed now because their chunk in the store was missing, unreadable or
+        altered (counted in ``computed``).
+
     compute_seconds : summed in-worker compute time of the chunks computed now.
     continued, fallbacks : kind solves accepted from the neighbour's truncation / not.
     """
@@ -94,6 +99,7 @@ class SweepRun:
     skipped: int
     out: str | None
     seconds: float
+    damaged: int = 0
     compute_seconds: float = 0.0
     chunks: int = 0
     continued: int = 0
@@ -101,9 +107,9 @@ class SweepRun:
     executor: str = ""
 
     def summary(self) -> dict[str, Any]:
-        """The JSON summary ``{"points", "computed", "skipped", "out", "seconds"}``."""
+        """The JSON summary ``{"points", "computed", "skipped", "damaged", "out", "seconds"}``."""
         return {"points": self.points, "computed": self.computed, "skipped": self.skipped,
-                "out": self.out, "seconds": round(self.seconds, 3)}
+                "damaged": self.damaged, "out": self.out, "seconds": round(self.seconds, 3)}
 
 
 def _spec(scene) -> SweepSpec:
@@ -126,14 +132,16 @@ def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
     executor : 'serial', 'processes' (default) or 'dask'.
     workers : processes (default: every core) or LocalCluster workers.
     scheduler : with 'dask': 'local' (a LocalCluster, the default) or 'tcp://HOST:PORT'.
-    out : '*.zarr' (written chunk by chunk; rerunning resumes) or '*.nc' (written at the end);
-        None keeps the results in memory only.
+    out : '*.zarr' (written chunk by chunk; rerunning resumes, and recomputes chunks found
+        missing, unreadable or altered) or '*.nc' (written at the end); None keeps the results
+        in memory only. One process at a time writes an ``out``.
     progress : a progress bar (points/s, ETA) on stderr.
     on_chunk : test hook, called as ``on_chunk(n_finished, result)`` after each chunk is stored.
 
     Raises
     ------
     ParameterError : invalid scene, executor arguments or output; a store of another scene.
+    StoreBusy : another process is writing ``out``.
     BackendUnavailable : executor 'dask' without the extra.
     ConvergenceError, SweepError : a point failed (named with its parameters) or a worker died;
         chunks finished before are kept in the store.
@@ -142,10 +150,24 @@ def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
     spec = _spec(scene)
     executor, workers, scheduler = check_executor(executor, workers, scheduler)
     path = check_out(out)
-    arrays = (load_existing(path, spec) if path is not None else None) or empty_arrays(spec)
+    with nullcontext() if path is None else writer_lock(path):
+        return _run(spec, path, executor=executor, workers=workers, scheduler=scheduler,
+                    progress=progress, on_chunk=on_chunk, t0=t0)
+
+
+def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | None,
+         scheduler: str | None, progress: bool,
+         on_chunk: Callable[[int, ChunkResult], None] | None, t0: float) -> SweepRun:
+    """:func:`run_sweep` once its arguments are checked and ``path`` is locked."""
+    stored = load_existing(path, spec) if path is not None else None
+    if stored is not None and path.suffix == ".zarr":
+        ZarrStore(path, spec).repair(stored)
+    arrays = empty_arrays(spec) if stored is None else stored.arrays
     plan = chunks(spec)
     todo = [c for c in plan if not arrays["computed"][region(spec, c)].all()]
     n_todo = sum(int(arrays["computed"][region(spec, c)].size) for c in todo)
+    damaged = sum(int(arrays["computed"][region(spec, c)].size) for c in plan
+                  if c.index in stored.damaged) if stored is not None else 0
     stats = {"chunks": 0, "seconds": 0.0, "continued": 0, "fallbacks": 0}
     used = "none (nothing to compute)"
     store = None
@@ -159,7 +181,7 @@ def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
                 arrays[name][where] = block
             arrays["computed"][where] = True
             if store is not None:
-                store.write(where, result.arrays)
+                store.write(chunk, result.arrays)
             stats["chunks"] += 1
             stats["seconds"] += result.seconds
             stats["continued"] += result.continued
@@ -188,7 +210,8 @@ def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
     if path is not None and path.suffix == ".nc" and todo:
         write_netcdf(ds, path)
     return SweepRun(dataset=ds, points=spec.size, computed=n_todo, skipped=spec.size - n_todo,
-                    out=None if path is None else str(path), seconds=time.perf_counter() - t0,
+                    damaged=damaged, out=None if path is None else str(path),
+                    seconds=time.perf_counter() - t0,
                     compute_seconds=stats["seconds"], chunks=stats["chunks"],
                     continued=stats["continued"], fallbacks=stats["fallbacks"], executor=used)
 
@@ -214,7 +237,7 @@ def sweep_summary(scene, *, executor: str = "processes", workers: int | None = N
                   scheduler: str | None = None, out: str | Path | None = None,
                   progress: bool = False) -> dict[str, Any]:
     """Run a sweep (as :func:`run_sweep`) and return the CLI's JSON summary
-    ``{"points": N, "computed": n, "skipped": k, "out": "PATH", "seconds": t}``."""
+    ``{"points": N, "computed": n, "skipped": k, "damaged": d, "out": "PATH", "seconds": t}``."""
     return run_sweep(scene, executor=executor, workers=workers, scheduler=scheduler, out=out,
                      progress=progress).summary()
 

@@ -1,0 +1,254 @@
+"""Hostile stores and processes: damaged chunks are found, reported and recomputed; one writer
+per store; pool workers end with a killed sweep."""
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from spectralshell import cli
+from spectralshell.errors import StoreBusy, StoreDamaged
+from spectralshell.params.sweep_grid import sweep_spec
+from spectralshell.runner import open_sweep, run_sweep
+from spectralshell.runner.layout import chunk_key, chunks, region
+from spectralshell.runner.lock import lock_path
+
+SCENE = {"model": "mathieu", "ask": ["tau_min"],
+         "grid": {"nu": [0.0, 0.1], "kappa": {"start": 0.05, "stop": 1.5, "num": 12}},
+         "tau_min": {"tau_max": 2.0}, "sweep": {"chunk": 4}}
+SPEC = sweep_spec(SCENE)
+PLAN = chunks(SPEC)
+TARGET = PLAN[4]  # nu = 0.1, kappa[4:8]
+OTHER = PLAN[1]  # nu = 0, kappa[4:8]
+KEY, OTHER_KEY = chunk_key(SPEC, TARGET), chunk_key(SPEC, OTHER)
+POINTS = 4 * 2  # points of one chunk (two kinds)
+ROOT = Path(__file__).resolve().parents[1]
+#: A sweep in another process, 0.1 s per solve (so that it is still running when the test acts):
+#: argv = scene JSON, out, executor, workers, 'watchdog' (no kernel parent-death signal) or ''.
+SLOW_SWEEP = """
+import json, sys, time
+from spectralshell.runner import executors, run_sweep, solve
+real = solve.solve_kind
+def slow(*args):
+    time.sleep(0.1)
+    return real(*args)
+solve.solve_kind = slow
+if sys.argv[5] == "watchdog":
+    executors._kernel_kills_orphan = lambda: False
+run_sweep(json.loads(sys.argv[1]), out=sys.argv[2], executor=sys.argv[3],
+          workers=int(sys.argv[4]))
+"""
+
+
+def tree(path: Path) -> dict[str, bytes]:
+    """Every file of a store (relative path -> bytes)."""
+    return {str(p.relative_to(path)): p.read_bytes() for p in sorted(path.rglob("*"))
+            if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def clean(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("clean") / "map.zarr"
+    run_sweep(SCENE, executor="serial", out=out)
+    return out
+
+
+def _copy_other_cell(store: Path) -> None:  # another cell's file at this cell's name
+    shutil.copy(store / "tau_min" / OTHER_KEY, store / "tau_min" / KEY)
+
+
+def _other_cells_record(store: Path) -> None:  # another cell's record and files at this one
+    for name in ("tau_min", "has_tau", "error_estimate", "n_temporal", "computed"):
+        if (store / name / OTHER_KEY).exists():
+            shutil.copy(store / name / OTHER_KEY, store / name / KEY)
+    shutil.copy(store / ".chunks" / f"{OTHER_KEY}.json", store / ".chunks" / f"{KEY}.json")
+
+
+def _foreign_store_record(store: Path, tmp_path: Path) -> None:  # same chunk, another scene
+    other = {**SCENE, "tau_min": {"tau_max": 1.0}}
+    run_sweep(other, executor="serial", out=tmp_path / "other.zarr")
+    for name in ("tau_min", "has_tau", "error_estimate", "n_temporal", "computed", ".chunks"):
+        for found in (tmp_path / "other.zarr" / name).glob(f"{KEY}*"):
+            shutil.copy(found, store / name / found.name)
+
+
+def _directory_instead(store: Path) -> None:
+    (store / "tau_min" / KEY).unlink()
+    (store / "tau_min" / KEY / "x").mkdir(parents=True)
+
+
+DAMAGE = {
+    "chunk file deleted": lambda s, t: (s / "tau_min" / KEY).unlink(),
+    "garbage chunk": lambda s, t: (s / "tau_min" / KEY).write_bytes(b"garbage" * 9),
+    "empty chunk": lambda s, t: (s / "error_estimate" / KEY).write_bytes(b""),
+    "truncated chunk": lambda s, t: (s / "tau_min" / KEY).write_bytes(
+        (s / "tau_min" / KEY).read_bytes()[:40]),
+    "another variable's chunk": lambda s, t: shutil.copy(s / "n_temporal" / KEY,
+                                                          s / "tau_min" / KEY),
+    "another cell's chunk": lambda s, t: _copy_other_cell(s),
+    "another cell's chunk and record": lambda s, t: _other_cells_record(s),
+    "another store's chunk and record": _foreign_store_record,
+    "a directory instead of a chunk": lambda s, t: _directory_instead(s),
+    "garbage record": lambda s, t: (s / ".chunks" / f"{KEY}.json").write_text("{"),
+}
+
+
+@pytest.mark.parametrize("damage", list(DAMAGE))
+def test_a_damaged_chunk_is_refused_then_recomputed_alone_to_the_clean_store(
+        damage, clean, tmp_path, capsys):
+    store = tmp_path / "map.zarr"
+    shutil.copytree(clean, store)
+    DAMAGE[damage](store, tmp_path)
+
+    with pytest.raises(StoreDamaged, match=r"1 of 6 chunks missing, unreadable or altered"):
+        open_sweep(store)
+    assert cli.main(["plot", str(store), "--png", str(tmp_path / "m.png")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "is damaged" in err and "rerun" in err
+    assert not (tmp_path / "m.png").exists()
+
+    seen = []
+    run = run_sweep(SCENE, executor="serial", out=store, on_chunk=lambda n, r: seen.append(r.index))
+    assert seen == [TARGET.index]
+    assert (run.computed, run.damaged, run.skipped) == (POINTS, POINTS, SPEC.size - POINTS)
+    assert tree(store) == tree(clean)
+
+
+def test_a_chunk_without_record_reads_as_unfinished_and_is_recomputed(clean, tmp_path):
+    """A writer killed before a chunk's record (temporary files left), or a removed record."""
+    store = tmp_path / "map.zarr"
+    shutil.copytree(clean, store)
+    (store / ".chunks" / f"{KEY}.json").unlink()
+    (store / "tau_min" / KEY).unlink()  # its values are not served either
+    (store / "tau_min" / f"{KEY[:-2]}.0123abcd.partial").write_bytes(b"half a chunk")
+    (store / ".chunks" / "0123abcd.partial").write_text('{"chunk"')
+
+    partial = open_sweep(store)
+    where = region(SPEC, TARGET)
+    assert not partial["computed"].values[where].any() and partial["computed"].sum() == SPEC.size - POINTS
+    assert np.isfinite(partial["tau_min"].values).all()
+    assert (partial["tau_min"].values[where] == 2.0).all()  # tau_max: no value, not NaN
+
+    run = run_sweep(SCENE, executor="serial", out=store)
+    assert (run.computed, run.damaged) == (POINTS, 0)
+    assert tree(store) == tree(clean)
+
+
+def test_altered_coordinates_are_refused_then_rewritten(clean, tmp_path):
+    import zarr
+
+    store = tmp_path / "map.zarr"
+    shutil.copytree(clean, store)
+    zarr.open_group(str(store), mode="r+")["kappa"][3] = 9.0
+    with pytest.raises(StoreDamaged, match="coordinates kappa altered"):
+        open_sweep(store)
+    assert run_sweep(SCENE, executor="serial", out=store).computed == 0
+    assert tree(store) == tree(clean)
+
+
+def test_an_undamaged_store_reads_back_as_the_run(clean):
+    fresh = run_sweep(SCENE, executor="serial").dataset
+    back = open_sweep(clean)
+    assert list(back.data_vars) == list(fresh.data_vars)
+    for name in back.variables:
+        assert np.array_equal(back[name].values, fresh[name].values), name
+    assert back.attrs == json.loads(json.dumps(fresh.attrs))
+
+
+def _start(out: Path, executor: str = "serial", workers: int = 1,
+           watchdog: bool = False) -> subprocess.Popen:
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
+    return subprocess.Popen([sys.executable, "-c", SLOW_SWEEP, json.dumps(SCENE), str(out),
+                             executor, str(workers), "watchdog" if watchdog else ""], env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def wait_for(condition, what: str, seconds: float = 60.0) -> None:
+    """Poll ``condition`` until it holds; fail after ``seconds`` (a bound, not a measurement)."""
+    deadline = time.monotonic() + seconds
+    while not condition():
+        if time.monotonic() > deadline:
+            pytest.fail(f"gave up waiting for {what} after {seconds:g} s")
+        time.sleep(0.05)
+
+
+def _holds_lock(proc: subprocess.Popen, out: Path) -> bool:
+    try:
+        return json.loads(lock_path(out).read_text())["pid"] == proc.pid
+    except (OSError, ValueError, KeyError):
+        return False
+
+
+def _alive(pid: int) -> bool:
+    """The process exists and is not a zombie (an ended orphan may wait to be reaped)."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat.rsplit(")", 1)[1].split()[0] != "Z"
+
+
+def _children(pid: int) -> list[int]:
+    found = []
+    for task in Path(f"/proc/{pid}/task").glob("*"):
+        try:
+            found += [int(c) for c in (task / "children").read_text().split()]
+        except OSError:
+            pass
+    return found
+
+
+@pytest.mark.parametrize("start", ["fresh", "resume"])
+def test_a_second_writer_gets_one_line_and_a_killed_writer_frees_the_store(
+        start, clean, tmp_path, capsys):
+    out = tmp_path / "map.zarr"
+    if start == "resume":
+        shutil.copytree(clean, out)
+        for record in list((out / ".chunks").glob("*.json"))[:3]:
+            record.unlink()
+    writer = _start(out)
+    try:
+        wait_for(lambda: _holds_lock(writer, out), "the first writer's lock")
+        with pytest.raises(StoreBusy, match=rf"being written by another process \(pid "
+                                            rf"{writer.pid} on .*, since .*\): wait"):
+            run_sweep(SCENE, executor="serial", out=out)
+        scene = tmp_path / "s.toml"
+        scene.write_text('model = "mathieu"\n[grid]\nkappa = [0.5]\n')  # refused before reading
+        assert cli.main(["sweep", str(scene), "--out", str(out), "--executor", "serial"]) == 2
+        err = capsys.readouterr().err.strip()
+        assert "\n" not in err and "being written by another process" in err
+        if start == "fresh":
+            wait_for(lambda: any((out / ".chunks").glob("*.json")), "a first finished chunk")
+    finally:
+        writer.kill()  # kill -9: the kernel releases its lock
+        writer.wait()
+    run = run_sweep(SCENE, executor="serial", out=out)
+    assert run.damaged == 0 and (start == "resume" or run.computed < SPEC.size)
+    assert tree(out) == tree(clean)
+    assert not lock_path(out).exists()
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+@pytest.mark.parametrize("watchdog", [False, True], ids=["kernel", "watchdog"])
+def test_pool_workers_end_with_a_killed_sweep(watchdog, tmp_path):
+    sweep = _start(tmp_path / "map.zarr", executor="processes", workers=2, watchdog=watchdog)
+    workers = []
+    try:
+        wait_for(lambda: len(_children(sweep.pid)) == 2, "two pool workers")
+        workers = _children(sweep.pid)
+        sweep.send_signal(signal.SIGKILL)
+        sweep.wait()
+        wait_for(lambda: not any(_alive(w) for w in workers), "the orphaned workers to end",
+                 seconds=10.0)
+    finally:
+        sweep.kill()
+        for w in workers:
+            if _alive(w):
+                os.kill(w, signal.SIGKILL)
