@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import os
+import sys
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -28,15 +29,18 @@ from .models.sphere import lambda0_squared
 from .models import sphere_nonlinear
 from .models.sphere_nonlinear import lambda0_over_sqrt_kappa
 from .params.grid import parse_int_range, parse_range
+from .params.limits import RESULT_BYTES, SECONDS, check_grid, check_points
 from .params.physical import PHYSICAL_UNITS, PhysicalSphere, sphere_forced_params
 from .params.physical import convert_physical
-from .params.registry import check_model, make_params, param_names
+from .params.registry import check_model, int_bounds, make_params, param_names
 from .params.scene import Plan, plan
 from .results.maps import TauMapResult
 from .results.modes import NaturalModesResult
 from .results.spatial import SpatialFloquetResult
 from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
-                              provenance, resolution_warnings, tau_warnings, certification_warnings)
+                              certification_warnings, provenance, resolution_warnings,
+                              tau_warnings)
+from .solvers.cost import CostEstimate, spatial_cost
 from .solvers.exponents import floquet_exponents
 from .solvers.marginal import N_MAX, marginal_tau
 from .solvers.spatial_refinement import (TOL_SPATIAL, refine_spatial, solve_at,
@@ -64,6 +68,7 @@ def _system(model: str, params: Mapping[str, Any]) -> tuple[Any, HillSystem]:
 
 def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: int | None = None,
             tau_max: float | None = None, tol_spatial: float | None = None,
+            max_seconds: float | None = None, progress: bool = False,
             **params: Any) -> FloquetResult:
     """Marginal forcing amplitudes tau (Floquet boundaries) of a model.
 
@@ -81,6 +86,13 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
         with ``n_spatial=None`` the number of spatial modes is doubled from 16 until every
         tau_min changes by at most ``tol_spatial`` (absolute; default 1e-3), see
         :func:`_floquet_spatial`.
+    max_seconds : models with spatial modes only: raise the limit on the estimated cost
+        (default :data:`spectralshell.params.limits.SECONDS`, 600 s, or
+        $SPECTRALSHELL_MAX_SECONDS). The truncations N and M a solve needs are priced from the
+        parameters before it starts (:mod:`spectralshell.solvers.cost`); a solve whose least
+        work is estimated above the limit is refused with what it needs.
+    progress : models with spatial modes only: a progress bar over the spatial truncations
+        M on stderr, its label stating the estimate.
     **params : the model's parameters, e.g. ``kappa``, ``nu`` for 'mathieu'; for 'cochlea' also
         the cgs inputs rho, mu, sigma, length, lambda_c, omega (Table 5.1 defaults for the
         missing ones; omega required), converted by :func:`params.physical.cochlea_params`.
@@ -91,7 +103,8 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
 
     Raises
     ------
-    ParameterError : a parameter, kind or option out of range.
+    ParameterError : a parameter, kind or option out of range; an estimated cost above the
+        limit.
     ConvergenceError : tau_min did not converge to ``tol`` (or to ``tol_spatial`` in n_spatial).
     """
     model = check_model(model)
@@ -99,10 +112,12 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     options = _solver_options(tol, n_temporal, tau_max)
     params, physical = convert_physical(model, dict(params))
     if "n_spatial" in param_names(model):
-        return _floquet_spatial(model, kind, options, params, physical, tol_spatial)
-    if tol_spatial is not None:
-        raise ParameterError(f"tol_spatial = {tol_spatial!r} is invalid for model {model!r}: it "
-                             "has no spatial modes")
+        return _floquet_spatial(model, kind, options, params, physical, tol_spatial,
+                                max_seconds, progress)
+    for name, value in (("tol_spatial", tol_spatial), ("max_seconds", max_seconds)):
+        if value is not None:
+            raise ParameterError(f"{name} = {value!r} is invalid for model {model!r}: it has no "
+                                 "spatial modes")
     p, system = _system(model, params)
     res = {k: marginal_tau(system, k, **options) for k in kinds}
     warnings = tau_warnings(t for m in res.values() for t in m.tau)
@@ -118,9 +133,49 @@ def _spatial_factory(model: str, params: dict[str, Any], n_spatial: int) -> Hill
     return hill_system(make_params(model, {**params, "n_spatial": n_spatial}))
 
 
+def _priced(model: str, factory, kinds: tuple[str, ...], options: dict[str, Any],
+            n_spatial: int | None, max_seconds: float | None) -> CostEstimate:
+    """The cost estimate of a solve with spatial modes, refused (ParameterError) when its least
+    work is above the limit on estimated seconds."""
+    estimate = spatial_cost(factory, kinds, n_spatial=n_spatial,
+                            n_temporal=options["n_temporal"])
+    SECONDS.check(f"{model} solve needing {estimate.describe()}", estimate.seconds, max_seconds,
+                  "fix the truncations with n_spatial= / --n-spatial M and n_temporal= / "
+                  "--n-temporal N")
+    return estimate
+
+
+def _counted(factory, bar):
+    """``factory`` that moves ``bar`` by one at each M it builds."""
+    def build(n_spatial: int) -> HillSystem:
+        bar.set_postfix_str(f"M = {n_spatial}")
+        bar.update(1)
+        return factory(n_spatial)
+    return build
+
+
+def _solve_spatial(model: str, params: dict[str, Any], first, factory, kinds: tuple[str, ...],
+                   options: dict[str, Any], tol_spatial: float) -> tuple:
+    """(params, tau of each kind, spatial change, M, coarser M) at the given n_spatial of
+    ``first`` (M and M // 2) or refined in M (see :func:`_floquet_spatial`)."""
+    n_given = first.n_spatial
+    if n_given is None:
+        found = refine_spatial(factory, kinds, options=options, tol_spatial=tol_spatial)
+        p = make_params(model, {**params, "n_spatial": found.n_spatial})
+        return p, found.taus, found.change, found.n_spatial, found.n_spatial_previous
+    fine = solve_at(factory, n_given, kinds, options)
+    m_coarse = n_given // 2 or None
+    coarse = None if m_coarse is None else solve_at(factory, m_coarse, kinds, options)
+    cap = options.get("tau_max") or float("inf")
+    change = {k: None if coarse is None else spatial_change(fine[k], coarse[k], cap)
+              for k in kinds}
+    return first, fine, change, n_given, m_coarse
+
+
 def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dict[str, Any],
-                     physical: dict[str, float] | None,
-                     tol_spatial: float | None) -> SpatialFloquetResult:
+                     physical: dict[str, float] | None, tol_spatial: float | None,
+                     max_seconds: float | None = None,
+                     progress: bool = False) -> SpatialFloquetResult:
     """Marginal tau of a model with spatial modes, with an error estimate in their number M.
 
     * ``spatial_mode`` given (a single decoupled mode): one solve, exact in space.
@@ -131,6 +186,9 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
       most ``tol_spatial`` between successive M (a kind without tau_min at both counts as
       converged once the coarser M reaches the kind's resonance); ConvergenceError past
       M = SPATIAL_LIMIT (:func:`spectralshell.solvers.spatial_refinement.refine_spatial`).
+
+    Before any solve (but the single mode's) the cost is estimated and checked against the
+    limit ``max_seconds`` (:func:`_priced`); ``progress`` shows a bar over the M solved.
 
     With ``tau_max`` the change is that of tau_min capped at tau_max (a missing tau_min counts
     as tau_max). Each kind's ``error_estimate`` becomes max(temporal estimate, spatial change); a
@@ -148,18 +206,14 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
     if first.spatial_mode is not None:
         p, fine = first, {k: marginal_tau(hill_system(first), k, **options) for k in kinds}
         m_fine, m_coarse, change = 1, None, {k: 0.0 for k in kinds}
-    elif n_given is not None:
-        p, fine = first, solve_at(factory, n_given, kinds, options)
-        m_fine, m_coarse = n_given, (n_given // 2 or None)
-        coarse = None if m_coarse is None else solve_at(factory, m_coarse, kinds, options)
-        cap = options.get("tau_max") or float("inf")
-        change = {k: None if coarse is None else spatial_change(fine[k], coarse[k], cap)
-                  for k in kinds}
     else:
-        found = refine_spatial(factory, kinds, options=options, tol_spatial=tol_spatial)
-        p = make_params(model, {**params, "n_spatial": found.n_spatial})
-        fine, change = found.taus, found.change
-        m_fine, m_coarse = found.n_spatial, found.n_spatial_previous
+        from tqdm import tqdm  # lazy: keeps `import spectralshell` light
+
+        estimate = _priced(model, factory, kinds, options, n_given, max_seconds)
+        with tqdm(total=estimate.levels, desc=f"{model} ({estimate.describe()})", unit="M",
+                  disable=not progress, file=sys.stderr, leave=False) as bar:
+            p, fine, change, m_fine, m_coarse = _solve_spatial(
+                model, params, first, _counted(factory, bar), kinds, options, tol_spatial)
     res = {k: spatial_error(fine[k], change[k]) for k in kinds}
     warnings = tau_warnings(t for m in res.values() for t in m.tau)
     auto = n_given is None and first.spatial_mode is None
@@ -197,9 +251,22 @@ def _factory(model: str, params: dict[str, Any], kappa: float) -> HillSystem:
     return _system(model, {**params, "kappa": kappa})[1]
 
 
+def _grid(name: str, spec: Any, max_points: int | None) -> np.ndarray:
+    """A 1-D grid from 'start:stop:num' or array-like values, its size checked against the
+    points limit before it is made (a range) or converted (values)."""
+    if isinstance(spec, str):
+        return parse_range(name, spec, max_points)
+    values = np.atleast_1d(spec)
+    check_points(name, values.size, max_points)
+    if not values.size:
+        raise ParameterError(f"{name} = [] is invalid: must be a non-empty grid")
+    return np.array([require_real(name, v) for v in values])
+
+
 def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
             n_temporal: int | None = None, tau_max: float | None = None, tips: bool = True,
-            workers: int | None = None, progress: bool = False, **params: Any) -> TonguesResult:
+            workers: int | None = None, progress: bool = False, max_points: int | None = None,
+            **params: Any) -> TonguesResult:
     """Ince-Strutt diagram: marginal tau of each kind over a kappa grid, and the finger tips.
 
     Parameters
@@ -209,15 +276,16 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
         tau_min on the grid (to ~1e-12 in kappa; see ``solvers.tongues.refine_tip``).
     workers : processes (None: all cores for large grids; 1: serial). progress : show a bar.
     tau_max : only the marginal tau <= tau_max are computed (as in :func:`floquet`).
+    max_points : raise the limit on the grid's points (default
+        :data:`spectralshell.params.limits.POINTS`, 1e6, or $SPECTRALSHELL_MAX_POINTS); a grid
+        above it, or whose results exceed the memory limit, is refused before any work.
     Other parameters as in :func:`floquet`; ``params`` must not contain ``kappa``.
     """
     model = check_model(model)
     kinds = expand_kind(kind)
     options = _solver_options(tol, n_temporal, tau_max)
-    grid = parse_range("kappa", kappa) if isinstance(kappa, str) else \
-        np.array([require_real("kappa", k) for k in np.atleast_1d(kappa)])
-    if not grid.size:
-        raise ParameterError("kappa = [] is invalid: must be a non-empty grid")
+    grid = _grid("kappa", kappa, max_points)
+    check_grid("kappa", (grid.size,), RESULT_BYTES, max_points)
     for k in (grid.min(), grid.max()):
         make_params(model, {**params, "kappa": k})
     factory = functools.partial(_factory, model, dict(params))
@@ -246,7 +314,8 @@ def _map_system(model: str, params: dict[str, Any], physical: dict[str, float] |
 
 def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str = "both",
             tau_max: float = 0.5, tol: float = 1e-8, physical: Mapping[str, float] | None = None,
-            workers: int | None = None, progress: bool = False, **params: Any) -> TauMapResult:
+            workers: int | None = None, progress: bool = False, max_points: int | None = None,
+            **params: Any) -> TauMapResult:
     """Map of the smallest marginal tau <= tau_max over degrees ``m`` and kinds on an x-y grid.
 
     Parameters
@@ -258,6 +327,7 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str 
     physical : fixed cgs values (e.g. rho, mu, radius) for the conversion (6.4)-(6.5) of
         :class:`spectralshell.params.physical.PhysicalSphere`.
     tol : absolute tolerance on each tau_min (1e-8 is ample for a picture).
+    max_points : raise the limit on x * y * degrees points (as in :func:`tongues`).
 
     Notes
     -----
@@ -268,12 +338,11 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str 
     model = check_model(model)
     kinds = expand_kind(kind)
     options = _solver_options(tol, None, tau_max)
-    degrees = parse_int_range("m", m)
+    degrees = parse_int_range("m", m, int_bounds(model, "m"), max_points)
     names = (str(x[0]), str(y[0]))
-    grids = [parse_range(n, g) if isinstance(g, str) else
-             np.array([require_real(n, v) for v in np.atleast_1d(g)]) for n, g in (x, y)]
-    if any(not g.size for g in grids):
-        raise ParameterError("x/y grid = [] is invalid: must be a non-empty grid")
+    grids = [_grid(n, g, max_points) for n, g in (x, y)]
+    check_grid(f"tau map {names[0]} x {names[1]} x m", (grids[0].size, grids[1].size,
+                                                        len(degrees)), RESULT_BYTES, max_points)
     phys = None if physical is None else {k: float(v) for k, v in physical.items()}
     for name in names:
         if name in PHYSICAL_UNITS and phys is None:
@@ -704,7 +773,7 @@ def stability(model: str, *, tau: float, m, kind: str = "both", tol: float = 1e-
     """
     model = check_model(model)
     tau = require_real("tau", tau)
-    degrees = parse_int_range("m", m)
+    degrees = parse_int_range("m", m, int_bounds(model, "m"))
     options = _solver_options(tol, n_temporal)
     modes = []
     for degree in degrees:  # only the marginal tau below the asked tau are needed

@@ -52,8 +52,20 @@ def _tau_max_flag(p: argparse.ArgumentParser) -> None:
                         "default: all)")
 
 
+def _given(args: argparse.Namespace, name: str, convert: Callable[[str, str], Any]) -> dict:
+    """{name: the flag's value converted} if the flag was given, else {}."""
+    value = getattr(args, name)
+    return {} if value is None else {name: convert(name, value)}
+
+
 def _tau_max(args: argparse.Namespace) -> dict[str, float]:
-    return {} if args.tau_max is None else {"tau_max": _number("tau_max", args.tau_max)}
+    return _given(args, "tau_max", _number)
+
+
+def _max_points_flag(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--max-points", dest="max_points", metavar="N",
+                   help="raise the limit on grid points (default 1000000, or "
+                        "$SPECTRALSHELL_MAX_POINTS)")
 
 
 def _params(args: argparse.Namespace, model: str, *, skip: Sequence[str] = ()) -> dict[str, Any]:
@@ -189,10 +201,10 @@ def _physical(args: argparse.Namespace) -> dict[str, float]:
 
 def cmd_floquet(args) -> int:
     extra = _physical(args)
-    if args.tol_spatial is not None:
-        extra["tol_spatial"] = _number("tol_spatial", args.tol_spatial)
+    for name in ("tol_spatial", "max_seconds"):
+        extra.update(_given(args, name, _number))
     res = api.floquet(args.model, kind=args.kind, **_solver(args), **extra, **_tau_max(args),
-                      **_params(args, args.model))
+                      progress=sys.stderr.isatty() and not args.json, **_params(args, args.model))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), lambda: _floquet_text(res))
 
@@ -228,7 +240,8 @@ def cmd_tongues(args) -> int:
         raise ParameterError("--kappa is required: a range START:STOP:NUM, e.g. 0:3:301")
     res = api.tongues(args.model, kappa=args.kappa, kind=args.kind, tips=not args.no_tips,
                       workers=args.workers, progress=sys.stderr.isatty() and not args.json,
-                      **_solver(args), **_tau_max(args), **_params(args, args.model, skip=("kappa",)))
+                      **_solver(args), **_tau_max(args), **_given(args, "max_points", _integer),
+                      **_params(args, args.model, skip=("kappa",)))
     _warn(res.warnings)
     written = _write_tongues(res, png=args.png, csv=args.csv, npz=args.npz)
     return _report(args.json, res.to_dict(), lambda: _tongues_text(res), written)
@@ -493,7 +506,9 @@ def _sweep_text(summary: dict) -> str:
 
 def cmd_sweep(args) -> int:
     executor = args.executor or ("dask" if args.scheduler else "processes")
-    summary = api.sweep_summary(args.scene, executor=executor, workers=args.workers,
+    scene = sweep_spec(args.scene, **_given(args, "max_points", _integer)) \
+        if args.max_points else args.scene
+    summary = api.sweep_summary(scene, executor=executor, workers=args.workers,
                                 scheduler=args.scheduler, out=args.out,
                                 progress=sys.stderr.isatty() and not args.json)
     return _report(args.json, summary, lambda: _sweep_text(summary))
@@ -623,6 +638,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tol-spatial", dest="tol_spatial", metavar="X",
                    help="cochlea without --n-spatial: tolerance of tau_min in the number of "
                         "spatial modes (default 1e-3)")
+    p.add_argument("--max-seconds", dest="max_seconds", metavar="X",
+                   help="cochlea: raise the limit on the estimated cost of the solve (default "
+                        "600 s, or $SPECTRALSHELL_MAX_SECONDS)")
     _tau_max_flag(p)
 
     p = _computation(sub, "tongues", "Ince-Strutt diagram over a kappa range", cmd_tongues, models,
@@ -634,6 +652,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--npz", help="write arrays as NPZ")
     p.add_argument("--no-tips", action="store_true", help="do not locate finger tips")
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    _max_points_flag(p)
 
     p = _computation(sub, "exponents", "Floquet exponents gamma at a forcing amplitude tau",
                      cmd_exponents, models, kind=False)
@@ -714,6 +733,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="processes or LocalCluster workers (default: all cores)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS|local",
                    help="Dask scheduler tcp://HOST:PORT, or 'local' for a LocalCluster")
+    _max_points_flag(p)
     p.add_argument("--json", action="store_true",
                    help='print exactly one object {"points", "computed", "skipped", "damaged", "out", '
                         '"seconds"}')

@@ -48,6 +48,10 @@ class HillSystem:
         blocks carry many spatial modes (cochlea) it is the lowest mode frequency, since the
         high spatial modes are far from resonance and converge in N regardless (their
         convergence is checked by the N-refinement like everything else).
+    n_highest : the highest natural frequency of the modes (units of the forcing frequency),
+        where the model knows it (cochlea: of its M spatial modes), else None: the truncation at
+        which every mode's resonances lie inside, used to price a solve before it starts
+        (:mod:`spectralshell.solvers.cost`).
     """
 
     name: str
@@ -56,6 +60,7 @@ class HillSystem:
     forcing: np.ndarray
     polynomial: tuple[np.ndarray, ...] | None = None
     n_resonant: float = 0.0
+    n_highest: float | None = None
 
 
 def modal_system_in_beta(name: str, *, nu: float, n_modes: int, residual, residual_mp, seeds,

@@ -154,12 +154,13 @@ def hill_system(*, kappa: float, nu: float, alpha: float, n_spatial: int | None 
         modes = np.array([require_int_in_range("spatial_mode", spatial_mode, 1)])
     else:
         modes = np.arange(1, require_int_in_range("n_spatial", n_spatial, 1) + 1)
-    return _modes_system(kappa, nu, modes, coupling_matrix(modes, alpha),
-                         float(natural_frequencies(kappa, alpha, modes)[0]))
+    frequencies = natural_frequencies(kappa, alpha, modes)
+    return _modes_system(kappa, nu, modes, coupling_matrix(modes, alpha), float(frequencies[0]),
+                         float(frequencies[-1]))
 
 
 def _modes_system(kappa: float, nu: float, modes: np.ndarray, C: np.ndarray,
-                  n_resonant: float) -> HillSystem:
+                  n_resonant: float, n_highest: float | None = None) -> HillSystem:
     """The Hill system D(s) = diag(Z_k(s)) + kappa C, G = kappa C of the wavenumbers ``modes``."""
     G = kappa * C
     polynomial = None
@@ -167,7 +168,7 @@ def _modes_system(kappa: float, nu: float, modes: np.ndarray, C: np.ndarray,
         polynomial = (G.copy(), np.zeros_like(G), np.diag(2.0 / modes))
     return HillSystem(name="cochlea", block_size=modes.size, forcing=G,
                       unforced=lambda s: unforced(s, kappa=kappa, nu=nu, modes=modes, coupling=C),
-                      polynomial=polynomial, n_resonant=n_resonant)
+                      polynomial=polynomial, n_resonant=n_resonant, n_highest=n_highest)
 
 
 def wavenumber_system(wavenumber: float, *, kappa: float, nu: float) -> HillSystem:

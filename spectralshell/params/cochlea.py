@@ -9,6 +9,7 @@ from ..errors import ParameterError
 
 #: Largest number of cosine modes accepted (the thesis's largest run is M = 250).
 N_SPATIAL_MAX = 2000
+MODE_RANGE = (1, N_SPATIAL_MAX)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -34,9 +35,10 @@ class CochleaParams:
     nu: float = field(metadata={"help": "viscosity nu (dimensionless, >= 0; 0 = inviscid)"})
     alpha: float = field(metadata={"help": "stiffness decay rate alpha = lambda_c L / pi (>= 0)"})
     n_spatial: int | None = field(default=None, metadata={
-        "help": "number M of cosine modes (default: raised until tau_min converges)"})
+        "help": "number M of cosine modes (default: raised until tau_min converges)",
+        "range": MODE_RANGE})
     spatial_mode: int | None = field(default=None, metadata={
-        "help": "single cosine mode K (needs alpha = 0)"})
+        "help": "single cosine mode K (needs alpha = 0)", "range": MODE_RANGE})
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "kappa", require_positive("kappa", self.kappa))
@@ -44,9 +46,9 @@ class CochleaParams:
         object.__setattr__(self, "alpha", require_nonnegative("alpha", self.alpha))
         if self.n_spatial is not None:
             object.__setattr__(self, "n_spatial",
-                               require_int_in_range("n_spatial", self.n_spatial, 1, N_SPATIAL_MAX))
+                               require_int_in_range("n_spatial", self.n_spatial, *MODE_RANGE))
         if self.spatial_mode is not None:
-            mode = require_int_in_range("spatial_mode", self.spatial_mode, 1, N_SPATIAL_MAX)
+            mode = require_int_in_range("spatial_mode", self.spatial_mode, *MODE_RANGE)
             object.__setattr__(self, "spatial_mode", mode)
             if self.alpha != 0.0:
                 raise ParameterError(f"spatial_mode = {mode} is invalid with alpha = {self.alpha:g}: "

@@ -13,6 +13,7 @@ FORCINGS = ("both", "pressure", "tangential")
 
 #: Largest wavenumber accepted (the Bessel-ratio kernels are tested up to order 200).
 M_MAX = 200
+M_RANGE = (2, M_MAX)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -34,14 +35,14 @@ class FibreParams:
     ParameterError : a value out of range; the message names the parameter, value and range.
     """
 
-    m: int = field(metadata={"help": "angular wavenumber m >= 2"})
+    m: int = field(metadata={"help": "angular wavenumber m >= 2", "range": M_RANGE})
     kappa: float = field(metadata={"help": "stiffness kappa (dimensionless, > 0)"})
     nu: float = field(default=0.0, metadata={"help": "viscosity nu (dimensionless, >= 0; 0 = inviscid)"})
     forcing: str = field(default="both", metadata={"help": "both, pressure or tangential"})
 
     def __post_init__(self) -> None:
         try:
-            m = require_int_in_range("m", self.m, 2, M_MAX)
+            m = require_int_in_range("m", self.m, *M_RANGE)
         except ParameterError as exc:
             raise ParameterError(f"{exc} (m = 0 changes the enclosed area and m = 1 is a rigid "
                                  "translation: neither is a fibre mode)") from None

@@ -8,14 +8,17 @@ import numpy as np
 
 from .._validate import require_int_in_range, require_real
 from ..errors import ParameterError
+from .limits import check_points
 
 
-def parse_range(name: str, spec: object) -> np.ndarray:
+def parse_range(name: str, spec: object, max_points: int | None = None) -> np.ndarray:
     """Evenly spaced grid from ``"start:stop:num"``, ``{start, stop, num}`` or a single number.
 
     Raises
     ------
-    ParameterError : malformed, empty (num < 1) or reversed (stop < start) range.
+    ParameterError : malformed, empty (num < 1) or reversed (stop < start) range, or num above
+        the points limit (``max_points``, :data:`spectralshell.params.limits.POINTS`), refused
+        before any array is made.
     """
     if isinstance(spec, str):
         parts = spec.split(":")
@@ -34,6 +37,7 @@ def parse_range(name: str, spec: object) -> np.ndarray:
         return np.array([require_real(name, spec)])
     start, stop = require_real(f"{name} start", start), require_real(f"{name} stop", stop)
     num = require_int_in_range(f"{name} num", num, 1)
+    check_points(f"{name} = {spec!r}", num, max_points)
     if stop < start:
         raise ParameterError(f"{name} = {spec!r} is invalid: stop must be >= start (empty range)")
     if num > 1 and stop == start:
@@ -41,25 +45,30 @@ def parse_range(name: str, spec: object) -> np.ndarray:
     return np.linspace(start, stop, num)
 
 
-def parse_int_range(name: str, spec: object) -> list[int]:
-    """Integers from ``"lo:hi"`` (inclusive), a single integer, or a list of integers.
+def parse_int_range(name: str, spec: object, bounds: tuple[int, int | None] = (0, None),
+                    max_points: int | None = None) -> list[int]:
+    """Integers from ``"lo:hi"`` (inclusive), a single integer, or a list of integers, each in
+    ``bounds`` = (lowest, highest or None) (e.g. a model's degrees m, from
+    :func:`spectralshell.params.registry.int_bounds`).
 
     Raises
     ------
-    ParameterError : malformed, non-integer or reversed range.
+    ParameterError : malformed, non-integer or reversed range, a value outside ``bounds``, or
+        more values than the points limit (``max_points``); a range "lo:hi" is checked on its
+        ends, before its values are made.
     """
-    from .._validate import require_int_in_range
-
     if isinstance(spec, str) and ":" in spec:
         parts = spec.split(":")
         if len(parts) != 2:
             raise ParameterError(f"{name} = {spec!r} is invalid: must be LO:HI, e.g. 2:6")
-        lo, hi = (require_int_in_range(name, p, 0) for p in parts)
+        lo, hi = (require_int_in_range(name, p, *bounds) for p in parts)
         if hi < lo:
             raise ParameterError(f"{name} = {spec!r} is invalid: HI must be >= LO (empty range)")
+        check_points(f"{name} = {spec!r}", hi - lo + 1, max_points)
         return list(range(lo, hi + 1))
     if isinstance(spec, (list, tuple)):
         if not spec:
             raise ParameterError(f"{name} = [] is invalid: must be a non-empty list of integers")
-        return [require_int_in_range(name, v, 0) for v in spec]
-    return [require_int_in_range(name, spec, 0)]
+        check_points(f"{name} (a list)", len(spec), max_points)
+        return [require_int_in_range(name, v, *bounds) for v in spec]
+    return [require_int_in_range(name, spec, *bounds)]

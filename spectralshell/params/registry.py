@@ -26,6 +26,13 @@ def param_names(model: str) -> tuple[str, ...]:
     return tuple(f.name for f in dataclasses.fields(PARAMS[check_model(model)]))
 
 
+def int_bounds(model: str, name: str) -> tuple[int, int | None]:
+    """(lowest, highest or None) of the integer parameter ``name`` of ``model`` (the field's
+    metadata 'range'; (0, None) where it has none), for checking a range before making it."""
+    field = next((f for f in dataclasses.fields(PARAMS[check_model(model)]) if f.name == name), None)
+    return field.metadata.get("range", (0, None)) if field is not None else (0, None)
+
+
 def make_params(model: str, values: dict[str, Any]):
     """Validated parameter object of ``model`` from a name -> value mapping.
 

@@ -8,6 +8,8 @@ from .._validate import require_choice, require_int_in_range, require_nonnegativ
 from ..errors import ParameterError
 
 COMPONENTS = ("poloidal", "toroidal")
+#: Degrees m accepted (the spherical kernels are tested up to 200).
+M_RANGE = (2, 200)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -22,14 +24,15 @@ class SphereParams:
         'toroidal' (X^Phi, which decouples, thesis (6.29)); only the asked one is computed.
     """
 
-    m: int = field(metadata={"help": "spherical-harmonic degree m >= 2"})
+    m: int = field(metadata={"help": "spherical-harmonic degree m >= 2",
+                                    "range": M_RANGE})
     kappa: float = field(metadata={"help": "stiffness kappa (dimensionless, > 0)"})
     nu: float = field(default=0.0, metadata={"help": "viscosity nu (dimensionless, >= 0; 0 = inviscid)"})
     component: str = field(default="poloidal", metadata={"help": "poloidal or toroidal"})
 
     def __post_init__(self) -> None:
         try:
-            m = require_int_in_range("m", self.m, 2, 200)
+            m = require_int_in_range("m", self.m, *M_RANGE)
         except ParameterError as exc:
             raise ParameterError(f"{exc} (m = 0 changes the enclosed volume and m = 1 is a rigid "
                                  "translation: neither is a membrane mode)") from None

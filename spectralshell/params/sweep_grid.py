@@ -70,9 +70,10 @@ import numpy as np
 from .._validate import require_choice, require_int_in_range, require_positive, require_real
 from ..errors import ParameterError
 from .grid import parse_int_range, parse_range
+from .limits import SWEEP_BYTES, check_grid, check_points
 from .physical import (COCHLEA_SWEEP_UNITS, PHYSICAL_UNITS, TABLE_5_1, cochlea_sweep_params,
                        sphere_forced_params)
-from .registry import PARAMS, check_model, make_params, param_names
+from .registry import PARAMS, check_model, int_bounds, make_params, param_names
 from .scene import load_scene
 
 ASKS = ("tau_min",)
@@ -270,7 +271,7 @@ def _distinct(name: str, values: list) -> None:
                              "(each grid value must be distinct)")
 
 
-def _real_axis(name: str, spec: object) -> tuple[tuple[float, ...], str]:
+def _real_axis(name: str, spec: object, max_points: int | None) -> tuple[tuple[float, ...], str]:
     if isinstance(spec, Mapping):
         keys = set(spec)
         if not {"start", "stop", "num"} <= keys or keys - {"start", "stop", "num", "spacing"}:
@@ -278,7 +279,8 @@ def _real_axis(name: str, spec: object) -> tuple[tuple[float, ...], str]:
                                  "keys start, stop, num (and optionally spacing)")
         spacing = require_choice(f"grid {name}.spacing", spec.get("spacing", "linear"),
                                  ("linear", "log"))
-        values = parse_range(f"grid {name}", {k: spec[k] for k in ("start", "stop", "num")})
+        values = parse_range(f"grid {name}", {k: spec[k] for k in ("start", "stop", "num")},
+                             max_points)
         if spacing == "log":
             if values[0] <= 0:
                 raise ParameterError(f"grid {name}.start = {spec['start']!r} is invalid: must be "
@@ -286,11 +288,12 @@ def _real_axis(name: str, spec: object) -> tuple[tuple[float, ...], str]:
             values = np.geomspace(values[0], values[-1], values.size)
         return tuple(float(v) for v in values), spacing
     if isinstance(spec, str):
-        return tuple(float(v) for v in parse_range(f"grid {name}", spec)), "linear"
+        return tuple(float(v) for v in parse_range(f"grid {name}", spec, max_points)), "linear"
     if isinstance(spec, (list, tuple)):
         if not spec:
             raise ParameterError(f"grid {name} = [] is invalid: must be a non-empty list of "
                                  "numbers")
+        check_points(f"grid {name} (a list)", len(spec), max_points)
         values = [require_real(f"grid {name}", v) for v in spec]
         _distinct(name, values)
         return tuple(values), "list"
@@ -298,11 +301,12 @@ def _real_axis(name: str, spec: object) -> tuple[tuple[float, ...], str]:
                          "{start, stop, num[, spacing]} or 'start:stop:num'")
 
 
-def _int_axis(name: str, spec: object) -> tuple[tuple[int, ...], str]:
+def _int_axis(name: str, spec: object, bounds: tuple, max_points: int | None
+              ) -> tuple[tuple[int, ...], str]:
     if not isinstance(spec, (list, tuple, str)) or isinstance(spec, str) and ":" not in spec:
         raise ParameterError(f"grid {name} = {spec!r} is invalid: must be a list of integers or "
                              "'lo:hi'")
-    values = parse_int_range(f"grid {name}", spec)
+    values = parse_int_range(f"grid {name}", spec, bounds, max_points)
     _distinct(name, values)
     return tuple(values), "list"
 
@@ -320,16 +324,20 @@ def _str_axis(name: str, spec: object) -> tuple[tuple[str, ...], str]:
     return tuple(spec), "list"
 
 
-def parse_axis(model: str, name: str, spec: object) -> Axis:
+def parse_axis(model: str, name: str, spec: object, max_points: int | None = None) -> Axis:
     """One [grid] entry -> an Axis, typed by the model's parameter (int, str or float).
 
     Raises
     ------
-    ParameterError : malformed, empty, reversed or duplicated values.
+    ParameterError : malformed, empty, reversed or duplicated values; integers outside the
+        model's range; more values than the points limit (``max_points``).
     """
     kind = _value_type(model, name)
-    parse = {"float": _real_axis, "int": _int_axis, "str": _str_axis}[kind]
-    values, spacing = parse(name, spec)
+    if kind == "int":
+        values, spacing = _int_axis(name, spec, int_bounds(model, name), max_points)
+    else:
+        values, spacing = _real_axis(name, spec, max_points) if kind == "float" else \
+            _str_axis(name, spec)
     return Axis(name=name, values=values, units=units(model, name), spacing=spacing)
 
 
@@ -469,14 +477,38 @@ def is_sweep_scene(scene: Mapping[str, Any]) -> bool:
     return "grid" in scene
 
 
-def sweep_spec(scene: str | Path | Mapping) -> SweepSpec:
+def _axes(model: str, grid: Mapping[str, Any], max_points: int | None) -> tuple[Axis, ...]:
+    """The [grid] axes (and 'kind', both kinds, unless swept), refused as soon as their points
+    exceed the points limit or their results the memory limit
+    (:func:`spectralshell.params.limits.check_grid`)."""
+    axes: list[Axis] = []
+    for name, spec in grid.items():
+        axes.append(parse_axis(model, name, spec, max_points))
+        _check_axes(axes, max_points)
+    if "kind" not in grid:
+        axes.append(Axis(name="kind", values=KINDS, units="", spacing="list"))
+        _check_axes(axes, max_points)
+    return tuple(axes)
+
+
+def _check_axes(axes: list[Axis], max_points: int | None) -> None:
+    names = " x ".join(a.name for a in axes)
+    check_grid(f"grid {names}", tuple(len(a.values) for a in axes), SWEEP_BYTES, max_points)
+
+
+def sweep_spec(scene: str | Path | Mapping, *, max_points: int | None = None) -> SweepSpec:
     """Validate a sweep scene (path, TOML string or dict) and return its SweepSpec.
+
+    ``max_points`` raises the limit on the grid's points (kind included) for this sweep
+    (default: :data:`spectralshell.params.limits.POINTS`); the SweepSpec can be passed to
+    :func:`spectralshell.sweep` in place of the scene.
 
     Raises
     ------
     ParameterError : unknown scene key, model, ask or grid parameter; empty, reversed or
         duplicated grid values; a parameter both fixed in [params] and swept in [grid]; a value
-        out of range; bad solver options. Each with a one-line message.
+        out of range; bad solver options; a grid above the points or memory limit (checked
+        axis by axis, before the next axis is made). Each with a one-line message.
     """
     data = load_scene(scene)
     unknown = sorted(set(data) - set(SCENE_KEYS))
@@ -513,13 +545,11 @@ def sweep_spec(scene: str | Path | Mapping) -> SweepSpec:
     physical = _check_physical(model, set(fixed) | set(grid))
     if physical and model == "cochlea":
         fixed = _with_cochlea_defaults(fixed, grid)
-    axes = [parse_axis(model, name, spec) for name, spec in grid.items()]
-    if "kind" not in grid:
-        axes.append(Axis(name="kind", values=KINDS, units="", spacing="list"))
+    axes = _axes(model, grid, max_points)
     options = _spatial_options(model, _options(data.get("tau_min", {})), fixed, grid)
     spec = SweepSpec(model=model,
                      fixed=tuple((k, _normalised(model, k, v)) for k, v in fixed.items()),
-                     axes=tuple(axes), ask=ask, options=options,
+                     axes=axes, ask=ask, options=options,
                      chunk=_chunk(data.get("sweep", {})), physical=physical)
     _validate_points(spec)
     return dataclasses.replace(spec, digest=scene_digest(spec.canonical()),

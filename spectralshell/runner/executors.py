@@ -8,8 +8,9 @@
   and each ending when the process that started it ends, even by ``kill -9`` (:func:`_die_with`).
 * ``dask``: ``distributed.Client(...).get_executor()``, for a running scheduler
   (``scheduler='tcp://HOST:PORT'``, connection timeout :data:`CONNECT_TIMEOUT` seconds, which
-  also bounds the wait for a first worker) or a ``LocalCluster`` on the loopback address
-  (``scheduler='local'``, ``workers`` single-threaded worker processes) started and stopped here.
+  also bounds the wait for a first worker; the peer must first greet as a Dask scheduler does,
+  :func:`_probe`, so that any other server is refused in one line within the timeout) or a
+  ``LocalCluster`` on the loopback address (``scheduler='local'``, ``workers`` single-threaded worker processes) started and stopped here.
   Dask is the optional extra ``spectralshell[dask]``; nothing here imports it unless asked.
 """
 
@@ -21,6 +22,9 @@ import multiprocessing
 import os
 import re
 import signal
+import socket
+import ssl
+import struct
 import sys
 import threading
 import time
@@ -37,6 +41,9 @@ EXECUTORS = ("serial", "processes", "dask")
 CONNECT_TIMEOUT = 10.0  # seconds: connecting to a Dask scheduler, and waiting for its first worker
 DASK_EXTRA = "executor 'dask' needs the optional extra: pip install spectralshell[dask]"
 _ADDRESS = re.compile(r"^(tcp|tls)://[^\s/:]+:\d+/?$")
+#: Largest first message accepted from a scheduler: its handshake (compression, Python and
+#: pickle versions, msgpack in one or two frames) takes ~100 bytes.
+HANDSHAKE_MAX = 65536
 
 
 def _process_context():
@@ -164,7 +171,85 @@ def _import_distributed():
     return distributed
 
 
+def _open_socket(host: str, port: int, deadline: float) -> socket.socket:
+    """A TCP connection to (host, port), retried while refused until ``deadline``
+    (time.monotonic); OSError (or TimeoutError) when none is made by then."""
+    while True:
+        try:
+            return socket.create_connection((host, port), timeout=max(deadline - time.monotonic(),
+                                                                       0.01))
+        except ConnectionRefusedError:
+            if time.monotonic() + 0.1 >= deadline:
+                raise
+            time.sleep(0.1)
+
+
+def _receive(sock: socket.socket, size: int, deadline: float) -> bytes:
+    """Exactly ``size`` bytes from ``sock`` by ``deadline``; TimeoutError or EOFError if not."""
+    data = b""
+    while len(data) < size:
+        sock.settimeout(max(deadline - time.monotonic(), 0.01))
+        chunk = sock.recv(size - len(data))
+        if not chunk:
+            raise EOFError("closed")
+        data += chunk
+    return data
+
+
+def _greeting_ok(message: bytes) -> bool:
+    """Whether ``message`` is framed as Dask's first message (distributed.comm.tcp): a count of
+    frames (1..16), their lengths, then exactly that many bytes."""
+    if len(message) < 16:
+        return False
+    (count,) = struct.unpack_from("<Q", message)
+    if not 1 <= count <= 16 or len(message) < 8 * (count + 1):
+        return False
+    lengths = struct.unpack_from(f"<{count}Q", message, 8)
+    return 8 * (count + 1) + sum(lengths) == len(message)
+
+
+def _probe(distributed, address: str, timeout: float) -> None:
+    """Refuse (ParameterError) a peer at ``address`` that does not greet as a Dask scheduler
+    within ``timeout`` s, before a Client connects to it.
+
+    A Dask listener sends its handshake first: an 8-byte length, then that many bytes of frames
+    (distributed.comm.tcp). Only a length up to HANDSHAKE_MAX is read, so a peer that answers
+    something else (a web server, which waits for a request and gets the probe's timeout;
+    garbage, whose first 8 bytes read as an absurd length) costs neither the Client's hang
+    nor its allocation of that length. tls:// is probed through the client's TLS context of
+    the Dask configuration.
+    """
+    scheme, rest = address.rstrip("/").split("://")
+    host, port = rest.rsplit(":", 1)
+    deadline = time.monotonic() + timeout
+    try:
+        sock = _open_socket(host, int(port), deadline)
+    except OSError as exc:
+        raise ParameterError(f"scheduler = {address!r} is unreachable: no Dask scheduler answered "
+                             f"within {timeout:g} s ({type(exc).__name__})") from None
+    try:
+        if scheme == "tls":
+            context = distributed.Security().get_connection_args("client")["ssl_context"] \
+                or ssl.create_default_context()
+            sock = context.wrap_socket(sock, server_hostname=host if context.check_hostname
+                                       else None)
+        (size,) = struct.unpack("<Q", _receive(sock, 8, deadline))
+        if not 16 <= size <= HANDSHAKE_MAX:
+            raise ValueError(f"a first message of {size} bytes")
+        if not _greeting_ok(_receive(sock, size, deadline)):
+            raise ValueError("a first message not framed as Dask's")
+    except (OSError, EOFError, ValueError) as exc:  # TimeoutError and ssl.SSLError are OSErrors
+        why = {TimeoutError: "no greeting", EOFError: "a closed connection",
+               ValueError: str(exc)}.get(type(exc), type(exc).__name__)
+        raise ParameterError(f"scheduler = {address!r} is not a Dask scheduler: the peer answered "
+                             f"with {why} within {timeout:g} s, where a scheduler sends its "
+                             "handshake at once") from None
+    finally:
+        sock.close()
+
+
 def _connect(distributed, address: str):
+    _probe(distributed, address, CONNECT_TIMEOUT)
     try:
         client = distributed.Client(address, timeout=f"{CONNECT_TIMEOUT}s", set_as_default=False)
     except (OSError, TimeoutError) as exc:
