@@ -28,15 +28,17 @@ from .models.sphere import lambda0_squared
 from .models import sphere_nonlinear
 from .models.sphere_nonlinear import lambda0_over_sqrt_kappa
 from .params.grid import parse_int_range, parse_range
-from .params.physical import PHYSICAL_UNITS, PhysicalSphere, sphere_forced_params
+from .params.physical import (PHYSICAL_UNITS, SPHERE_INPUTS, PhysicalSphere, physical_inputs,
+                               sphere_forced_params)
 from .params.physical import convert_physical
-from .params.registry import check_model, make_params, param_names
+from .params.stiffness import amplitude_warnings, threshold_warnings
+from .params.registry import PARAMS, check_model, make_params, param_names
 from .params.scene import Plan, plan
 from .results.maps import TauMapResult
 from .results.modes import NaturalModesResult
 from .results.spatial import SpatialFloquetResult
 from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
-                              provenance, resolution_warnings, tau_warnings)
+                              provenance, resolution_warnings)
 from .solvers.exponents import floquet_exponents
 from .solvers.marginal import N_MAX, marginal_tau
 from .solvers.spatial_refinement import (TOL_SPATIAL, refine_spatial, solve_at,
@@ -105,7 +107,7 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
                              "has no spatial modes")
     p, system = _system(model, params)
     res = {k: marginal_tau(system, k, **options) for k in kinds}
-    warnings = tau_warnings(t for m in res.values() for t in m.tau)
+    warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
     if n_temporal is None:
         warnings += resolution_warnings(res, options["tol"])
     return FloquetResult(model=model, params=dataclasses.asdict(p), harmonic=res.get("harmonic"),
@@ -160,7 +162,7 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
         fine, change = found.taus, found.change
         m_fine, m_coarse = found.n_spatial, found.n_spatial_previous
     res = {k: spatial_error(fine[k], change[k]) for k in kinds}
-    warnings = tau_warnings(t for m in res.values() for t in m.tau)
+    warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
     auto = n_given is None and first.spatial_mode is None
     opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
     return SpatialFloquetResult(model=model, params=dataclasses.asdict(p),
@@ -222,7 +224,7 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
     factory = functools.partial(_factory, model, dict(params))
     rows = _map(factory, list(grid), kinds, workers, progress, "tongues", options)
     found, failures = find_tips(factory, grid, rows, kinds, tol=options["tol"]) if tips else ([], [])
-    warnings = tau_warnings(t for r in rows for m in r.values() for t in m.tau) + failures
+    warnings = threshold_warnings({k: [r[k].tau_min for r in rows] for k in kinds}) + failures
     p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
     p.pop("kappa")
     return TonguesResult(model=model, params=p, kappa=grid, kinds=kinds, rows=tuple(rows),
@@ -241,6 +243,27 @@ def _point_params(params: dict[str, Any], physical: dict[str, float] | None,
 def _map_system(model: str, params: dict[str, Any], physical: dict[str, float] | None,
                 names: tuple[str, str], point: tuple[float, float, int]) -> HillSystem:
     return _system(model, _point_params(params, physical, names, point))[1]
+
+
+def _map_axis(model: str, label: str, axis: object, physical: bool) -> tuple[str, np.ndarray]:
+    """(name, grid) of the map axis ``label`` = (name, grid spec): the name one of the model's
+    real parameters, or with physical input one of PHYSICAL_UNITS; the grid non-empty."""
+    names = tuple(PHYSICAL_UNITS) if physical else tuple(
+        f.name for f in dataclasses.fields(PARAMS[model]) if f.type in (float, "float"))
+    if not (isinstance(axis, (tuple, list)) and len(axis) == 2):
+        raise ParameterError(f"{label} = {axis!r} is invalid: must be a pair (name, grid) with "
+                             f"name one of {', '.join(names)}")
+    if not isinstance(axis[0], str) or axis[0] not in names:
+        hint = "" if physical else f" (cgs axes {', '.join(PHYSICAL_UNITS)} need physical=)"
+        raise ParameterError(f"{label} axis name = {axis[0]!r} is invalid: must be one of "
+                             f"{', '.join(names)}{hint}")
+    name = str(axis[0])
+    spec = axis[1]
+    grid = parse_range(name, spec) if isinstance(spec, (str, Mapping)) else \
+        np.array([require_real(name, v) for v in np.atleast_1d(np.asarray(spec, dtype=object))])
+    if not grid.size:
+        raise ParameterError(f"{label} grid {name} = [] is invalid: must be a non-empty grid")
+    return name, grid
 
 
 def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str = "both",
@@ -268,15 +291,9 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str 
     kinds = expand_kind(kind)
     options = _solver_options(tol, None, tau_max)
     degrees = parse_int_range("m", m)
-    names = (str(x[0]), str(y[0]))
-    grids = [parse_range(n, g) if isinstance(g, str) else
-             np.array([require_real(n, v) for v in np.atleast_1d(g)]) for n, g in (x, y)]
-    if any(not g.size for g in grids):
-        raise ParameterError("x/y grid = [] is invalid: must be a non-empty grid")
-    phys = None if physical is None else {k: float(v) for k, v in physical.items()}
-    for name in names:
-        if name in PHYSICAL_UNITS and phys is None:
-            raise ParameterError(f"axis {name} = physical quantity is invalid without physical=")
+    phys = None if physical is None else physical_inputs(physical, PHYSICAL_UNITS)
+    (names, grids) = zip(*(_map_axis(model, label, axis, phys is not None)
+                           for label, axis in (("x", x), ("y", y))))
     factory = functools.partial(_map_system, model, dict(params), phys, names)
     for gx in (grids[0][0], grids[0][-1]):  # validate the grid's corners before the sweep
         for gy in (grids[1][0], grids[1][-1]):
@@ -345,7 +362,7 @@ def natural_modes(model: str, *, count: int | None = None, precision: int | None
             raise ParameterError("zeta/physical = given with kappa or nu is invalid: give one of "
                                  "(kappa, nu), zeta, or physical (rho, mu, radius, sigma)")
         if physical is not None:
-            phys = PhysicalSphere(**{k: float(v) for k, v in physical.items()})
+            phys = PhysicalSphere(**physical_inputs(physical, SPHERE_INPUTS, SPHERE_INPUTS))
             zeta, scale = phys.zeta, 1.0 / phys.time_scale
         params = {**params, "kappa": 1.0, "nu": require_nonnegative("zeta", zeta)}
     p = make_params(model, dict(params))
@@ -417,7 +434,7 @@ def _cochlea_natural_modes(*, count, precision, zeta, physical, params) -> Natur
                                  "(kappa, nu), zeta, or physical (rho, mu, sigma, length, lambda_c)")
         if physical is not None:
             phys = {**{k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")},
-                    **{k: float(v) for k, v in physical.items()}}
+                    **physical_inputs(physical, ("rho", "mu", "sigma", "length", "lambda_c"))}
             dimless = cochlea_forced(**phys, omega=1.0)
             zeta = dimless["nu"] / np.sqrt(dimless["kappa"])
             scale = 1.0 / cochlea_time_scale(rho=phys["rho"], sigma=phys["sigma"], length=phys["length"])
@@ -720,7 +737,7 @@ def stability(model: str, *, tau: float, m, kind: str = "both", tol: float = 1e-
         modes.append(entry)
     p = {k: v for k, v in res.params.items() if k != "m"}
     return StabilityResult(model=model, tau=tau, params=p, modes=tuple(modes),
-                           warnings=tuple(tau_warnings([abs(tau)])),
+                           warnings=tuple(amplitude_warnings(tau)),
                            provenance=provenance({"kind": kind, **options}))
 
 

@@ -12,12 +12,10 @@ from typing import Any
 import numpy as np
 
 from .._version import stamp
+from ..params.stiffness import amplitude_warnings
 from ..solvers.exponents import Exponents
 from ..solvers.marginal import MarginalTau
 from ..solvers.tongues import Tip
-
-NEGATIVE_STIFFNESS = "tau > 1/2: the stiffness kappa (1 + 2 tau sin t) becomes negative during the cycle"
-
 
 def provenance(options: dict[str, Any]) -> dict[str, Any]:
     """Package and library versions (:func:`spectralshell._version.stamp`) and the solver
@@ -34,11 +32,6 @@ def marginal_dict(m: MarginalTau) -> dict[str, Any]:
     return {"tau": [float(t) for t in m.tau], "tau_min": _float(m.tau_min),
             "n_temporal": m.n_temporal, "error_estimate": _float(m.error_estimate),
             "method": m.method}
-
-
-def tau_warnings(values) -> list[str]:
-    """The negative-stiffness flag if any tau exceeds 1/2."""
-    return [NEGATIVE_STIFFNESS] if any(t > 0.5 for t in values) else []
 
 
 def resolution_warnings(res: Mapping[str, MarginalTau], tol: float) -> list[str]:
@@ -91,7 +84,7 @@ class ExponentsResult:
     def build(cls, *, model, params, tau, exponents: Exponents, options) -> "ExponentsResult":
         return cls(model=model, params=params, tau=tau, gamma=exponents.gamma,
                    n_temporal=exponents.n_temporal, error_estimate=exponents.error_estimate,
-                   provenance=provenance(options), warnings=tuple(tau_warnings([abs(tau)])))
+                   provenance=provenance(options), warnings=tuple(amplitude_warnings(tau)))
 
     @property
     def multipliers(self) -> np.ndarray:
