@@ -2,20 +2,34 @@
 
 Each validator returns the cleaned value or raises :class:`~spectralshell.errors.ParameterError`
 with the message ``"<name> = <value> is invalid: must be <allowed range>"``.
+
+Validators are strict about types: a number must be a number, so a scene's ``num = "6"`` is
+refused where an integer is expected. Command-line text is read by :func:`parse_real` and
+:func:`parse_int` first, and the parameter's validator then checks the number.
+
+Every real input has magnitude 0 or within [``REAL_MIN``, ``REAL_MAX``] = [1e-100, 1e100]: any
+product or quotient of three such numbers (a parameter squared times another, kappa / nu^2, a
+Fourier index squared times a parameter) is then a normal double, |x| in [1e-300, 1e300], so the
+numerics of a valid input neither overflow nor underflow to 0.
 """
 
 from __future__ import annotations
 
-import math
 import numbers
 import os
+import stat
 import uuid
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from .errors import ParameterError
 
+#: Longest repr of a value shown in a message.
 SHOWN = 80
+#: Largest magnitude of a real input (see the module docstring).
+REAL_MAX = 1e100
+#: Smallest non-zero magnitude of a real input (see the module docstring).
+REAL_MIN = 1e-100
 
 
 def invalid(name: str, value: object, allowed: str) -> ParameterError:
@@ -27,57 +41,78 @@ def invalid(name: str, value: object, allowed: str) -> ParameterError:
     return ParameterError(f"{name} = {shown} is invalid: must be {allowed}")
 
 
-def require_real(name: str, value: object) -> float:
-    """Return ``value`` as a finite float."""
+def _real(name: str, value: object, allowed: str) -> float:
+    """``value`` as a float of magnitude 0 or in [REAL_MIN, REAL_MAX] (no str, no bool)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        if isinstance(value, str):
-            try:
-                value = float(value)
-            except ValueError:
-                raise invalid(name, value, "a finite real number") from None
-        else:
-            raise invalid(name, value, "a finite real number")
-    value = float(value)
-    if not math.isfinite(value):
-        raise invalid(name, value, "a finite real number")
-    return value
+        raise invalid(name, value, allowed)
+    try:
+        v = float(value)
+    except OverflowError:  # an int or a Fraction beyond the float range
+        raise invalid(name, value, allowed) from None
+    if not (v == 0.0 or REAL_MIN <= abs(v) <= REAL_MAX):  # also refuses nan and inf
+        raise invalid(name, value, allowed)
+    return v + 0.0  # -0.0 becomes 0.0
+
+
+def require_real(name: str, value: object) -> float:
+    """Return ``value`` as a float of magnitude 0 or in [REAL_MIN, REAL_MAX]."""
+    return _real(name, value, f"a finite real number, 0 or of magnitude in [{REAL_MIN:g}, "
+                              f"{REAL_MAX:g}]")
 
 
 def require_nonnegative(name: str, value: object) -> float:
-    """Return ``value`` as a finite float >= 0."""
-    v = require_real(name, value)
+    """Return ``value`` as a float, 0 or in [REAL_MIN, REAL_MAX]."""
+    allowed = f"a finite real number >= 0: 0 or in [{REAL_MIN:g}, {REAL_MAX:g}]"
+    v = _real(name, value, allowed)
     if v < 0:
-        raise invalid(name, value, "a finite real number >= 0")
+        raise invalid(name, value, allowed)
     return v
 
 
 def require_positive(name: str, value: object) -> float:
-    """Return ``value`` as a finite float > 0."""
-    v = require_real(name, value)
+    """Return ``value`` as a float in [REAL_MIN, REAL_MAX]."""
+    allowed = f"a finite real number > 0, in [{REAL_MIN:g}, {REAL_MAX:g}]"
+    v = _real(name, value, allowed)
     if v <= 0:
-        raise invalid(name, value, "a finite real number > 0")
+        raise invalid(name, value, allowed)
     return v
 
 
 def require_int_in_range(name: str, value: object, lo: int, hi: int | None = None) -> int:
-    """Return ``value`` as an int with ``lo <= value <= hi`` (``hi=None``: no upper bound)."""
+    """Return ``value`` (an integer, or an integral float; no str, no bool) as an int with
+    ``lo <= value <= hi`` (``hi=None``: no upper bound)."""
+    allowed = f"an integer >= {lo}" if hi is None else f"an integer in [{lo}, {hi}]"
     if isinstance(value, bool):
-        raise invalid(name, value, _int_range(lo, hi))
+        raise invalid(name, value, allowed)
     if isinstance(value, numbers.Integral):
         v = int(value)
     elif isinstance(value, numbers.Real) and float(value).is_integer():
         v = int(value)
-    elif isinstance(value, str) and value.strip().lstrip("+-").isdigit():
-        v = int(value)
     else:
-        raise invalid(name, value, _int_range(lo, hi))
+        raise invalid(name, value, allowed)
     if v < lo or (hi is not None and v > hi):
-        raise invalid(name, value, _int_range(lo, hi))
+        raise invalid(name, value, allowed)
     return v
 
 
-def _int_range(lo: int, hi: int | None) -> str:
-    return f"an integer >= {lo}" if hi is None else f"an integer in [{lo}, {hi}]"
+def parse_real(name: str, text: str) -> float:
+    """The number written in ``text`` (command-line input); the parameter's validator checks
+    its range."""
+    try:
+        return float(text)
+    except ValueError:
+        raise invalid(name, text, "a finite real number") from None
+
+
+def parse_int(name: str, text: str) -> int | float:
+    """The integer written in ``text`` (command-line input; '3.0' and '1e3' are read as numbers
+    and checked by the parameter's validator)."""
+    for convert in (int, float):
+        try:
+            return convert(text)
+        except ValueError:
+            pass
+    raise invalid(name, text, "an integer")
 
 
 def require_choice(name: str, value: object, choices: Iterable[str]) -> str:
@@ -87,6 +122,15 @@ def require_choice(name: str, value: object, choices: Iterable[str]) -> str:
     if not isinstance(value, str) or value not in choices:
         raise invalid(name, value, "one of " + ", ".join(repr(c) for c in choices))
     return str(value)
+
+
+def require_choices(name: str, value: object, choices: Iterable[str]) -> tuple[str, ...]:
+    """Return ``value``, a non-empty list of ``choices``, as a tuple without repeats (a single
+    str is refused: a list is expected)."""
+    choices = tuple(choices)
+    if not isinstance(value, (list, tuple)) or not value:
+        raise invalid(name, value, "a non-empty list of " + ", ".join(repr(c) for c in choices))
+    return tuple(dict.fromkeys(require_choice(name, v, choices) for v in value))
 
 
 def require_writable_directory(name: str, value: object, directory: Path) -> None:
@@ -103,3 +147,30 @@ def require_writable_directory(name: str, value: object, directory: Path) -> Non
     except OSError as exc:
         raise ParameterError(f"{name} = {str(value)!r} is not writable: directory "
                              f"{str(directory)!r} refuses new files ({exc.strerror})") from None
+
+
+_NOT_REGULAR = ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a device"), (stat.S_ISBLK, "a device"),
+                (stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"))
+
+
+def require_output_file(name: str, value: object, suffixes: Sequence[str]) -> Path:
+    """Return the output file ``name`` = ``value`` as a Path if it can be written: an existing
+    regular file (it will be replaced) or a new one, named with one of ``suffixes`` (e.g.
+    ('.png',)), in a directory that exists and accepts new files."""
+    if not isinstance(value, (str, os.PathLike)) or not str(value):
+        raise invalid(name, value, "a file name")
+    path = Path(value)
+    try:
+        mode = path.stat().st_mode
+    except FileNotFoundError:
+        mode = None
+    except OSError as exc:
+        raise ParameterError(f"{name} = {str(value)!r} is not writable: {exc.strerror}") from None
+    for test, kind in _NOT_REGULAR:
+        if mode is not None and test(mode):
+            raise ParameterError(f"{name} = {str(value)!r} is invalid: it is {kind}; must be a "
+                                 "regular file (new, or an existing one to replace)")
+    if path.suffix.lower() not in suffixes:
+        raise invalid(name, str(value), "a file name ending in " + " or ".join(suffixes))
+    require_writable_directory(name, value, path.resolve().parent)
+    return path

@@ -30,16 +30,17 @@ from .models import sphere_nonlinear
 from .models.sphere_nonlinear import lambda0_over_sqrt_kappa
 from .params.grid import parse_int_range, parse_range
 from .params.limits import RESULT_BYTES, SECONDS, check_grid, check_points
-from .params.physical import PHYSICAL_UNITS, PhysicalSphere, sphere_forced_params
+from .params.physical import (PHYSICAL_UNITS, SPHERE_INPUTS, PhysicalSphere, physical_inputs,
+                              sphere_forced_params)
 from .params.physical import convert_physical
-from .params.registry import check_model, int_bounds, make_params, param_names
+from .params.stiffness import amplitude_warnings, threshold_warnings
+from .params.registry import PARAMS, check_model, int_bounds, make_params, param_names
 from .params.scene import Plan, plan
 from .results.maps import TauMapResult
 from .results.modes import NaturalModesResult
 from .results.spatial import SpatialFloquetResult
 from .results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
-                              certification_warnings, provenance, resolution_warnings,
-                              tau_warnings)
+                              certification_warnings, provenance, resolution_warnings)
 from .solvers.cost import CostEstimate, spatial_cost
 from .solvers.exponents import floquet_exponents
 from .solvers.marginal import N_MAX, marginal_tau
@@ -120,7 +121,7 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
                                  "spatial modes")
     p, system = _system(model, params)
     res = {k: marginal_tau(system, k, **options) for k in kinds}
-    warnings = tau_warnings(t for m in res.values() for t in m.tau)
+    warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
     if n_temporal is None:
         warnings += resolution_warnings(res, options["tol"])
     warnings += certification_warnings(res)
@@ -215,7 +216,7 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
             p, fine, change, m_fine, m_coarse = _solve_spatial(
                 model, params, first, _counted(factory, bar), kinds, options, tol_spatial)
     res = {k: spatial_error(fine[k], change[k]) for k in kinds}
-    warnings = tau_warnings(t for m in res.values() for t in m.tau)
+    warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
     auto = n_given is None and first.spatial_mode is None
     opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
     return SpatialFloquetResult(model=model, params=dataclasses.asdict(p),
@@ -252,11 +253,11 @@ def _factory(model: str, params: dict[str, Any], kappa: float) -> HillSystem:
 
 
 def _grid(name: str, spec: Any, max_points: int | None) -> np.ndarray:
-    """A 1-D grid from 'start:stop:num' or array-like values, its size checked against the
-    points limit before it is made (a range) or converted (values)."""
-    if isinstance(spec, str):
+    """A non-empty 1-D grid from 'start:stop:num', {start, stop, num} or array-like values, its
+    size checked against the points limit before it is made (a range) or converted (values)."""
+    if isinstance(spec, (str, Mapping)):
         return parse_range(name, spec, max_points)
-    values = np.atleast_1d(spec)
+    values = np.atleast_1d(np.asarray(spec, dtype=object))
     check_points(name, values.size, max_points)
     if not values.size:
         raise ParameterError(f"{name} = [] is invalid: must be a non-empty grid")
@@ -291,7 +292,7 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
     factory = functools.partial(_factory, model, dict(params))
     rows = _map(factory, list(grid), kinds, workers, progress, "tongues", options)
     found, failures = find_tips(factory, grid, rows, kinds, tol=options["tol"]) if tips else ([], [])
-    warnings = tau_warnings(t for r in rows for m in r.values() for t in m.tau) + failures
+    warnings = threshold_warnings({k: [r[k].tau_min for r in rows] for k in kinds}) + failures
     p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
     p.pop("kappa")
     return TonguesResult(model=model, params=p, kappa=grid, kinds=kinds, rows=tuple(rows),
@@ -310,6 +311,23 @@ def _point_params(params: dict[str, Any], physical: dict[str, float] | None,
 def _map_system(model: str, params: dict[str, Any], physical: dict[str, float] | None,
                 names: tuple[str, str], point: tuple[float, float, int]) -> HillSystem:
     return _system(model, _point_params(params, physical, names, point))[1]
+
+
+def _map_axis(model: str, label: str, axis: object, physical: bool,
+              max_points: int | None) -> tuple[str, np.ndarray]:
+    """(name, grid) of the map axis ``label`` = (name, grid spec): the name one of the model's
+    real parameters, or with physical input one of PHYSICAL_UNITS; the grid by :func:`_grid`."""
+    names = tuple(PHYSICAL_UNITS) if physical else tuple(
+        f.name for f in dataclasses.fields(PARAMS[model]) if f.type in (float, "float"))
+    if not (isinstance(axis, (tuple, list)) and len(axis) == 2):
+        raise ParameterError(f"{label} = {axis!r} is invalid: must be a pair (name, grid) with "
+                             f"name one of {', '.join(names)}")
+    if not isinstance(axis[0], str) or axis[0] not in names:
+        hint = "" if physical else f" (cgs axes {', '.join(PHYSICAL_UNITS)} need physical=)"
+        raise ParameterError(f"{label} axis name = {axis[0]!r} is invalid: must be one of "
+                             f"{', '.join(names)}{hint}")
+    name = str(axis[0])
+    return name, _grid(name, axis[1], max_points)
 
 
 def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str = "both",
@@ -339,14 +357,11 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str 
     kinds = expand_kind(kind)
     options = _solver_options(tol, None, tau_max)
     degrees = parse_int_range("m", m, int_bounds(model, "m"), max_points)
-    names = (str(x[0]), str(y[0]))
-    grids = [_grid(n, g, max_points) for n, g in (x, y)]
+    phys = None if physical is None else physical_inputs(physical, PHYSICAL_UNITS)
+    (names, grids) = zip(*(_map_axis(model, label, axis, phys is not None, max_points)
+                           for label, axis in (("x", x), ("y", y))))
     check_grid(f"tau map {names[0]} x {names[1]} x m", (grids[0].size, grids[1].size,
                                                         len(degrees)), RESULT_BYTES, max_points)
-    phys = None if physical is None else {k: float(v) for k, v in physical.items()}
-    for name in names:
-        if name in PHYSICAL_UNITS and phys is None:
-            raise ParameterError(f"axis {name} = physical quantity is invalid without physical=")
     factory = functools.partial(_map_system, model, dict(params), phys, names)
     for gx in (grids[0][0], grids[0][-1]):  # validate the grid's corners before the sweep
         for gy in (grids[1][0], grids[1][-1]):
@@ -415,7 +430,7 @@ def natural_modes(model: str, *, count: int | None = None, precision: int | None
             raise ParameterError("zeta/physical = given with kappa or nu is invalid: give one of "
                                  "(kappa, nu), zeta, or physical (rho, mu, radius, sigma)")
         if physical is not None:
-            phys = PhysicalSphere(**{k: float(v) for k, v in physical.items()})
+            phys = PhysicalSphere(**physical_inputs(physical, SPHERE_INPUTS, SPHERE_INPUTS))
             zeta, scale = phys.zeta, 1.0 / phys.time_scale
         params = {**params, "kappa": 1.0, "nu": require_nonnegative("zeta", zeta)}
     p = make_params(model, dict(params))
@@ -487,7 +502,7 @@ def _cochlea_natural_modes(*, count, precision, zeta, physical, params) -> Natur
                                  "(kappa, nu), zeta, or physical (rho, mu, sigma, length, lambda_c)")
         if physical is not None:
             phys = {**{k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")},
-                    **{k: float(v) for k, v in physical.items()}}
+                    **physical_inputs(physical, ("rho", "mu", "sigma", "length", "lambda_c"))}
             dimless = cochlea_forced(**phys, omega=1.0)
             zeta = dimless["nu"] / np.sqrt(dimless["kappa"])
             scale = 1.0 / cochlea_time_scale(rho=phys["rho"], sigma=phys["sigma"], length=phys["length"])
@@ -790,7 +805,7 @@ def stability(model: str, *, tau: float, m, kind: str = "both", tol: float = 1e-
         modes.append(entry)
     p = {k: v for k, v in res.params.items() if k != "m"}
     return StabilityResult(model=model, tau=tau, params=p, modes=tuple(modes),
-                           warnings=tuple(tau_warnings([abs(tau)])),
+                           warnings=tuple(amplitude_warnings(tau)),
                            provenance=provenance({"kind": kind, **options}))
 
 

@@ -1,7 +1,10 @@
 """Command-line interface: argparse over :mod:`spectralshell.api`; parses, prints, writes files.
 
 Every error the user can cause prints one line to stderr and exits with status 2; a computation
-that cannot reach its accuracy exits with status 1.
+that cannot reach its accuracy exits with status 1. So do, with one line each, a run out of
+memory, a file system that fails during the run, and an arithmetic overflow that validation
+should have prevented (then a bug to report: the line names the exception); any other
+exception is a bug and keeps its traceback.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from . import api
-from ._validate import require_writable_directory
+from ._validate import parse_int, parse_real, require_output_file, require_writable_directory
 from ._version import __version__
 from .errors import ConvergenceError, ParameterError, SpectralShellError
 from .params.registry import PARAMS, param_names
@@ -59,7 +62,7 @@ def _given(args: argparse.Namespace, name: str, convert: Callable[[str, str], An
 
 
 def _tau_max(args: argparse.Namespace) -> dict[str, float]:
-    return _given(args, "tau_max", _number)
+    return _given(args, "tau_max", parse_real)
 
 
 def _max_points_flag(p: argparse.ArgumentParser) -> None:
@@ -85,24 +88,15 @@ def _typed(name: str, text: str, kind: object) -> Any:
     if kind in (str, "str"):
         return text
     if kind in (int, "int"):
-        for convert in (int, float):
-            try:
-                return convert(text)
-            except ValueError:
-                pass
-        return text  # the parameter's own validator says what is allowed
-    return _number(name, text)
-
-
-def _number(name: str, text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        raise ParameterError(f"{name} = {text!r} is invalid: must be a finite real number") from None
+        try:
+            return parse_int(name, text)
+        except ParameterError:
+            return text  # the parameter's own validator says what is allowed
+    return parse_real(name, text)
 
 
 def _solver(args: argparse.Namespace) -> dict[str, Any]:
-    out: dict[str, Any] = {"tol": _number("tol", args.tol)}
+    out: dict[str, Any] = {"tol": parse_real("tol", args.tol)}
     if args.n_temporal is not None:
         try:
             out["n_temporal"] = int(args.n_temporal)
@@ -112,9 +106,12 @@ def _solver(args: argparse.Namespace) -> dict[str, Any]:
     return out
 
 
-def _check_writable(path: str | None) -> None:
+def _check_output(name: str, path: str | Path | None, suffix: str) -> None:
+    """Refuse output file ``name`` = ``path`` unless it can be written: a new or existing
+    (replaced) regular file ending in ``suffix`` in a writable directory
+    (:func:`spectralshell._validate.require_output_file`)."""
     if path is not None:
-        require_writable_directory("output", path, Path(path).resolve().parent)
+        require_output_file(name, path, (suffix,))
 
 
 def _make_dir(out: str | Path) -> Path:
@@ -125,7 +122,7 @@ def _make_dir(out: str | Path) -> Path:
     except OSError as exc:
         raise ParameterError(f"output directory {str(out)!r} cannot be created: "
                              f"{exc.strerror or exc}") from None
-    _check_writable(str(out / "x"))
+    require_writable_directory("output directory", out, out)
     return out
 
 
@@ -196,13 +193,13 @@ COCHLEA_FLAGS = {"omega": "rad/s", "rho": "g/cm^3", "mu": "g/(cm s)", "sigma": "
 
 
 def _physical(args: argparse.Namespace) -> dict[str, float]:
-    return {k: _number(k, getattr(args, k)) for k in COCHLEA_FLAGS if getattr(args, k, None) is not None}
+    return {k: parse_real(k, getattr(args, k)) for k in COCHLEA_FLAGS if getattr(args, k, None) is not None}
 
 
 def cmd_floquet(args) -> int:
     extra = _physical(args)
     for name in ("tol_spatial", "max_seconds"):
-        extra.update(_given(args, name, _number))
+        extra.update(_given(args, name, parse_real))
     res = api.floquet(args.model, kind=args.kind, **_solver(args), **extra, **_tau_max(args),
                       progress=sys.stderr.isatty() and not args.json, **_params(args, args.model))
     _warn(res.warnings)
@@ -234,8 +231,8 @@ def _write_tongues(res, *, png=None, csv=None, npz=None) -> list[str]:
 
 
 def cmd_tongues(args) -> int:
-    for path in (args.png, args.csv, args.npz):
-        _check_writable(path)
+    for flag in ("png", "csv", "npz"):
+        _check_output(f"--{flag}", getattr(args, flag), f".{flag}")
     if args.kappa is None:
         raise ParameterError("--kappa is required: a range START:STOP:NUM, e.g. 0:3:301")
     res = api.tongues(args.model, kappa=args.kappa, kind=args.kind, tips=not args.no_tips,
@@ -250,7 +247,7 @@ def cmd_tongues(args) -> int:
 def cmd_exponents(args) -> int:
     if args.tau is None:
         raise ParameterError("--tau is required: the forcing amplitude")
-    res = api.exponents(args.model, tau=_number("tau", args.tau), **_solver(args),
+    res = api.exponents(args.model, tau=parse_real("tau", args.tau), **_solver(args),
                         **_params(args, args.model))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), lambda: _exponents_text(res))
@@ -268,7 +265,7 @@ def _exponents_text(res) -> str:
 def cmd_stability(args) -> int:
     if args.tau is None or args.m is None:
         raise ParameterError("--tau and --m are required, e.g. --tau 0.45 --m 2:6")
-    res = api.stability(args.model, tau=_number("tau", args.tau), m=args.m, kind=args.kind,
+    res = api.stability(args.model, tau=parse_real("tau", args.tau), m=args.m, kind=args.kind,
                         **_solver(args), **_params(args, args.model, skip=("m",)))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), lambda: _stability_text(res))
@@ -288,11 +285,11 @@ PHYSICAL_FLAGS = ("radius", "sigma", "rho", "mu")
 
 
 def cmd_modes(args) -> int:
-    physical = {k: _number(k, getattr(args, k)) for k in PHYSICAL_FLAGS if getattr(args, k) is not None}
+    physical = {k: parse_real(k, getattr(args, k)) for k in PHYSICAL_FLAGS if getattr(args, k) is not None}
     if args.model == "cochlea":  # cgs input: any of rho mu sigma length lambda_c (Table 5.1 defaults)
         if args.radius is not None:
             raise ParameterError("--radius is not an input of model 'cochlea' (use --length)")
-        physical = {k: _number(k, getattr(args, k)) for k in COCHLEA_FLAGS
+        physical = {k: parse_real(k, getattr(args, k)) for k in COCHLEA_FLAGS
                     if k != "omega" and getattr(args, k, None) is not None}
     elif args.model == "fibre" and physical:
         raise ParameterError(f"--{next(iter(physical))} is not an input of model 'fibre' (give "
@@ -315,7 +312,7 @@ def cmd_modes(args) -> int:
             raise ParameterError(f"precision = {args.precision!r} is invalid: must be an integer "
                                  "number of digits") from None
     res = api.natural_modes(args.model, count=count, precision=precision,
-                            zeta=None if args.zeta is None else _number("zeta", args.zeta),
+                            zeta=None if args.zeta is None else parse_real("zeta", args.zeta),
                             physical=physical or None, **_params(args, args.model))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), lambda: _modes_text(res))
@@ -349,7 +346,7 @@ def _modes_text(res) -> str:
 
 
 def cmd_response(args) -> int:
-    _check_writable(args.png)
+    _check_output("--png", args.png, ".png")
     res = api.response(args.model, kind=args.kind, **_solver(args), **_physical(args),
                        **_params(args, args.model))
     _warn(res.warnings)
@@ -454,14 +451,16 @@ def _run(scene, out_dir: str | None, as_json: bool, name: str) -> int:
     the_plan = plan(scene)
     out = Path(out_dir or the_plan.output_dir)
     _make_dir(out)
+    png, json_path = out / "ince_strutt.png", out / f"{name}.json"
+    _check_output("output", png, ".png")
+    _check_output("output", json_path, ".json")
     results = api.run_scene(the_plan, progress=sys.stderr.isatty() and not as_json)
     for r in results.values():
         _warn(r.warnings)
     data = {k: r.to_dict() for k, r in results.items()}
     written = []
     if "tongues" in results:
-        written += _write_tongues(results["tongues"], png=str(out / "ince_strutt.png"))
-    json_path = out / f"{name}.json"
+        written += _write_tongues(results["tongues"], png=str(png))
     _atomic_write(json_path, lambda p: p.write_text(json.dumps(data, indent=1)))
     written.append(str(json_path))
     return _report(as_json, data, lambda: _summary(results), written)
@@ -478,12 +477,12 @@ def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str) -> in
                or "scene-output")
     sweep_spec({k: v for k, v in scene.items() if k != "output"})  # validate before creating out
     _make_dir(out)
-    store = out / f"{name}.zarr"
+    store, png = out / f"{name}.zarr", out / f"{name}.png"
+    _check_output("output", png, ".png")
     summary = api.sweep_summary({k: v for k, v in scene.items() if k != "output"},
                                 out=str(store), progress=sys.stderr.isatty() and not as_json)
     from .plots import sweep_plot
 
-    png = out / f"{name}.png"
     _atomic_write(png, lambda p: sweep_plot.save(api.open_sweep(store), p))
     return _report(as_json, {**summary, "png": str(png)}, lambda: _sweep_text(summary),
                    [str(png)])
@@ -515,7 +514,7 @@ def cmd_sweep(args) -> int:
 
 
 def cmd_plot(args) -> int:
-    _check_writable(args.png)
+    _check_output("--png", args.png, ".png")
     from .plots import sweep_plot
 
     ds = api.open_sweep(args.store)
@@ -533,11 +532,11 @@ def _simulation_flags_scene(args) -> dict:
         if getattr(args, flag) is None:
             raise ParameterError(f"--{flag.replace('_', '-')} is required, e.g. --kappa 0.06 "
                                  "--nu 0.002 --t-end 200")
-    params = {"kappa": args.kappa if _is_text(args.kappa) else _number("kappa", args.kappa),
-              "nu": _number("nu", args.nu), "tau": _number("tau", args.tau or "0")}
-    simulate = {"t_end": _number("t_end", args.t_end), "scheme": args.scheme}
+    params = {"kappa": args.kappa if _is_text(args.kappa) else parse_real("kappa", args.kappa),
+              "nu": parse_real("nu", args.nu), "tau": parse_real("tau", args.tau or "0")}
+    simulate = {"t_end": parse_real("t_end", args.t_end), "scheme": args.scheme}
     if args.dt is not None:
-        simulate["dt"] = _number("dt", args.dt)
+        simulate["dt"] = parse_real("dt", args.dt)
     if args.n_radial is not None:
         simulate["n_radial"] = _integer("n_radial", args.n_radial)
     shape = f"{_integer('m', args.m)}:0" if args.m is not None else args.shape
@@ -563,6 +562,11 @@ def _simulate_text(traj) -> str:
     return "\n".join(lines)
 
 
+def _shape_png(png: str) -> str:
+    """The membrane-shape PNG written next to the amplitude PNG ``png`` of a simulation."""
+    return str(Path(png).with_name(Path(png).stem + "_shape.png"))
+
+
 def _write_simulation(traj, png: str | None, npz: str | None) -> list[str]:
     written = []
     if png:
@@ -570,7 +574,7 @@ def _write_simulation(traj, png: str | None, npz: str | None) -> list[str]:
 
         from .runner.simulate import shape_snapshots
 
-        shape_png = str(Path(png).with_name(Path(png).stem + "_shape.png"))
+        shape_png = _shape_png(png)
         _atomic_write(png, lambda p: plot.save_amplitudes(traj, p))
         theta, phi, fields, times = shape_snapshots(traj)
         _atomic_write(shape_png, lambda p: plot.save_shape(theta, phi, fields, times, p))
@@ -599,8 +603,9 @@ def cmd_simulate(args) -> int:
         stem = Path(args.target).stem
         png, npz = png or str(out / f"{stem}.png"), npz or str(out / f"{stem}.npz")
         json_path = out / f"{stem}.json"
-    for path in (png, npz, None if json_path is None else str(json_path)):
-        _check_writable(path)
+    for name, path, suffix in (("--png", png, ".png"), ("--png", png and _shape_png(png), ".png"),
+                               ("--npz", npz, ".npz"), ("output", json_path, ".json")):
+        _check_output(name, path, suffix)
     traj = api.simulate(scene, progress=sys.stderr.isatty() and not args.json)
     _warn(traj.warnings)
     written = _write_simulation(traj, png, npz)
@@ -647,9 +652,9 @@ def build_parser() -> argparse.ArgumentParser:
                      skip=("kappa",))
     p.add_argument("--kappa", help="range START:STOP:NUM, e.g. 0:3:301")
     _tau_max_flag(p)
-    p.add_argument("--png", help="write the diagram as PNG")
-    p.add_argument("--csv", help="write points kind,kappa,tau as CSV")
-    p.add_argument("--npz", help="write arrays as NPZ")
+    p.add_argument("--png", help="write the diagram to a *.png file (an existing file is replaced)")
+    p.add_argument("--csv", help="write points kind,kappa,tau to a *.csv file (an existing file is replaced)")
+    p.add_argument("--npz", help="write arrays to a *.npz file (an existing file is replaced)")
     p.add_argument("--no-tips", action="store_true", help="do not locate finger tips")
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
     _max_points_flag(p)
@@ -685,7 +690,7 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X",
                        help=f"physical input ({unit}; Table 5.1 defaults, --omega required)")
     _solver_flags(p)
-    p.add_argument("--png", help="write the envelope and profile as PNG")
+    p.add_argument("--png", help="write the envelope and profile to a *.png file (an existing file is replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
     p.set_defaults(func=cmd_response)
 
@@ -752,15 +757,15 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument(f"--{name}", dest=name.replace("-", "_"), metavar="X", help=text)
     p.add_argument("--scheme", default="SBDF3", help="IMEX scheme (SBDF1-4, CNAB2, MCNAB2, "
                    "RK111, RK222, RK443; default SBDF3)")
-    p.add_argument("--png", help="write mode amplitudes against time (and PNG_shape.png: the "
-                   "membrane shape)")
-    p.add_argument("--npz", help="write the trajectory as NPZ")
+    p.add_argument("--png", help="write mode amplitudes against time to a *.png file (and "
+                   "NAME_shape.png: the membrane shape) (an existing file is replaced)")
+    p.add_argument("--npz", help="write the trajectory to a *.npz file (an existing file is replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
     p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser("plot", help="draw a stored sweep (.zarr or .nc) as PNG")
     p.add_argument("store", help="a sweep written by `spectralshell sweep --out`")
-    p.add_argument("--png", required=True, help="output PNG")
+    p.add_argument("--png", required=True, help="output *.png file (an existing file is replaced)")
     p.set_defaults(func=cmd_plot)
     return parser
 
@@ -776,6 +781,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (ParameterError, SpectralShellError) as exc:
         print(f"spectralshell: error: {exc}", file=sys.stderr)
         return 2
+    except MemoryError:
+        print("spectralshell: out of memory: reduce the problem size (grid points, truncation, "
+              "steps)", file=sys.stderr)
+        return 1
+    except ArithmeticError as exc:  # validation should make this impossible: a bug to report
+        print(f"spectralshell: internal limit reached ({type(exc).__name__}: {exc}); no result "
+              "was produced; please report the command line", file=sys.stderr)
+        return 1
+    except OSError as exc:  # the file system failed during the run (disk full, removed directory)
+        print(f"spectralshell: cannot complete: {exc.strerror or exc}"
+              + (f": {exc.filename!r}" if exc.filename else ""), file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print("spectralshell: interrupted", file=sys.stderr)
         return 130

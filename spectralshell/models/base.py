@@ -21,12 +21,27 @@ i kappa gives exactly the printed (2.6) -i((s^2 + nu s)/kappa + 1) u_n = tau (u_
 from __future__ import annotations
 
 import cmath
+import contextlib
 import functools
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
+from ..errors import ParameterError
+
+
+@contextlib.contextmanager
+def boundary_layer(nu: float) -> Iterator[None]:
+    """Name the user's ``nu`` when a Bessel-ratio kernel refuses its argument
+    beta = sqrt(s / nu) (the kernels call it z, which the user never gave)."""
+    try:
+        yield
+    except ParameterError as exc:
+        raise ParameterError(f"nu = {nu!r} is out of reach at this exponent s: the boundary-layer "
+                             f"argument beta = sqrt(s / nu) of the Bessel ratios is refused "
+                             f"({exc})") from None
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

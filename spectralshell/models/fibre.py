@@ -50,7 +50,7 @@ from ..errors import ParameterError
 from ..params.fibre import FibreParams
 from ..special.cylindrical import ratio_i, ratio_k
 from . import mathieu
-from .base import HillSystem, ModalSystem, damped_newton, modal_system_in_beta
+from .base import HillSystem, ModalSystem, boundary_layer, damped_newton, modal_system_in_beta
 
 
 def lambda0_squared(m: int, kappa: float) -> float:
@@ -107,8 +107,9 @@ def unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:
         sl = s[live]
         beta = np.sqrt(sl / nu)
         s2 = sl * sl
-        a = s2 / (beta * ratio_i(m, beta))        # s^2 / P
-        b = s2 * ratio_k(m - 1, beta) / beta      # s^2 / Q
+        with boundary_layer(nu):
+            a = s2 / (beta * ratio_i(m, beta))        # s^2 / P
+            b = s2 * ratio_k(m - 1, beta) / beta      # s^2 / Q
         out[live, 0, 0] += 2.0 * s2 / m + a + b
         out[live, 0, 1] += a - b
         out[live, 1, 0] += a - b

@@ -28,7 +28,7 @@ import numpy as np
 
 from ..special.spherical import ratio_i, ratio_k
 from . import mathieu
-from .base import HillSystem
+from .base import HillSystem, boundary_layer
 
 
 def lambda0_squared(m: int, kappa: float) -> float:
@@ -38,7 +38,8 @@ def lambda0_squared(m: int, kappa: float) -> float:
 
 def _p_q(m: int, s: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
     beta = np.sqrt(s / nu)
-    return beta * ratio_i(m, beta), beta / ratio_k(m - 1, beta)
+    with boundary_layer(nu):
+        return beta * ratio_i(m, beta), beta / ratio_k(m - 1, beta)
 
 
 def poloidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:

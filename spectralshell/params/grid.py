@@ -6,7 +6,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .._validate import require_int_in_range, require_real
+from .._validate import parse_int, parse_real, require_int_in_range, require_real
 from ..errors import ParameterError
 from .limits import check_points
 
@@ -23,10 +23,11 @@ def parse_range(name: str, spec: object, max_points: int | None = None) -> np.nd
     if isinstance(spec, str):
         parts = spec.split(":")
         if len(parts) == 1:
-            return np.array([require_real(name, parts[0])])
+            return np.array([require_real(name, parse_real(name, spec))])
         if len(parts) != 3:
             raise ParameterError(f"{name} = {spec!r} is invalid: must be START:STOP:NUM, e.g. 0:3:301")
-        start, stop, num = parts
+        start, stop = (parse_real(name, p) for p in parts[:2])
+        num = parse_int(f"{name} num", parts[2])
     elif isinstance(spec, Mapping):
         unknown = set(spec) - {"start", "stop", "num"}
         if unknown or not {"start", "stop", "num"} <= set(spec):
@@ -61,7 +62,7 @@ def parse_int_range(name: str, spec: object, bounds: tuple[int, int | None] = (0
         parts = spec.split(":")
         if len(parts) != 2:
             raise ParameterError(f"{name} = {spec!r} is invalid: must be LO:HI, e.g. 2:6")
-        lo, hi = (require_int_in_range(name, p, *bounds) for p in parts)
+        lo, hi = (require_int_in_range(name, parse_int(name, p), *bounds) for p in parts)
         if hi < lo:
             raise ParameterError(f"{name} = {spec!r} is invalid: HI must be >= LO (empty range)")
         check_points(f"{name} = {spec!r}", hi - lo + 1, max_points)
@@ -71,4 +72,6 @@ def parse_int_range(name: str, spec: object, bounds: tuple[int, int | None] = (0
             raise ParameterError(f"{name} = [] is invalid: must be a non-empty list of integers")
         check_points(f"{name} (a list)", len(spec), max_points)
         return [require_int_in_range(name, v, *bounds) for v in spec]
+    if isinstance(spec, str):
+        spec = parse_int(name, spec)
     return [require_int_in_range(name, spec, *bounds)]

@@ -20,10 +20,44 @@ omega_0^2 = sigma m(m+1)(m-1)(m+2) / (rho R^3 (2m+1)).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
-from .._validate import require_positive
+from .._validate import require_nonnegative, require_positive, require_real
 from ..errors import ParameterError
+
+
+def physical_inputs(values: object, allowed: Iterable[str],
+                    required: Iterable[str] = ()) -> dict[str, float]:
+    """``values`` (a mapping of cgs quantities: keys from ``allowed``, all of ``required``) with
+    each value a real number (:func:`spectralshell._validate.require_real`); the ranges are
+    checked where the quantities are used."""
+    allowed = tuple(allowed)
+    if not isinstance(values, Mapping):
+        raise ParameterError(f"physical = {values!r} is invalid: must be a mapping of "
+                             f"{', '.join(allowed)}")
+    unknown = sorted(set(values) - set(allowed))
+    if unknown:
+        raise ParameterError(f"physical {unknown[0]} is unknown: expected {', '.join(allowed)}")
+    missing = [k for k in required if k not in values]
+    if missing:
+        raise ParameterError(f"physical {missing[0]} is missing: needs {', '.join(required)}")
+    return {k: require_real(k, v) for k, v in values.items()}
+
+
+def _derived(name: str, formula: str, numerator: float, denominator: float,
+             inputs: Mapping[str, float], *, zero_ok: bool = False) -> float:
+    """Dimensionless ``name`` = ``formula`` = numerator / denominator, computed from the cgs
+    ``inputs`` and checked as a parameter (> 0, or >= 0 with ``zero_ok``, in the range of
+    :mod:`spectralshell._validate`); a refusal names the formula and the inputs. Products of
+    inputs overflow to inf or underflow to 0 only where the quotient lies far outside that
+    range, so an accepted value is exact to rounding."""
+    value = numerator / denominator if denominator else math.inf
+    try:
+        return (require_nonnegative if zero_ok else require_positive)(name, value)
+    except ParameterError as exc:
+        given = ", ".join(f"{k} = {v:g}" for k, v in inputs.items())
+        raise ParameterError(f"{exc} ({name} = {formula} from {given})") from None
 
 
 def bpm_to_rad_per_s(bpm: float) -> float:
@@ -49,9 +83,7 @@ class PhysicalSphere:
     def __post_init__(self) -> None:
         for name in ("rho", "radius", "sigma"):
             object.__setattr__(self, name, require_positive(name, getattr(self, name)))
-        if not (isinstance(self.mu, (int, float)) and math.isfinite(self.mu) and self.mu >= 0):
-            raise ParameterError(f"mu = {self.mu!r} is invalid: must be a finite number >= 0 (g/(cm s))")
-        object.__setattr__(self, "mu", float(self.mu))
+        object.__setattr__(self, "mu", require_nonnegative("mu", self.mu))
         if self.omega is not None:
             object.__setattr__(self, "omega", require_positive("omega", self.omega))
 
@@ -60,24 +92,37 @@ class PhysicalSphere:
         if self.omega is None:
             raise ParameterError("omega = None is invalid: the forced problem needs a forcing "
                                  "frequency omega > 0 (rad/s)")
-        return {"nu": self.mu / (self.rho * self.radius**2 * self.omega),
-                "kappa": self.sigma / (self.rho * self.radius**3 * self.omega**2)}
+        rho, r, omega, inputs = self.rho, self.radius, self.omega, self._inputs()
+        return {"nu": _derived("nu", "mu / (rho R^2 omega)", self.mu, rho * r * r * omega, inputs,
+                               zero_ok=True),
+                "kappa": _derived("kappa", "sigma / (rho R^3 omega^2)", self.sigma,
+                                  rho * r * r * r * omega * omega, inputs)}
+
+    def _inputs(self) -> dict[str, float]:
+        return {k: v for k, v in (("rho", self.rho), ("mu", self.mu), ("radius", self.radius),
+                                  ("sigma", self.sigma), ("omega", self.omega)) if v is not None}
 
     @property
     def time_scale(self) -> float:
         """T = sqrt(rho R^3 / sigma) in s: the time unit of the unforced problem (kappa = 1)."""
-        return math.sqrt(self.rho * self.radius**3 / self.sigma)
+        r = self.radius
+        return math.sqrt(_derived("T^2", "rho R^3 / sigma", self.rho * r * r * r, self.sigma,
+                                  self._inputs()))
 
     @property
     def zeta(self) -> float:
         """zeta = mu / sqrt(rho R sigma) = nu / sqrt(kappa), the only parameter of the natural modes."""
-        return self.mu / math.sqrt(self.rho * self.radius * self.sigma)
+        return _derived("zeta", "mu / sqrt(rho R sigma)", self.mu,
+                        math.sqrt(self.rho * self.radius * self.sigma), self._inputs(), zero_ok=True)
 
     def lamb_frequency(self, m: int) -> float:
         """Inviscid natural angular frequency omega_0 (rad/s) of degree m, (6.24)/(7.5)."""
         return math.sqrt(self.sigma * m * (m + 1) * (m - 1) * (m + 2)
                          / (self.rho * self.radius**3 * (2 * m + 1)))
 
+
+#: The cgs quantities every physical sphere input has (the forced problem adds omega or bpm).
+SPHERE_INPUTS = ("rho", "mu", "radius", "sigma")
 
 #: The cgs quantities that may replace (nu, kappa) of the sphere, with their units.
 PHYSICAL_UNITS = {"rho": "g/cm^3", "mu": "g/(cm s)", "radius": "cm", "sigma": "dyn/cm",
@@ -88,9 +133,16 @@ def sphere_forced_params(values: dict) -> dict:
     """``values`` with its cgs quantities (rho, mu, radius, sigma and omega or bpm) replaced by
     the dimensionless nu and kappa of (6.4)-(6.5); the other entries pass through."""
     rest = {k: v for k, v in values.items() if k not in PHYSICAL_UNITS}
-    phys = {k: v for k, v in values.items() if k in PHYSICAL_UNITS}
+    phys = physical_inputs({k: v for k, v in values.items() if k in PHYSICAL_UNITS}, PHYSICAL_UNITS,
+                           required=SPHERE_INPUTS)
     if "bpm" in phys:
+        if "omega" in phys:
+            raise ParameterError(f"bpm = {phys['bpm']!r} is invalid together with omega = "
+                                 f"{phys['omega']!r}: give one of them (omega = 2 pi bpm / 60)")
         phys["omega"] = bpm_to_rad_per_s(phys.pop("bpm"))
+    if "omega" not in phys:
+        raise ParameterError("physical omega is missing: the forced sphere needs omega (rad/s) or "
+                             "bpm")
     return {**rest, **PhysicalSphere(**phys).forced()}
 
 
@@ -131,11 +183,14 @@ def balloon(kind: str, radius: float) -> PhysicalSphere:
 def fibre_forced(*, rho: float, mu: float, radius: float, sigma: float, omega: float) -> dict[str, float]:
     """Dimensionless {nu, kappa} of the 2D fibre: nu = mu/(rho R^2 omega) (4.5) and
     kappa = sigma/(rho R^2 omega^2) (4.6), sigma in g cm/s^2 (a force: the 2D stiffness)."""
-    for name, value in (("rho", rho), ("radius", radius), ("sigma", sigma), ("omega", omega)):
-        require_positive(name, value)
-    if not (math.isfinite(mu) and mu >= 0):
-        raise ParameterError(f"mu = {mu!r} is invalid: must be a finite number >= 0 (g/(cm s))")
-    return {"nu": mu / (rho * radius**2 * omega), "kappa": sigma / (rho * radius**2 * omega**2)}
+    inputs = {"rho": rho, "mu": mu, "radius": radius, "sigma": sigma, "omega": omega}
+    for name in ("rho", "radius", "sigma", "omega"):
+        require_positive(name, inputs[name])
+    require_nonnegative("mu", mu)
+    return {"nu": _derived("nu", "mu / (rho R^2 omega)", mu, rho * radius * radius * omega, inputs,
+                           zero_ok=True),
+            "kappa": _derived("kappa", "sigma / (rho R^2 omega^2)", sigma,
+                              rho * radius * radius * omega * omega, inputs)}
 
 
 #: Table 4.1 (2D simulations, tau = 0.45): physical values; the printed (nu, kappa) are the check.
@@ -174,22 +229,27 @@ def cochlea_forced(*, rho: float, mu: float, sigma: float, length: float, lambda
     """Dimensionless {nu, kappa, alpha} of the cochlea (thesis 5.2): lengths in units L/pi,
     time in 1/omega, so nu = mu pi^2/(rho L^2 omega), kappa = sigma pi/(rho L omega^2),
     alpha = lambda_c L/pi (derived in derivations/cochlea_linear.py Part 1)."""
-    for name, value in (("rho", rho), ("sigma", sigma), ("length", length), ("omega", omega)):
-        require_positive(name, value)
-    for name, value in (("mu", mu), ("lambda_c", lambda_c)):
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
-            raise ParameterError(f"{name} = {value!r} is invalid: must be a finite number >= 0 "
-                                 f"({COCHLEA_UNITS[name]})")
-    return {"nu": mu * math.pi**2 / (rho * length**2 * omega),
-            "kappa": sigma * math.pi / (rho * length * omega**2),
-            "alpha": lambda_c * length / math.pi}
+    inputs = {"rho": rho, "mu": mu, "sigma": sigma, "length": length, "lambda_c": lambda_c,
+              "omega": omega}
+    for name in ("rho", "sigma", "length", "omega"):
+        require_positive(name, inputs[name])
+    for name in ("mu", "lambda_c"):
+        require_nonnegative(name, inputs[name])
+    return {"nu": _derived("nu", "mu pi^2 / (rho L^2 omega)", mu * math.pi**2,
+                           rho * length * length * omega, inputs, zero_ok=True),
+            "kappa": _derived("kappa", "sigma pi / (rho L omega^2)", sigma * math.pi,
+                              rho * length * omega * omega, inputs),
+            "alpha": _derived("alpha", "lambda_c L / pi", lambda_c * length, math.pi, inputs,
+                              zero_ok=True)}
 
 
 def cochlea_time_scale(*, rho: float, sigma: float, length: float) -> float:
     """T = sqrt(rho L / (pi sigma)) in s: the time unit of the natural modes (gamma/sqrt(kappa)
     of (5.14)); zeta = mu / sqrt(rho sigma (L/pi)^3) is then their only fluid parameter."""
-    return math.sqrt(require_positive("rho", rho) * require_positive("length", length)
-                     / (math.pi * require_positive("sigma", sigma)))
+    inputs = {"rho": rho, "sigma": sigma, "length": length}
+    for name, value in inputs.items():
+        require_positive(name, value)
+    return math.sqrt(_derived("T^2", "rho L / (pi sigma)", rho * length, math.pi * sigma, inputs))
 
 
 #: Which physical quantity each dimensionless cochlea parameter replaces when both are given.
@@ -204,7 +264,7 @@ def cochlea_params(values: dict) -> dict:
     dimensionless value given together with the quantity it replaces (nu with mu, kappa with
     sigma, alpha with lambda_c) is contradictory and refused.
     """
-    phys = {k: v for k, v in values.items() if k in COCHLEA_UNITS}
+    phys = physical_inputs({k: v for k, v in values.items() if k in COCHLEA_UNITS}, COCHLEA_UNITS)
     rest = {k: v for k, v in values.items() if k not in COCHLEA_UNITS}
     if not phys:
         return rest
@@ -216,7 +276,7 @@ def cochlea_params(values: dict) -> dict:
             raise ParameterError(f"{name} = {rest[name]!r} is invalid together with {source} = "
                                  f"{phys[source]!r}: give one of them")
     base = {k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
-    converted = cochlea_forced(**{**base, **{k: float(v) for k, v in phys.items()}})
+    converted = cochlea_forced(**{**base, **phys})
     return {**converted, **rest}
 
 
@@ -225,7 +285,8 @@ def convert_physical(model: str, values: dict) -> tuple[dict, dict | None]:
     place of its dimensionless ones are converted (cochlea: :func:`cochlea_params`); values of
     other models pass through unchanged."""
     if model == "cochlea" and any(k in COCHLEA_UNITS for k in values):
-        phys = {k: float(v) for k, v in values.items() if k in COCHLEA_UNITS}
+        phys = physical_inputs({k: v for k, v in values.items() if k in COCHLEA_UNITS},
+                               COCHLEA_UNITS)
         base = {k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
         return cochlea_params(values), {**base, **phys}
     return dict(values), None

@@ -31,7 +31,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from .._validate import require_choice, require_int_in_range, require_positive, require_real
+from .._validate import (require_choice, require_choices, require_int_in_range, require_positive,
+                         require_real)
 from ..errors import ParameterError
 from .grid import parse_range
 from .registry import make_params
@@ -73,10 +74,24 @@ def load_scene(scene: str | Path | Mapping) -> dict:
             path = Path(text)
             if not path.is_file():
                 raise ParameterError(f"scene = {text!r} is invalid: no such file")
-            text = path.read_text()
+            text = _read_text(path)
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError(f"scene is invalid TOML: {exc}") from None
+
+
+def _read_text(path: Path) -> str:
+    """The UTF-8 text of scene file ``path`` (TOML is UTF-8), or a ParameterError naming the
+    file and, for bytes that are not UTF-8, the offset of the first one."""
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise ParameterError(f"scene = {str(path)!r} cannot be read: {exc.strerror}") from None
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ParameterError(f"scene = {str(path)!r} is invalid: not UTF-8 text (byte "
+                             f"0x{data[exc.start]:02x} at offset {exc.start})") from None
 
 
 def default_scene() -> dict:
@@ -116,14 +131,8 @@ def plan(scene: str | Path | Mapping) -> Plan:
     params_table = data.get("params", {})
     if not isinstance(params_table, Mapping):
         raise ParameterError(f"params = {params_table!r} is invalid: must be a table")
-    ask = data.get("ask", ["floquet"])
-    if isinstance(ask, str):
-        ask = [ask]
-    if not isinstance(ask, list) or not ask:
-        raise ParameterError(f"ask = {ask!r} is invalid: must be a non-empty list of {', '.join(TASKS)}")
     tasks = []
-    for name in dict.fromkeys(ask):
-        require_choice("ask", name, TASKS)
+    for name in require_choices("ask", data.get("ask", ["floquet"]), TASKS):
         opts = data.get(name, {})
         if not isinstance(opts, Mapping):
             raise ParameterError(f"{name} = {opts!r} is invalid: must be a table")

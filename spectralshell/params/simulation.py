@@ -38,11 +38,12 @@ from pathlib import Path
 from typing import Any
 
 
-from .._validate import (require_choice, require_int_in_range, require_nonnegative,
-                         require_positive, require_real)
+from .._validate import (parse_int, parse_real, require_choice, require_int_in_range,
+                         require_nonnegative, require_positive, require_real)
 from ..errors import ParameterError
 from .expression import Expression, parse_expression
 from .scene import load_scene
+from .stiffness import amplitude_warnings
 
 KEYS = {"model", "params", "initial", "simulate", "output"}
 PARAM_KEYS = {"kappa", "nu", "tau"}
@@ -94,7 +95,8 @@ def parse_modes(name: str, spec: Any, amplitude: float) -> dict[tuple[int, int],
                 raise ParameterError(f"{name} = {spec!r} is invalid: must be modes 'm:k[:amplitude]' "
                                      "separated by commas, e.g. '2:0' or '2:0, 3:1:0.02'")
             m, k, a = match.groups()
-            items.append((m, k, amplitude if a is None else a))
+            items.append((parse_int(f"{name} degree m", m), parse_int(f"{name} order k", k),
+                          amplitude if a is None else parse_real(f"{name} amplitude", a)))
     elif isinstance(spec, (list, tuple)):
         for entry in spec:
             if not isinstance(entry, (list, tuple)) or len(entry) not in (2, 3):
@@ -154,10 +156,7 @@ def simulation_scene(scene: str | Path | Mapping) -> SimulationScene:
         kappa = parse_expression("kappa", kappa_spec, positive=True)
     nu = require_nonnegative("nu", params["nu"])
     tau = require_real("tau", params.get("tau", 0.0))
-    warnings = []
-    if abs(tau) > 0.5:
-        warnings.append("tau > 1/2: the stiffness kappa (1 + 2 tau sin t) becomes negative during "
-                        "the cycle")
+    warnings = amplitude_warnings(tau)
     amplitude = require_real("initial.amplitude", initial.get("amplitude", DEFAULT_AMPLITUDE))
     if "shape" not in initial:
         raise ParameterError("initial.shape is missing: give modes, e.g. '2:0', or an expression "

@@ -67,7 +67,8 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import require_choice, require_int_in_range, require_positive, require_real
+from .._validate import (require_choice, require_choices, require_int_in_range, require_positive,
+                         require_real)
 from ..errors import ParameterError
 from .grid import parse_int_range, parse_range
 from .limits import SWEEP_BYTES, check_grid, check_points
@@ -518,12 +519,7 @@ def sweep_spec(scene: str | Path | Mapping, *, max_points: int | None = None) ->
     if "model" not in data:
         raise ParameterError("scene is invalid: it has no 'model'")
     model = check_model(data["model"])
-    ask = data.get("ask", ["tau_min"])
-    ask = [ask] if isinstance(ask, str) else ask
-    if not isinstance(ask, list) or not ask:
-        raise ParameterError(f"ask = {ask!r} is invalid: must be a non-empty list of "
-                             f"{', '.join(ASKS)}")
-    ask = tuple(require_choice("ask", a, ASKS) for a in dict.fromkeys(ask))
+    ask = require_choices("ask", data.get("ask", ["tau_min"]), ASKS)
     fixed = data.get("params", {})
     grid = data.get("grid")
     for name, table in (("params", fixed), ("grid", grid)):

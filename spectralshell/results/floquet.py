@@ -12,12 +12,10 @@ from typing import Any
 import numpy as np
 
 from .._version import stamp
+from ..params.stiffness import amplitude_warnings
 from ..solvers.exponents import Exponents
 from ..solvers.marginal import MarginalTau
 from ..solvers.tongues import Tip
-
-NEGATIVE_STIFFNESS = "tau > 1/2: the stiffness kappa (1 + 2 tau sin t) becomes negative during the cycle"
-
 
 def provenance(options: dict[str, Any]) -> dict[str, Any]:
     """Package and library versions (:func:`spectralshell._version.stamp`) and the solver
@@ -45,11 +43,6 @@ def certification_warnings(res: Mapping[str, MarginalTau]) -> list[str]:
     return [f"{kind} tau_min = {m.tau_min:.6g} is not certified: a smaller real tau is excluded "
             f"only below complete_to = {m.complete_to:.4g} at this truncation"
             for kind, m in res.items() if m.tau_min is not None and m.complete_to < m.tau_min]
-
-
-def tau_warnings(values) -> list[str]:
-    """The negative-stiffness flag if any tau exceeds 1/2."""
-    return [NEGATIVE_STIFFNESS] if any(t > 0.5 for t in values) else []
 
 
 def resolution_warnings(res: Mapping[str, MarginalTau], tol: float) -> list[str]:
@@ -102,7 +95,7 @@ class ExponentsResult:
     def build(cls, *, model, params, tau, exponents: Exponents, options) -> "ExponentsResult":
         return cls(model=model, params=params, tau=tau, gamma=exponents.gamma,
                    n_temporal=exponents.n_temporal, error_estimate=exponents.error_estimate,
-                   provenance=provenance(options), warnings=tuple(tau_warnings([abs(tau)])))
+                   provenance=provenance(options), warnings=tuple(amplitude_warnings(tau)))
 
     @property
     def multipliers(self) -> np.ndarray:

@@ -39,7 +39,7 @@ from ..params.simulation import Expression, SimulationScene, simulation_scene
 from ..results.trajectory import ModeFit, Trajectory
 from ..solvers.imex import scheme as get_scheme
 from ..solvers.rate_fit import fit_rate
-from ..solvers.stepper import Run, integrate
+from ..solvers.stepper import MAX_STEPS, Run, integrate
 
 DT_FACTOR = 0.02
 SAMPLES_PER_PERIOD = 32
@@ -50,8 +50,13 @@ EXCITED = 1e-3           # coupled runs: modes above this fraction of the larges
 
 def time_grid(*, dt: float | None, rate: float, tau: float, t_end: float) -> tuple[float, int, int, float]:
     """(step, save every, steps, end time) of a run (see the module docstring); steps is a
-    multiple of 2 every."""
+    multiple of 2 every. ParameterError when t_end / step exceeds the stepper's MAX_STEPS."""
     step = dt if dt is not None else DT_FACTOR / max(1.0, rate)
+    if t_end / step > MAX_STEPS:
+        source = "simulate.dt" if dt is not None else "the fastest mode's step DT_FACTOR / |s|"
+        raise ParameterError(f"simulate.t_end = {t_end:g} is invalid with dt = {step:.3g} ({source}): "
+                             f"{t_end / step:.3g} steps, above the limit of {MAX_STEPS:,}; shorten "
+                             "t_end or give a larger dt")
     if tau != 0.0:
         per_period = int(np.ceil(2 * np.pi / step - 1e-9))
         samples = min(SAMPLES_PER_PERIOD, per_period)
