@@ -42,7 +42,8 @@ def default_limits(monkeypatch):
 
 
 @settings(max_examples=60, deadline=None)
-@given(num=st.integers(LIMIT + 1, 10**30), start=st.floats(-1e3, 1e3))
+@given(num=st.integers(LIMIT + 1, 10**30),
+       start=st.floats(-1e3, 1e3).filter(lambda x: x == 0 or abs(x) >= 1e-100))  # input range
 def test_huge_range_is_refused_with_the_limit_and_how_to_raise_it(num, start):
     with pytest.raises(ParameterError) as err:
         parse_range("kappa", f"{start}:{start + 1}:{num}")
@@ -102,13 +103,13 @@ def test_tau_map_counts_x_y_and_degrees(monkeypatch):
     monkeypatch.setattr(api, "_map", lambda *a, **k: pytest.fail("solved"))
     with pytest.raises(ParameterError, match=r"tau map kappa x nu x m = 1000 x 1000 x 2"):
         ss.tau_map("sphere", x=("kappa", "0.01:0.2:1000"), y=("nu", "0.001:0.01:1000"), m="2:3")
-    with pytest.raises(ParameterError, match=r"m = '400' is invalid: must be an integer in \[2, 200\]"):
+    with pytest.raises(ParameterError, match=r"m = 400 is invalid: must be an integer in \[2, 200\]"):
         ss.tau_map("sphere", x=("kappa", "0.01:0.2:3"), y=("nu", "0.001:0.01:3"), m="2:400")
 
 
 def test_stability_refuses_degrees_beyond_the_model_before_solving(monkeypatch):
     monkeypatch.setattr(api, "floquet", lambda *a, **k: pytest.fail("solved"))
-    with pytest.raises(ParameterError, match=r"m = '100000' is invalid: must be an integer in \[2, 200\]"):
+    with pytest.raises(ParameterError, match=r"m = 100000 is invalid: must be an integer in \[2, 200\]"):
         ss.stability("sphere", tau=0.4, m="2:100000", kappa=0.1, nu=0.01)
 
 
@@ -133,7 +134,7 @@ def test_sweep_limit_is_raised_per_scene():
     with pytest.raises(ParameterError, match="grid kappa x nu x kind = 3 x 2 x 2"):
         sweep_spec(scene, max_points=11)
     assert sweep_spec(scene, max_points=12).size == 12
-    with pytest.raises(ParameterError, match=r"grid m = '5000' is invalid: must be an integer in \[2, 200\]"):
+    with pytest.raises(ParameterError, match=r"grid m = 5000 is invalid: must be an integer in \[2, 200\]"):
         sweep_spec({"model": "sphere", "params": {"kappa": 0.1}, "grid": {"m": "2:5000"}})
 
 

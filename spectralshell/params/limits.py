@@ -27,7 +27,7 @@ import math
 import os
 from dataclasses import dataclass
 
-from .._validate import require_positive
+from .._validate import parse_real, require_positive
 from ..errors import ParameterError
 
 
@@ -56,7 +56,8 @@ class Limit:
         if given is not None:
             return require_positive(self.keyword, given)
         text = os.environ.get(self.env)
-        return self.default if text is None else require_positive(self.env, text)
+        return self.default if text is None else require_positive(self.env,
+                                                                  parse_real(self.env, text))
 
     def how_to_raise(self) -> str:
         """'raise it with ...': the keyword, flag and environment variable of this limit."""

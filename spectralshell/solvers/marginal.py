@@ -59,12 +59,13 @@ truncation:
 
 What an answer proves
 ---------------------
-Each truncation states ``complete_to``: its list of real tau is complete up to it (inf for
-the dense and QZ paths, the certified radius for Krylov and shift-invert). A pair of successive truncations is accepted
-(:func:`converged_pair`) only if it also certifies its answer (:func:`certified_bound`): every
+Each truncation states ``complete_to``: its list of real tau is complete up to it (for the
+dense path 1/sqrt of the floor below which mu^2 counts as zero, inf for QZ, the certified radius
+for Krylov and shift-invert). A pair of successive truncations is accepted (:func:`converged_pair`) only if it also certifies its answer (:func:`certified_bound`): every
 non-real eigenvalue of the larger truncation below the claimed amplitude sits farther from the
 real axis than SEPARATION times its change from the smaller one, so no real tau can hide among
-them. An empty answer therefore means "proved: no real tau <= tau_max", and with tau_max = inf
+them (for models whose D(s) is a matrix polynomial; see :func:`certified_bound` for the
+others). An empty answer therefore means "no real tau <= tau_max", and with tau_max = inf
 it is not given at all (the truncation is raised to find a tau, or a ConvergenceError states the
 amplitude up to which none exists). This catches the strongly damped Mathieu equation
 (nu >~ 20), whose periodic solutions vary by ~exp(pi nu / 2) within a cycle: no double-precision
@@ -277,8 +278,8 @@ class Truncation:
     uncertainty ``spread`` of a reported tau = 0 (QZ path), ``complete_to``: every real
     tau <= complete_to of the truncation is listed (inf: the whole real spectrum); the ``shifts`` of the shift-invert cover (a plan for the next
     truncation; empty on the other paths), and ``spectrum``: every finite eigenvalue tau
-    (complex, folded by :func:`_folded`) where the path computed them all (dense and QZ), else
-    None.
+    (complex, folded by :func:`_folded`) where the path computed them all (dense and QZ) and
+    the model's D(s) is a matrix polynomial (:func:`certified_bound`), else None.
     """
 
     tau: np.ndarray
@@ -318,6 +319,16 @@ def certified_bound(found: Truncation, previous: Truncation) -> float:
     (|Im tau| <= REAL_RTOL |tau|) and the zero cluster (|tau| <= ZERO_CLUSTER) are reported, not
     tested. Paths that do not compute the whole spectrum (Krylov, shift-invert) certify their
     own ``complete_to``.
+
+    The test needs every eigenvalue of the truncated pencil to converge in N, which holds where
+    D(s) is a matrix polynomial (finitely many natural modes: the Mathieu equation, the
+    inviscid cochlea). Where D(s) has a branch cut (a viscous fluid: the sphere, the fibre, the
+    viscous cochlea) the truncations also carry eigenvalues that sample the continuous spectrum
+    and drift with N without settling: measured on the sphere at 50 beats/min (m = 2..6, the
+    Fig 6.13 map), eigenvalues with |tau| = 0.4-0.5 move by about their distance from the real
+    axis at every N from 25 to 171. There the list rests, as before, on two truncations agreeing
+    (a real tau must reappear, a drifting eigenvalue does not), and ``complete_to`` is the
+    truncation's own.
     """
     bound = min(found.complete_to, previous.complete_to)
     if found.spectrum is None or previous.spectrum is None or not previous.spectrum.size:
@@ -414,16 +425,17 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
                                   complete_to=cover.complete_to,
                                   shifts=cover.shifts)
     hill, inv = pencils.get(n_temporal, preferred_form(kind, system.block_size))
+    certifiable = system.polynomial is not None  # see certified_bound
     if inv is None:
         hill = pencils.get(n_temporal, "real")[0]
         eigenvalues = _finite_eigenvalues(hill)
         taus, spread = qz_real_taus(eigenvalues, hill.is_real)
         return Truncation(tau=taus, method="qz", spread=spread,
-                          spectrum=_folded(eigenvalues))
+                          spectrum=_folded(eigenvalues) if certifiable else None)
     lam, floor, exact_real = structured_spectrum(hill, inv)
     return Truncation(tau=tau_from_squares(lam, floor, exact_real), method="structured",
                       complete_to=1.0 / math.sqrt(floor) if floor > 0 else 0.0,
-                      spectrum=_spectrum_from_squares(lam, floor))
+                      spectrum=_spectrum_from_squares(lam, floor) if certifiable else None)
 
 
 def solve_truncation(system: HillSystem, kind: str,
