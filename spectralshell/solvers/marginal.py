@@ -518,7 +518,8 @@ def _not_converged(kind: str, found: Truncation, previous: Truncation, n: int, t
             f"{bound:.4g} (their eigenvalues near the real axis do not settle: an "
             "ill-conditioned Hill pencil, e.g. under strong damping); fix n_temporal "
             "(--n-temporal) to get the values with that bound (complete_to), or lower the damping")
-    change = abs(float(tau[0] - prev[0])) if tau.size and prev.size else float("nan")
+    change = (f"last change {abs(float(tau[0] - prev[0])):.3g}" if tau.size and prev.size
+              else "a tau at one of the last two truncations only")
     beyond = ""
     if tau_max > 0.5 and min(tau[:1].tolist() + prev[:1].tolist()) > 0.5:
         beyond = (f"; these tau_min ({tau[0] if tau.size else prev[0]:.6g} at the last N) "
@@ -527,7 +528,7 @@ def _not_converged(kind: str, found: Truncation, previous: Truncation, n: int, t
     lowest = min([bound] + tau[:1].tolist() + prev[:1].tolist())
     return ConvergenceError(
         f"{kind} tau_min did not converge to tol={tol:g} by n_temporal={n} "
-        f"(last change {change:.3g}; that no marginal tau exists is proved only for "
+        f"({change}; that no marginal tau exists is proved only for "
         f"tau <= {lowest:.4g}); "
         f"relax tol (--tol), or fix n_temporal (--n-temporal) and read the error "
         f"estimate{beyond}")
