@@ -508,9 +508,8 @@ def _not_converged(kind: str, found: Truncation, previous: Truncation, n: int, t
         return ConvergenceError(
             f"{kind}: no marginal tau found up to n_temporal={n}, but that is proved only for "
             f"tau <= {bound:.4g} (beyond it the truncations' eigenvalues near the real axis do "
-            "not settle: an ill-conditioned Hill pencil, e.g. under strong damping): "
-            f"tau_max <= {bound:.4g} (--tau-max) accepts 'none below it'; a larger tau needs a "
-            "smaller damping or another method")
+            "not settle: an ill-conditioned Hill pencil, e.g. under strong damping): give "
+            f"tau_max <= {bound:.4g} (--tau-max) to accept 'none below it', or lower the damping")
     if tau.size and prev.size and abs(float(tau[0] - prev[0])) < tol:
         return ConvergenceError(
             f"{kind} tau_min = {float(tau[0]):.6g} has converged to tol={tol:g} at "
