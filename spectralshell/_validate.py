@@ -149,7 +149,8 @@ def require_writable_directory(name: str, value: object, directory: Path) -> Non
                              f"{str(directory)!r} refuses new files ({exc.strerror})") from None
 
 
-_NOT_REGULAR = ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a device"), (stat.S_ISBLK, "a device"),
+_NOT_REGULAR = ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a device"),
+                (stat.S_ISBLK, "a device"),
                 (stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"))
 
 

@@ -193,7 +193,8 @@ COCHLEA_FLAGS = {"omega": "rad/s", "rho": "g/cm^3", "mu": "g/(cm s)", "sigma": "
 
 
 def _physical(args: argparse.Namespace) -> dict[str, float]:
-    return {k: parse_real(k, getattr(args, k)) for k in COCHLEA_FLAGS if getattr(args, k, None) is not None}
+    return {k: parse_real(k, getattr(args, k)) for k in COCHLEA_FLAGS
+            if getattr(args, k, None) is not None}
 
 
 def cmd_floquet(args) -> int:
@@ -285,7 +286,8 @@ PHYSICAL_FLAGS = ("radius", "sigma", "rho", "mu")
 
 
 def cmd_modes(args) -> int:
-    physical = {k: parse_real(k, getattr(args, k)) for k in PHYSICAL_FLAGS if getattr(args, k) is not None}
+    physical = {k: parse_real(k, getattr(args, k)) for k in PHYSICAL_FLAGS
+                if getattr(args, k) is not None}
     if args.model == "cochlea":  # cgs input: any of rho mu sigma length lambda_c (Table 5.1 defaults)
         if args.radius is not None:
             raise ParameterError("--radius is not an input of model 'cochlea' (use --length)")
@@ -653,7 +655,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--kappa", help="range START:STOP:NUM, e.g. 0:3:301")
     _tau_max_flag(p)
     p.add_argument("--png", help="write the diagram to a *.png file (an existing file is replaced)")
-    p.add_argument("--csv", help="write points kind,kappa,tau to a *.csv file (an existing file is replaced)")
+    p.add_argument("--csv", help="write points kind,kappa,tau to a *.csv file (an existing file is "
+                                 "replaced)")
     p.add_argument("--npz", help="write arrays to a *.npz file (an existing file is replaced)")
     p.add_argument("--no-tips", action="store_true", help="do not locate finger tips")
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
@@ -690,7 +693,8 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X",
                        help=f"physical input ({unit}; Table 5.1 defaults, --omega required)")
     _solver_flags(p)
-    p.add_argument("--png", help="write the envelope and profile to a *.png file (an existing file is replaced)")
+    p.add_argument("--png", help="write the envelope and profile to a *.png file (an existing file "
+                                 "is replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
     p.set_defaults(func=cmd_response)
 
@@ -740,8 +744,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="Dask scheduler tcp://HOST:PORT, or 'local' for a LocalCluster")
     _max_points_flag(p)
     p.add_argument("--json", action="store_true",
-                   help='print exactly one object {"points", "computed", "skipped", "damaged", "out", '
-                        '"seconds"}')
+                   help='print exactly one object {"points", "computed", "skipped", "damaged", '
+                        '"out", "seconds"}')
     p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("simulate", help="time-step the sphere (spectral IMEX): mode amplitudes, "
@@ -759,7 +763,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "RK111, RK222, RK443; default SBDF3)")
     p.add_argument("--png", help="write mode amplitudes against time to a *.png file (and "
                    "NAME_shape.png: the membrane shape) (an existing file is replaced)")
-    p.add_argument("--npz", help="write the trajectory to a *.npz file (an existing file is replaced)")
+    p.add_argument("--npz", help="write the trajectory to a *.npz file (an existing file is "
+                                 "replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
     p.set_defaults(func=cmd_simulate)
 

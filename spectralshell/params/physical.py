@@ -113,7 +113,8 @@ class PhysicalSphere:
     def zeta(self) -> float:
         """zeta = mu / sqrt(rho R sigma) = nu / sqrt(kappa), the only parameter of the natural modes."""
         return _derived("zeta", "mu / sqrt(rho R sigma)", self.mu,
-                        math.sqrt(self.rho * self.radius * self.sigma), self._inputs(), zero_ok=True)
+                        math.sqrt(self.rho * self.radius * self.sigma), self._inputs(),
+                        zero_ok=True)
 
     def lamb_frequency(self, m: int) -> float:
         """Inviscid natural angular frequency omega_0 (rad/s) of degree m, (6.24)/(7.5)."""

@@ -29,7 +29,8 @@ def param_names(model: str) -> tuple[str, ...]:
 def int_bounds(model: str, name: str) -> tuple[int, int | None]:
     """(lowest, highest or None) of the integer parameter ``name`` of ``model`` (the field's
     metadata 'range'; (0, None) where it has none), for checking a range before making it."""
-    field = next((f for f in dataclasses.fields(PARAMS[check_model(model)]) if f.name == name), None)
+    fields = dataclasses.fields(PARAMS[check_model(model)])
+    field = next((f for f in fields if f.name == name), None)
     return field.metadata.get("range", (0, None)) if field is not None else (0, None)
 
 

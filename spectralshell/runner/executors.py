@@ -10,7 +10,8 @@
   (``scheduler='tcp://HOST:PORT'``, connection timeout :data:`CONNECT_TIMEOUT` seconds, which
   also bounds the wait for a first worker; the peer must first greet as a Dask scheduler does,
   :func:`_probe`, so that any other server is refused in one line within the timeout) or a
-  ``LocalCluster`` on the loopback address (``scheduler='local'``, ``workers`` single-threaded worker processes) started and stopped here.
+  ``LocalCluster`` on the loopback address (``scheduler='local'``, ``workers`` single-threaded
+  worker processes) started and stopped here.
   Dask is the optional extra ``spectralshell[dask]``; nothing here imports it unless asked.
 """
 

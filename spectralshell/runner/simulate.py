@@ -54,8 +54,8 @@ def time_grid(*, dt: float | None, rate: float, tau: float, t_end: float) -> tup
     step = dt if dt is not None else DT_FACTOR / max(1.0, rate)
     if t_end / step > MAX_STEPS:
         source = "simulate.dt" if dt is not None else "the fastest mode's step DT_FACTOR / |s|"
-        raise ParameterError(f"simulate.t_end = {t_end:g} is invalid with dt = {step:.3g} ({source}): "
-                             f"{t_end / step:.3g} steps, above the limit of {MAX_STEPS:,}; shorten "
+        raise ParameterError(f"simulate.t_end = {t_end:g} is invalid with dt = {step:.3g} "
+                             f"({source}): {t_end / step:.3g} steps, above the limit of {MAX_STEPS:,}; shorten "
                              "t_end or give a larger dt")
     if tau != 0.0:
         per_period = int(np.ceil(2 * np.pi / step - 1e-9))

@@ -61,7 +61,8 @@ What an answer proves
 ---------------------
 Each truncation states ``complete_to``: its list of real tau is complete up to it (for the
 dense path 1/sqrt of the floor below which mu^2 counts as zero, inf for QZ, the certified radius
-for Krylov and shift-invert). A pair of successive truncations is accepted (:func:`converged_pair`) only if it also certifies its answer (:func:`certified_bound`): every
+for Krylov and shift-invert). A pair of successive truncations is accepted
+(:func:`converged_pair`) only if it also certifies its answer (:func:`certified_bound`): every
 non-real eigenvalue of the larger truncation below the claimed amplitude sits farther from the
 real axis than SEPARATION times its change from the smaller one, so no real tau can hide among
 them (for models whose D(s) is a matrix polynomial; see :func:`certified_bound` for the
@@ -276,8 +277,9 @@ def preferred_form(kind: str, block_size: int) -> str:
 class Truncation:
     """Real tau >= 0 of one truncation: ascending ``tau``, the ``method`` that found them, the
     uncertainty ``spread`` of a reported tau = 0 (QZ path), ``complete_to``: every real
-    tau <= complete_to of the truncation is listed (inf: the whole real spectrum); the ``shifts`` of the shift-invert cover (a plan for the next
-    truncation; empty on the other paths), and ``spectrum``: every finite eigenvalue tau
+    tau <= complete_to of the truncation is listed (inf: the whole real spectrum); the
+    ``shifts`` of the shift-invert cover (a plan for the next truncation; empty on the other
+    paths), and ``spectrum``: every finite eigenvalue tau
     (complex, folded by :func:`_folded`) where the path computed them all (dense and QZ) and
     the model's D(s) is a matrix polynomial (:func:`certified_bound`), else None.
     """
@@ -415,15 +417,13 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
         found = None if inv is None else smallest_taus(hill, tau_max=tau_max, inverses=inv,
                                                        max_rounds=1 if bounded else None)
         if found is not None and (found.tau.size or found.complete_to >= tau_max):
-            return Truncation(tau=found.tau, method="krylov",
-                              complete_to=found.complete_to)
+            return Truncation(tau=found.tau, method="krylov", complete_to=found.complete_to)
         if bounded and inv is not None:
             cover = interval_taus(hill, tau_max, hint=hint, plan=plan, smallest_only=True,
                                   none_below=0.0 if found is None else found.complete_to)
             if cover is not None:
                 return Truncation(tau=cover.tau, method="shift-invert",
-                                  complete_to=cover.complete_to,
-                                  shifts=cover.shifts)
+                                  complete_to=cover.complete_to, shifts=cover.shifts)
     hill, inv = pencils.get(n_temporal, preferred_form(kind, system.block_size))
     certifiable = system.polynomial is not None  # see certified_bound
     if inv is None:
@@ -527,8 +527,7 @@ def _not_converged(kind: str, found: Truncation, previous: Truncation, n: int, t
     lowest = min([bound] + tau[:1].tolist() + prev[:1].tolist())
     return ConvergenceError(
         f"{kind} tau_min did not converge to tol={tol:g} by n_temporal={n} "
-        f"({change}; that no marginal tau exists is proved only for "
-        f"tau <= {lowest:.4g}); "
+        f"({change}; that no marginal tau exists is proved only for tau <= {lowest:.4g}); "
         f"relax tol (--tol), or fix n_temporal (--n-temporal) and read the error "
         f"estimate{beyond}")
 
