@@ -701,7 +701,8 @@ def _response_at(p, n_spatial: int, kind: str, options: dict[str, Any]):
 
 
 def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: int | None = None,
-             tau_max: float | None = None, **params: Any) -> "ResponseResult":
+             tau_max: float | None = None, max_seconds: float | None = None,
+             **params: Any) -> "ResponseResult":
     """Basilar-membrane displacement envelope for a pure tone (thesis 5.5, Figs 5.8-5.10).
 
     Parameters
@@ -712,6 +713,8 @@ def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: 
         'subharmonic' (the Floquet solution at tau_min of that kind, as in thesis 5.5: response
         at the forcing frequency, or half of it).
     tol, n_temporal, tau_max : options of the marginal tau (parametric kinds).
+    max_seconds : raises the limit on the estimated cost of the parametric kinds' solves (at M
+        and M // 2; refused above it before anything runs, as for :func:`floquet`).
     **params : as for :func:`floquet` ('cochlea' parameters or cgs inputs with omega);
         n_spatial defaults to RESPONSE_MODES; the peak's error estimate compares with n_spatial // 2.
 
@@ -736,6 +739,12 @@ def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: 
         raise ParameterError(f"spatial_mode = {p.spatial_mode} is invalid for response: the "
                              "envelope needs n_spatial cosine modes")
     M = p.n_spatial or RESPONSE_MODES
+    if kind != "tone":  # the parametric kinds solve marginal_tau at M and M // 2: priced first
+        _priced(model, functools.partial(_spatial_factory, model, dataclasses.asdict(p)), (kind,),
+                options, M, max_seconds)
+    elif max_seconds is not None:
+        raise ParameterError(f"max_seconds = {max_seconds!r} is invalid for kind = 'tone': it "
+                             "solves no marginal tau")
     x, env, profile, peak, tau, freq = _response_at(p, M, kind, options)
     coarse = _response_at(p, max(M // 2, 1), kind, options)[3]
     from .models.cochlea import wkb_peak

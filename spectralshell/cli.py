@@ -65,6 +65,12 @@ def _tau_max(args: argparse.Namespace) -> dict[str, float]:
     return _given(args, "tau_max", parse_real)
 
 
+def _max_seconds_flag(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--max-seconds", dest="max_seconds", metavar="X",
+                   help="cochlea: raise the limit on the estimated cost of the solve (default "
+                        "600 s, or $SPECTRALSHELL_MAX_SECONDS)")
+
+
 def _max_points_flag(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-points", dest="max_points", metavar="N",
                    help="raise the limit on grid points (default 1000000, or "
@@ -350,7 +356,7 @@ def _modes_text(res) -> str:
 def cmd_response(args) -> int:
     _check_output("--png", args.png, ".png")
     res = api.response(args.model, kind=args.kind, **_solver(args), **_physical(args),
-                       **_params(args, args.model))
+                       **_given(args, "max_seconds", parse_real), **_params(args, args.model))
     _warn(res.warnings)
     written = []
     if args.png:
@@ -645,9 +651,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tol-spatial", dest="tol_spatial", metavar="X",
                    help="cochlea without --n-spatial: tolerance of tau_min in the number of "
                         "spatial modes (default 1e-3)")
-    p.add_argument("--max-seconds", dest="max_seconds", metavar="X",
-                   help="cochlea: raise the limit on the estimated cost of the solve (default "
-                        "600 s, or $SPECTRALSHELL_MAX_SECONDS)")
+    _max_seconds_flag(p)
     _tau_max_flag(p)
 
     p = _computation(sub, "tongues", "Ince-Strutt diagram over a kappa range", cmd_tongues, models,
@@ -693,6 +697,7 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X",
                        help=f"physical input ({unit}; Table 5.1 defaults, --omega required)")
     _solver_flags(p)
+    _max_seconds_flag(p)
     p.add_argument("--png", help="write the envelope and profile to a *.png file (an existing file "
                                  "is replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")

@@ -313,3 +313,18 @@ def test_sweep_on_a_garbage_peer_fails_in_one_line(monkeypatch, tmp_path):
         for conn in held:
             conn.close()
     assert not (tmp_path / "x.zarr").exists()
+
+
+def test_response_prices_its_marginal_solves_before_running():
+    """response's parametric kinds solve marginal_tau at M and M // 2: a low forcing frequency
+    (omega = 10 rad/s: N up to 400 at M = 128) is refused before any solve, with the limit and
+    the keyword that raises it; the tone solves none and takes no max_seconds."""
+    with pytest.raises(ParameterError, match=r"cochlea solve needing N = \d+, M = 128.*max_seconds="):
+        ss.response("cochlea", omega=10.0, kind="subharmonic")
+    with pytest.raises(ParameterError, match="max_seconds = 5 is invalid for kind = 'tone'"):
+        ss.response("cochlea", omega=1000.0, max_seconds=5)
+    result = subprocess.run([sys.executable, "-m", "spectralshell", "response", "cochlea",
+                             "--omega", "10", "--kind", "harmonic"],
+                            capture_output=True, text=True, timeout=WAIT)
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1
+    assert "--max-seconds" in result.stderr
