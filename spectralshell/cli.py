@@ -184,7 +184,7 @@ def _floquet_text(res) -> str:
         if m.tau_min is None:
             bound = res.provenance.get("options", {}).get("tau_max")
             below = "" if bound is None else f" <= {bound:g}"
-            lines.append(f"  {kind:<12} no marginal tau{below}, proved{complete} "
+            lines.append(f"  {kind:<12} no marginal tau{below}{complete} "
                          f"(N = {m.n_temporal})")
             continue
         taus = ", ".join(f"{t:.10g}" for t in m.tau[:6]) + (" ..." if m.tau.size > 6 else "")

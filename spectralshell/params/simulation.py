@@ -37,7 +37,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-
 from .._validate import (parse_int, parse_real, require_choice, require_int_in_range,
                          require_nonnegative, require_positive, require_real)
 from ..errors import ParameterError

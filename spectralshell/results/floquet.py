@@ -17,6 +17,7 @@ from ..solvers.exponents import Exponents
 from ..solvers.marginal import MarginalTau
 from ..solvers.tongues import Tip
 
+
 def provenance(options: dict[str, Any]) -> dict[str, Any]:
     """Package and library versions (:func:`spectralshell._version.stamp`) and the solver
     options that produced a result."""
@@ -29,8 +30,9 @@ def _float(x) -> float | None:
 
 def marginal_dict(m: MarginalTau) -> dict[str, Any]:
     """JSON form of one kind: tau (list), tau_min, n_temporal, error_estimate, method and
-    complete_to (``tau`` is proved to hold every real tau up to it; null: no bound, a model
-    without forcing)."""
+    complete_to (``tau`` holds every real tau up to it, in the sense of
+    :func:`spectralshell.solvers.marginal.converged_pair`; null: no bound, a model without
+    forcing)."""
     return {"tau": [float(t) for t in m.tau], "tau_min": _float(m.tau_min),
             "n_temporal": m.n_temporal, "error_estimate": _float(m.error_estimate),
             "method": m.method,

@@ -465,7 +465,8 @@ def _matched(tau: np.ndarray, previous: np.ndarray, tol: float) -> np.ndarray:
     return tau[dist <= tol * np.maximum(1.0, tau)]
 
 
-def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_max) -> MarginalTau:
+def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_max,
+            bound: float) -> MarginalTau:
     tau, prev, spread = _capped(found.tau, tau_max), _capped(previous.tau, tau_max), found.spread
     if tau.size and prev.size:
         err = float(max(abs(float(tau[0] - prev[0])), spread, 8 * EPS * max(1.0, tau[0])))
@@ -478,7 +479,7 @@ def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_m
         kept = np.concatenate([tau[:1], kept[kept > tau[0]]])
     return MarginalTau(kind=kind, tau=kept, tau_min=float(tau[0]) if tau.size else None,
                        n_temporal=n, n_previous=n_prev, error_estimate=err, method=found.method,
-                       complete_to=certified_bound(found, previous))
+                       complete_to=bound)
 
 
 def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
@@ -491,19 +492,23 @@ def converged_pair(found: Truncation, previous: Truncation, tol: float,
     a tau_min <= tau_max, they differ by less than ``tol``, and the pair certifies that no smaller
     real tau exists (:func:`certified_bound` >= tau_min); or neither has one and the pair
     certifies that none exists up to a finite ``tau_max``."""
+    return _passes(found, previous, tol, tau_max, certified_bound(found, previous))
+
+
+def _passes(found: Truncation, previous: Truncation, tol: float, tau_max: float,
+            bound: float) -> bool:
+    """:func:`converged_pair` given the pair's :func:`certified_bound` ``bound``."""
     tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
     if tau.size and prev.size:
-        return (abs(float(tau[0] - prev[0])) < tol
-                and certified_bound(found, previous) >= tau[0])
-    return (not tau.size and not prev.size and math.isfinite(tau_max)
-            and certified_bound(found, previous) >= tau_max)
+        return abs(float(tau[0] - prev[0])) < tol and bound >= tau[0]
+    return not tau.size and not prev.size and math.isfinite(tau_max) and bound >= tau_max
 
 
 def _not_converged(kind: str, found: Truncation, previous: Truncation, n: int, tol: float,
-                   tau_max: float) -> ConvergenceError:
-    """Why the last pair of truncations failed :func:`converged_pair`, and what to change."""
+                   tau_max: float, bound: float) -> ConvergenceError:
+    """Why the last pair of truncations failed :func:`converged_pair` (``bound``: its
+    :func:`certified_bound`), and what to change."""
     tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
-    bound = certified_bound(found, previous)
     if not tau.size and not prev.size:
         return ConvergenceError(
             f"{kind}: no marginal tau found up to n_temporal={n}, but that is proved only for "
@@ -585,7 +590,9 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                            error_estimate=None, method="structured")
     if n_temporal is not None:
         n_prev = _previous(n_temporal)
-        return _result(kind, solve(n_temporal), solve(n_prev), n_temporal, n_prev, tol, tau_max)
+        found, previous = solve(n_temporal), solve(n_prev)
+        return _result(kind, found, previous, n_temporal, n_prev, tol, tau_max,
+                       certified_bound(found, previous))
     if system.n_resonant >= n_max:
         raise ConvergenceError(
             f"{kind} tau_min needs more than n_temporal={n_max} Fourier terms: the natural "
@@ -597,8 +604,9 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
     while True:
         n = min(_next(n_prev), n_max)
         found = solve(n)
-        if converged_pair(found, previous, tol, tau_max):
-            return _result(kind, found, previous, n, n_prev, tol, tau_max)
+        bound = certified_bound(found, previous)  # once per pair: O(N^2) for Mathieu
+        if _passes(found, previous, tol, tau_max, bound):
+            return _result(kind, found, previous, n, n_prev, tol, tau_max, bound)
         if n >= n_max:
-            raise _not_converged(kind, found, previous, n, tol, tau_max)
+            raise _not_converged(kind, found, previous, n, tol, tau_max, bound)
         previous, n_prev = found, n
