@@ -7,7 +7,7 @@ import spectralshell
 
 ROOT = Path(spectralshell.__file__).parent
 LEAVES = {"errors", "_validate", "_version", "_threads", "special"}
-STAGES = ["params", "models", "discretise", "solvers", "results", "runner", "plots", "api", "reports", "cli",
+STAGES = ["params", "models", "discretise", "solvers", "results", "runner", "plots", "reports", "api", "cli",
           "__init__", "__main__"]
 
 

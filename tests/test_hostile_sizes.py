@@ -26,6 +26,7 @@ from spectralshell.params.grid import parse_int_range, parse_range
 from spectralshell.params.limits import POINTS, SECONDS
 from spectralshell.params.sweep_grid import sweep_spec
 from spectralshell.runner import executors, run_sweep
+from spectralshell.runner import floquet as floquet_runner
 from spectralshell.solvers.cost import duration, spatial_cost, temporal_schedule
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -75,7 +76,7 @@ def test_integer_range_without_bounds_counts_its_values():
 
 
 def test_tongues_refuses_a_huge_grid_before_any_solve(monkeypatch):
-    monkeypatch.setattr(api, "_map", lambda *a, **k: pytest.fail("solved"))
+    monkeypatch.setattr(floquet_runner, "_map", lambda *a, **k: pytest.fail("solved"))
     with pytest.raises(ParameterError, match="kappa = '0:1:100000000' is invalid"):
         ss.tongues("mathieu", kappa="0:1:100000000", nu=0.1)
     with pytest.raises(ParameterError, match="kappa is invalid: it needs 5 grid points"):
@@ -100,7 +101,7 @@ def test_memory_of_the_results_is_estimated_before_the_work(monkeypatch):
 
 
 def test_tau_map_counts_x_y_and_degrees(monkeypatch):
-    monkeypatch.setattr(api, "_map", lambda *a, **k: pytest.fail("solved"))
+    monkeypatch.setattr(floquet_runner, "_map", lambda *a, **k: pytest.fail("solved"))
     with pytest.raises(ParameterError, match=r"tau map kappa x nu x m = 1000 x 1000 x 2"):
         ss.tau_map("sphere", x=("kappa", "0.01:0.2:1000"), y=("nu", "0.001:0.01:1000"), m="2:3")
     with pytest.raises(ParameterError, match=r"m = 400 is invalid: must be an integer in \[2, 200\]"):
@@ -108,7 +109,7 @@ def test_tau_map_counts_x_y_and_degrees(monkeypatch):
 
 
 def test_stability_refuses_degrees_beyond_the_model_before_solving(monkeypatch):
-    monkeypatch.setattr(api, "floquet", lambda *a, **k: pytest.fail("solved"))
+    monkeypatch.setattr(floquet_runner, "floquet", lambda *a, **k: pytest.fail("solved"))
     with pytest.raises(ParameterError, match=r"m = 100000 is invalid: must be an integer in \[2, 200\]"):
         ss.stability("sphere", tau=0.4, m="2:100000", kappa=0.1, nu=0.01)
 
@@ -167,7 +168,7 @@ def test_cochlea_at_low_forcing_frequency_is_refused_with_what_it_needs(monkeypa
         raise AssertionError("marginal_tau ran before the cost was refused")
 
     monkeypatch.setattr(refinement, "marginal_tau", no_solve)
-    monkeypatch.setattr(api, "marginal_tau", no_solve)
+    monkeypatch.setattr(floquet_runner, "marginal_tau", no_solve)
     with pytest.raises(ParameterError) as err:
         ss.floquet("cochlea", omega=10.0)
     message = str(err.value)
@@ -188,7 +189,7 @@ def test_fixed_truncations_are_priced_and_the_limit_is_raised():
 
 
 def test_cost_model_follows_the_truncation_schedule():
-    factory = lambda m: api._spatial_factory("cochlea", {"kappa": 53.9, "nu": 1.6e-4,
+    factory = lambda m: floquet_runner.spatial_system("cochlea", {"kappa": 53.9, "nu": 1.6e-4,
                                                          "alpha": 1.56}, m)
     system = factory(16)
     schedule = temporal_schedule(system)

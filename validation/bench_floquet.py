@@ -25,6 +25,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 import spectralshell as ss
+from spectralshell.runner import floquet as floquet_runner
 from _bench import best_time, row
 from spectralshell._threads import one_blas_thread
 from spectralshell.discretise.hill import assemble
@@ -64,7 +65,7 @@ def map_points() -> None:
     physical = {k: CARDIAC[k] for k in ("rho", "mu", "radius")}
     print("Fig 6.13 map points: marginal_tau(tau_max = 1/2) vs QZ of the same two truncations")
     for sigma, bpm, m in ((5e3, 300.0, 3), (1e4, 150.0, 3), (2e4, 50.0, 6)):
-        system = api._map_system("sphere", {}, physical, ("sigma", "bpm"), (sigma, bpm, m))
+        system = floquet_runner._map_system("sphere", {}, physical, ("sigma", "bpm"), (sigma, bpm, m))
         for kind in ("harmonic", "subharmonic"):
             t_pkg, res = best_time(lambda: marginal_tau(system, kind, tol=1e-8, tau_max=0.5),
                                    3 if system.n_resonant < 60 else 1)

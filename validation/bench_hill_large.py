@@ -32,7 +32,7 @@ import scipy.linalg as sla
 from threadpoolctl import threadpool_limits
 
 from _bench import best_time, row
-from spectralshell import api
+from spectralshell.runner import floquet as floquet_runner
 from spectralshell.discretise.hill import assemble
 from spectralshell.models import cochlea, sphere
 from spectralshell.models.mathieu import hill_system as mathieu
@@ -129,7 +129,7 @@ def cardiac_point() -> None:
     print("\nFig 6.13 (sphere, cardiac): one tau-map point = m = 2..6 x both kinds, tau_max = 1/2, "
           "tol = 1e-8")
     phys = {k: CARDIAC[k] for k in ("rho", "mu", "radius")}
-    factory = functools.partial(api._map_system, "sphere", {}, phys, ("sigma", "bpm"))
+    factory = functools.partial(floquet_runner._map_system, "sphere", {}, phys, ("sigma", "bpm"))
     for sigma, bpm in ((2e4, 50.0), (1e4, 412.0)):
         systems = [factory((sigma, bpm, m)) for m in range(2, 7)]
         row = {}

@@ -11,7 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import api
+from ..runner.floquet import floquet, stability, tau_map as solve_tau_map, tongues
+from ..runner.modes import natural_modes as solve_natural_modes
+from ..runner.response import response
 from ..params.physical import CARDIAC, TABLE_6_1, PhysicalSphere, bpm_to_rad_per_s
 from ..models.sphere import lambda0_squared
 from ..plots import degree_stability, ince_strutt, natural_modes, tau_map
@@ -24,7 +26,7 @@ def _write_json(path: Path, data) -> Path:
 
 def _diagrams(name: str, out: Path, cases: list[dict], *, kappa: str, columns: int,
               model: str = "mathieu", progress: bool, workers: int | None, **draw) -> list[Path]:
-    results = [api.tongues(model, kappa=kappa, progress=progress, workers=workers, tau_max=1.0,
+    results = [tongues(model, kappa=kappa, progress=progress, workers=workers, tau_max=1.0,
                            **case) for case in cases]  # the panels show tau <= 1
     png = ince_strutt.save(results, out / f"{name}.png", columns=columns, **draw)
     return [png, _write_json(out / f"{name}.json", [r.to_dict() for r in results])]
@@ -42,8 +44,8 @@ def _table_6_1_degrees(out: Path, *, progress: bool, workers: int | None) -> lis
     panels, data = [], []
     for case, phys in TABLE_6_1.items():
         dimless = phys.forced()
-        by_degree = {m: api.floquet("sphere", m=m, **dimless) for m in range(2, 9)}
-        stab = api.stability("sphere", tau=0.45, m="2:8", **dimless)
+        by_degree = {m: floquet("sphere", m=m, **dimless) for m in range(2, 9)}
+        stab = stability("sphere", tau=0.45, m="2:8", **dimless)
         title = f"case {case}: ν = {dimless['nu']:g}, κ = {dimless['kappa']:g}"
         panels.append((title, by_degree, stab))
         data.append({"case": case, "params": dimless, "stability": stab.to_dict(),
@@ -70,7 +72,7 @@ def _cardiac_fingers(out: Path, **kw) -> list[Path]:
 def _cardiac_map(out: Path, *, progress: bool, workers: int | None, size: int = 48) -> list[Path]:
     """Fig 6.13: minimum tau over m = 2..6 against stiffness and beat rate, an atrium."""
     sigma = CARDIAC["sigma_range"]
-    res = api.tau_map("sphere", x=("sigma", f"{sigma[0]}:{sigma[1]}:{size}"),
+    res = solve_tau_map("sphere", x=("sigma", f"{sigma[0]}:{sigma[1]}:{size}"),
                       y=("bpm", f"50:650:{size}"), m="2:6", progress=progress, workers=workers,
                       physical={k: CARDIAC[k] for k in ("rho", "mu", "radius")})
     boxes = [(sigma, CARDIAC["bpm_healthy"], "healthy heart", "tab:blue"),
@@ -83,7 +85,7 @@ def _cardiac_map(out: Path, *, progress: bool, workers: int | None, size: int = 
 def _natural_modes_against_zeta(out: Path, *, progress: bool, workers: int | None) -> list[Path]:
     """Fig 7.1: least-damped mode (decay rate, frequency) of m = 2, 3, 4 for zeta in [1e-3, 10]."""
     zeta = np.logspace(-3, 1, 161)
-    by_degree = {m: [api.natural_modes("sphere", m=m, zeta=z) for z in zeta] for m in (2, 3, 4)}
+    by_degree = {m: [solve_natural_modes("sphere", m=m, zeta=z) for z in zeta] for m in (2, 3, 4)}
     inviscid = {m: float(np.sqrt(lambda0_squared(m, 1.0))) for m in by_degree}
     png = natural_modes.save(zeta, by_degree, inviscid, out / "fig-7.1.png")
     data = {"zeta": zeta.tolist(), "modes": {m: [r.to_dict()["modes"] for r in rs]
@@ -119,8 +121,8 @@ def _fibre_against_m(name: str, cases: list[dict], out: Path, *, progress: bool,
     lo, hi = FIBRE_DEGREES
     panels, data = [], []
     for case in cases:
-        by_degree = {m: api.floquet("fibre", m=m, tau_max=1.0, **case) for m in range(lo, hi + 1)}
-        stab = api.stability("fibre", tau=FIBRE_TAU, m=f"{lo}:{hi}", **case)
+        by_degree = {m: floquet("fibre", m=m, tau_max=1.0, **case) for m in range(lo, hi + 1)}
+        stab = stability("fibre", tau=FIBRE_TAU, m=f"{lo}:{hi}", **case)
         title = f"fibre: ν = {case['nu']:g}, κ = {case['kappa']:g} (abscissa: wavenumber m)"
         panels.append((title, by_degree, stab))
         data.append({"params": case, "stability": stab.to_dict(),
@@ -135,7 +137,7 @@ def _fibre_against_m(name: str, cases: list[dict], out: Path, *, progress: bool,
 
 def _cochlea_det_contours(out: Path, **_) -> list[Path]:
     """Fig 5.7: zero contours of Re/Im det T(s), s = gamma/sqrt(kappa), alpha = 1.56, M = 20,
-    zeta = 2e-5 and 1e-2, with the modes of api.natural_modes marked."""
+    zeta = 2e-5 and 1e-2, with the modes of solve_natural_modes marked."""
     from ..models.cochlea import coupling_matrix, transfer
     from ..plots import cochlea as cochlea_plots
 
@@ -148,7 +150,7 @@ def _cochlea_det_contours(out: Path, **_) -> list[Path]:
         T = np.broadcast_to(C, (s.size, M, M)).astype(complex)
         T[:, modes - 1, modes - 1] += transfer(s[:, None], modes[None, :], zeta)
         det = (np.linalg.det(T) / np.linalg.det(C)).reshape(re.shape)
-        res = api.natural_modes("cochlea", zeta=zeta, alpha=1.56, n_spatial=M)
+        res = solve_natural_modes("cochlea", zeta=zeta, alpha=1.56, n_spatial=M)
         panels.append((f"ζ = {zeta:g}, α = 1.56, M = {M}", re, im, det, res.gamma))
         data[str(zeta)] = res.to_dict()
     png = cochlea_plots.save_det_contours(panels, out / "fig-5.7.png")
@@ -165,7 +167,7 @@ def _cochlea_profiles(out: Path, **_) -> list[Path]:
 
     panels, data = [], []
     for omega in (400.0, 800.0, 1200.0, 1600.0):
-        res = [api.response("cochlea", omega=omega, kind=k, n_spatial=COCHLEA_RESPONSE_MODES)
+        res = [response("cochlea", omega=omega, kind=k, n_spatial=COCHLEA_RESPONSE_MODES)
                for k in ("harmonic", "subharmonic")]
         panels.append((f"ω = {omega:g} rad/s", res))
         data.append({"omega": omega, "responses": [r.to_dict() for r in res]})
@@ -183,7 +185,7 @@ def _cochlea_peaks(out: Path, **_) -> list[Path]:
     omegas = np.array([400.0, 600.0, 800.0, 1000.0, 1200.0, 1400.0, 1600.0])
     series, data = [], {}
     for kind, marker, factor in (("harmonic", "+", 1.0), ("subharmonic", "o", 0.5), ("tone", "x", 1.0)):
-        res = [api.response("cochlea", omega=om, kind=kind, n_spatial=COCHLEA_RESPONSE_MODES)
+        res = [response("cochlea", omega=om, kind=kind, n_spatial=COCHLEA_RESPONSE_MODES)
                for om in omegas]
         peak = np.array([r.to_cm(r.peak_x) for r in res])
         err = np.array([r.to_cm(r.peak_error) for r in res])
@@ -213,7 +215,7 @@ def _cochlea_uniform(out: Path, **_) -> list[Path]:
     omegas = np.linspace(200.0, 2000.0, 181)
     panels, data = [], {}
     for k in range(1, 7):
-        res = [api.floquet("cochlea", omega=w, alpha=0.0, spatial_mode=k, tau_max=1.0) for w in omegas]
+        res = [floquet("cochlea", omega=w, alpha=0.0, spatial_mode=k, tau_max=1.0) for w in omegas]
         panels.append((f"k = {k}, α = 0", _tau_points(res, omegas)))
         data[k] = [r.to_dict() for r in res]
     png = cochlea_plots.save_tau_against_omega(panels, out / "fig-5.12.png", columns=2,
@@ -277,7 +279,7 @@ def _cochlea_graded(out: Path, **_) -> list[Path]:
     omegas = np.linspace(400.0, 1600.0, 61)
     panels, data = [], {}
     for M in (5, 10, 64):
-        res = [api.floquet("cochlea", omega=w, n_spatial=M, tau_max=1.0) for w in omegas]
+        res = [floquet("cochlea", omega=w, n_spatial=M, tau_max=1.0) for w in omegas]
         panels.append((f"α = 1.56, M = {M}", _tau_points(res, omegas)))
         data[M] = [r.to_dict() for r in res]
     png = cochlea_plots.save_tau_against_omega(panels, out / "fig-5.14.png",

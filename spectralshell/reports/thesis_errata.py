@@ -46,12 +46,13 @@ class Finding:
 
 def _table_7_3_nonlinear() -> str:
     """Balloon A, R = 6 cm: the (7.5) frequency times 1 + c_2 eps^2 at eps = 0.2, printed and exact c_2."""
-    from .. import api
     from ..params.physical import balloon
+    from ..runner.lp import lp_coefficient
+    from ..runner.modes import natural_modes as solve_natural_modes
 
     b = balloon("A", 6.0)
-    inviscid = float(api.natural_modes("sphere", m=2, kappa=1.0, nu=0.0).gamma[0].imag) / b.time_scale
-    printed_c2, exact_c2 = -7061 / (3136 * 3.141592653589793), api.lp_coefficient(2)
+    inviscid = float(solve_natural_modes("sphere", m=2, kappa=1.0, nu=0.0).gamma[0].imag) / b.time_scale
+    printed_c2, exact_c2 = -7061 / (3136 * 3.141592653589793), lp_coefficient(2)
     return (f"balloon A, R = 6 cm: inviscid {inviscid:.2f} 1/s; with the printed c_2 = {printed_c2:.4f}: "
             f"{inviscid * (1 + 0.04 * printed_c2):.2f} 1/s (the printed 44.15); with the exact "
             f"c_2 = {exact_c2:.4f}: {inviscid * (1 + 0.04 * exact_c2):.2f} 1/s")
@@ -59,12 +60,12 @@ def _table_7_3_nonlinear() -> str:
 
 def _fibre_table_4_1_unstable() -> str:
     """Every degree m = 2..6 unstable at tau = 0.45 in the two Table 4.1 cases (corrected model)."""
-    from .. import api
     from ..params.physical import TABLE_4_1, fibre_forced
+    from ..runner.floquet import stability
 
     parts = []
     for case in (1, 2):
-        res = api.stability("fibre", tau=0.45, m="2:6", **fibre_forced(**TABLE_4_1[case]))
+        res = stability("fibre", tau=0.45, m="2:6", **fibre_forced(**TABLE_4_1[case]))
         found = [f"m = {d['m']} {d['kind']} (tau_min {min(d['tau_' + d['kind']]):.4f})"
                  for d in res.modes if d["unstable"]]
         parts.append(f"case {case}: " + ", ".join(found))

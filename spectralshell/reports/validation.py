@@ -39,7 +39,9 @@ import scipy.special as special
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
-from .. import api
+from ..runner.floquet import exponents, floquet, stability, tongues
+from ..runner.lp import lp_summary
+from ..runner.modes import natural_modes as solve_natural_modes
 from .._version import __version__, libraries, libraries_line
 from ..discretise.sphere_radial import radial_operators
 from ..params.physical import BALLOONS, CARDIAC, TABLE_4_1, TABLE_6_1, balloon, fibre_forced
@@ -204,20 +206,20 @@ def two_harmonic_tip(kappa: float, nu: float) -> tuple[float, float]:
 
 
 def _tau_near(model: str, kind: str, target: float, **params) -> Measured:
-    res = getattr(api.floquet(model, kind=kind, **params), kind)
+    res = getattr(floquet(model, kind=kind, **params), kind)
     tau = float(res.tau[np.argmin(np.abs(res.tau - target))])
     return Measured(tau, f"N = {res.n_temporal}, error estimate {res.error_estimate:.1e}")
 
 
 def _tau_min(model: str, kind: str, **params) -> Measured:
-    res = getattr(api.floquet(model, kind=kind, **params), kind)
+    res = getattr(floquet(model, kind=kind, **params), kind)
     return Measured(res.tau_min, f"N = {res.n_temporal}, error estimate {res.error_estimate:.1e}")
 
 
 def _unstable(model: str, tau: float, params: dict, *, lowest_only: bool = False) -> str:
     """'m = 3 subharmonic' (the unstable degrees of m = 2..6 at ``tau``, or only the one with the
     lowest threshold)."""
-    res = api.stability(model, tau=tau, m="2:6", **params)
+    res = stability(model, tau=tau, m="2:6", **params)
     modes = [(min(d[f"tau_{d['kind']}"]), d["m"], d["kind"]) for d in res.modes if d["unstable"]]
     modes = sorted(modes)[:1] if lowest_only else sorted(modes, key=lambda x: x[1])
     return "; ".join(f"m = {m} {kind}" for _, m, kind in modes) or "none"
@@ -256,8 +258,8 @@ def _inviscid_rate(model: str) -> Measured:
     """Slope of log(tau_min(nu) - tau_min(0)) against log nu (subharmonic, m = 3, kappa = 0.02)
     for nu = 1e-6 .. 1e-9: the Stokes-layer damping makes it 1/2."""
     nus = [1e-6, 1e-7, 1e-8, 1e-9]
-    base = api.floquet(model, kind="subharmonic", m=3, kappa=0.02, nu=0.0).subharmonic.tau_min
-    diff = [api.floquet(model, kind="subharmonic", m=3, kappa=0.02, nu=nu).subharmonic.tau_min - base
+    base = floquet(model, kind="subharmonic", m=3, kappa=0.02, nu=0.0).subharmonic.tau_min
+    diff = [floquet(model, kind="subharmonic", m=3, kappa=0.02, nu=nu).subharmonic.tau_min - base
             for nu in nus]
     return Measured(_slope(diff, nus), f"tau_min(1e-9) - tau_min(0) = {diff[-1]:.2e}")
 
@@ -284,7 +286,7 @@ def mathieu_cases() -> list[Case]:
 
         def tip(ctx, k=k, kind=kind):
             c = (k / 2) ** 2
-            (t,) = api.tongues("mathieu", kappa=np.linspace(c - 0.05, c + 0.05, 11), nu=0.0, kind=kind,
+            (t,) = tongues("mathieu", kappa=np.linspace(c - 0.05, c + 0.05, 11), nu=0.0, kind=kind,
                                workers=1).tips
             return Measured(t.kappa, f"tip tau = {t.tau:.1e} +- {t.tau_error:.0e}")
 
@@ -312,13 +314,13 @@ def mathieu_cases() -> list[Case]:
             expected=lambda ctx, a=(kappa, nu, tau): float(
                 np.log(np.abs(np.linalg.eigvals(mathieu_monodromy(*a))).max()) / (2 * np.pi)),
             compute=lambda ctx, a=(kappa, nu, tau): float(
-                api.exponents("mathieu", kappa=a[0], nu=a[1], tau=a[2]).gamma.real.max()),
+                exponents("mathieu", kappa=a[0], nu=a[1], tau=a[2]).gamma.real.max()),
             tolerance=1e-9, quick=quick))
     cases.append(Case(
         name="mathieu.liouville", section=MATHIEU,
         quantity="sum of Re gamma, kappa = 1, nu = 0.1, tau = 0.3",
         source="Liouville, sum of exponents = trace = -nu", source_kind="closed form",
-        expected=-0.1, compute=lambda ctx: float(api.exponents("mathieu", kappa=1.0, nu=0.1, tau=0.3)
+        expected=-0.1, compute=lambda ctx: float(exponents("mathieu", kappa=1.0, nu=0.1, tau=0.3)
                                                  .gamma.real.sum()),
         tolerance=1e-10, quick=True))
     cases.append(Case(
@@ -389,7 +391,7 @@ def fibre_cases() -> list[Case]:
         quantity="subharmonic tau_min with only the pressure jump pumped (m = 3, kappa = 0.02, nu = 2e-4)",
         source="thesis 4.2 / Fig 4.2: the pressure jump carries the instability (vs both jumps pumped, 1 %)",
         source_kind="thesis",
-        expected=lambda ctx: api.floquet("fibre", kind="subharmonic", **common).subharmonic.tau_min,
+        expected=lambda ctx: floquet("fibre", kind="subharmonic", **common).subharmonic.tau_min,
         compute=lambda ctx: _tau_min("fibre", "subharmonic", forcing="pressure", **common),
         tolerance=0.01, relative=True, quick=True))
 
@@ -589,9 +591,9 @@ PRINTED_7_3_INVISCID = (45.45, 25.47, 20.78, 27.38, 19.03, 14.79, 14.55, 9.48, 6
 def _balloon_frequency(kind: str, radius: float, viscous: bool) -> float:
     b = balloon(kind, radius)
     if viscous:
-        return float(api.natural_modes("sphere", m=2, count=1, physical={
+        return float(solve_natural_modes("sphere", m=2, count=1, physical={
             "rho": b.rho, "mu": b.mu, "radius": b.radius, "sigma": b.sigma}).gamma[0].imag)
-    return float(api.natural_modes("sphere", m=2, kappa=1.0, nu=0.0).gamma[0].imag) / b.time_scale
+    return float(solve_natural_modes("sphere", m=2, kappa=1.0, nu=0.0).gamma[0].imag) / b.time_scale
 
 
 def mode_cases() -> list[Case]:
@@ -600,11 +602,11 @@ def mode_cases() -> list[Case]:
                                       (10, 0.2, "poloidal", False), (2, 3.0, "poloidal", False),
                                       (4, 0.05, "toroidal", False)]:
         def compute(ctx, a=(m, zeta, component)):
-            res = api.natural_modes("sphere", m=a[0], zeta=a[1], component=a[2], count=1)
+            res = solve_natural_modes("sphere", m=a[0], zeta=a[1], component=a[2], count=1)
             return Measured(complex(res.gamma[0]), f"error estimate {res.error_estimate[0]:.1e}")
 
         def expected(ctx, a=(m, zeta, component)):
-            seed = complex(api.natural_modes("sphere", m=a[0], zeta=a[1], component=a[2], count=1).gamma[0])
+            seed = complex(solve_natural_modes("sphere", m=a[0], zeta=a[1], component=a[2], count=1).gamma[0])
             return mp_mode(a[0], a[1], seed, a[2])
 
         cases.append(Case(
@@ -618,7 +620,7 @@ def mode_cases() -> list[Case]:
             fine, coarse = (radial_operators(m=a[0], nu=a[1], n_inner=n, n_outer=n, exterior_angle=-np.pi / 3)
                             .pencil(1.0) for n in (40, 32))
             values = least_damped(fine, coarse, count=2).values
-            g = complex(api.natural_modes("sphere", m=a[0], zeta=a[1], count=1).gamma[0])
+            g = complex(solve_natural_modes("sphere", m=a[0], zeta=a[1], count=1).gamma[0])
             return complex(values[np.argmin(np.abs(values - g))])
 
         cases.append(Case(
@@ -626,7 +628,7 @@ def mode_cases() -> list[Case]:
             quantity=f"least-damped poloidal mode gamma, m = {m}, zeta = {zeta:g}",
             source="radial Chebyshev collocation pencil (n = 40 vs 32, complex-scaled exterior)",
             source_kind="second method", expected=cheb,
-            compute=lambda ctx, a=(m, zeta): complex(api.natural_modes("sphere", m=a[0], zeta=a[1],
+            compute=lambda ctx, a=(m, zeta): complex(solve_natural_modes("sphere", m=a[0], zeta=a[1],
                                                                        count=1).gamma[0]),
             tolerance=1e-8, relative=True, quick=quick))
     cases.append(Case(
@@ -861,7 +863,7 @@ def nonlinear_cases() -> list[Case]:
     cases = []
     for (m, k), (num, den) in EXACT_C.items():
         def direct(ctx, m=m, k=k):
-            check = api.lp_summary(m, k, check=True)["check"]
+            check = lp_summary(m, k, check=True)["check"]
             return Measured(check["slope"], f"fit uncertainty {check['uncertainty']:.1e}")
 
         cases.append(Case(

@@ -1,0 +1,465 @@
+"""Floquet computations of a model: marginal tau (with refinement in the spatial modes),
+Ince-Strutt diagrams, tau maps, exponents, degree stability and planned scenes."""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import os
+import sys
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._validate import require_int_in_range, require_positive, require_real
+from ..discretise.fourier import expand_kind
+from ..errors import ParameterError
+from ..models.base import HillSystem
+from ..models.registry import hill_system
+from ..params.grid import parse_int_range, parse_range
+from ..params.limits import RESULT_BYTES, SECONDS, check_grid, check_points
+from ..params.physical import PHYSICAL_UNITS, physical_inputs, sphere_forced_params
+from ..params.physical import convert_physical
+from ..params.stiffness import amplitude_warnings, threshold_warnings
+from ..params.registry import PARAMS, check_model, int_bounds, make_params, param_names
+from ..params.scene import Plan, plan
+from ..results.maps import TauMapResult
+from ..results.spatial import SpatialFloquetResult
+from ..results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
+                              certification_warnings, provenance, resolution_warnings)
+from ..solvers.cost import CostEstimate, spatial_cost
+from ..solvers.exponents import floquet_exponents
+from ..solvers.marginal import N_MAX, marginal_tau
+from ..solvers.spatial_refinement import (TOL_SPATIAL, refine_spatial, solve_at,
+                                           spatial_change, spatial_error)
+from .sweep import map_points
+from ..solvers.tongues import find_tips
+
+
+def solver_options(tol: float, n_temporal: int | None, tau_max: float | None = None) -> dict[str, Any]:
+    tol = require_positive("tol", tol)
+    if n_temporal is not None:
+        n_temporal = require_int_in_range("n_temporal", n_temporal, 1, N_MAX)
+    options = {"tol": tol, "n_temporal": n_temporal}
+    if tau_max is not None:
+        options["tau_max"] = require_positive("tau_max", tau_max)
+    return options
+
+
+def _system(model: str, params: Mapping[str, Any]) -> tuple[Any, HillSystem]:
+    p = make_params(model, dict(params))
+    return p, hill_system(p)
+
+
+def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: int | None = None,
+            tau_max: float | None = None, tol_spatial: float | None = None,
+            max_seconds: float | None = None, progress: bool = False,
+            **params: Any) -> FloquetResult:
+    """Marginal forcing amplitudes tau (Floquet boundaries) of a model.
+
+    Parameters
+    ----------
+    model : a name from ``spectralshell.params.registry.PARAMS`` ('mathieu', 'sphere', ...).
+    kind : 'both', 'harmonic' (gamma = 0) or 'subharmonic' (gamma = i/2); only those are computed.
+    tol : absolute tolerance on tau_min; the truncation grows until it is met. Where rounding,
+        not the truncation, keeps the error estimate above tol (tau = 0 as a double eigenvalue
+        at an undamped finger tip) the result's ``warnings`` say so.
+    n_temporal : fix the truncation N instead (the error estimate compares with a smaller N).
+    tau_max : compute only the marginal tau <= tau_max (e.g. 0.5, the physical range); the
+        truncation then grows only as far as those need, and tau_min is None when there is none.
+    tol_spatial : models with spatial modes (a parameter ``n_spatial``, e.g. 'cochlea') only:
+        with ``n_spatial=None`` the number of spatial modes is doubled from 16 until every
+        tau_min changes by at most ``tol_spatial`` (absolute; default 1e-3), see
+        :func:`_floquet_spatial`.
+    max_seconds : models with spatial modes only: raise the limit on the estimated cost
+        (default :data:`spectralshell.params.limits.SECONDS`, 600 s, or
+        $SPECTRALSHELL_MAX_SECONDS). The truncations N and M a solve needs are priced from the
+        parameters before it starts (:mod:`spectralshell.solvers.cost`); a solve whose least
+        work is estimated above the limit is refused with what it needs.
+    progress : models with spatial modes only: a progress bar over the spatial truncations
+        M on stderr, its label stating the estimate.
+    **params : the model's parameters, e.g. ``kappa``, ``nu`` for 'mathieu'; for 'cochlea' also
+        the cgs inputs rho, mu, sigma, length, lambda_c, omega (Table 5.1 defaults for the
+        missing ones; omega required), converted by :func:`params.physical.cochlea_params`.
+
+    Notes
+    -----
+    Solves the Hill system (thesis (2.6) with reality conditions (2.7)/(2.8)) of the model.
+
+    Raises
+    ------
+    ParameterError : a parameter, kind or option out of range; an estimated cost above the
+        limit.
+    ConvergenceError : tau_min did not converge to ``tol`` (or to ``tol_spatial`` in n_spatial).
+    """
+    model = check_model(model)
+    kinds = expand_kind(kind)
+    options = solver_options(tol, n_temporal, tau_max)
+    params, physical = convert_physical(model, dict(params))
+    if "n_spatial" in param_names(model):
+        return _floquet_spatial(model, kind, options, params, physical, tol_spatial,
+                                max_seconds, progress)
+    for name, value in (("tol_spatial", tol_spatial), ("max_seconds", max_seconds)):
+        if value is not None:
+            raise ParameterError(f"{name} = {value!r} is invalid for model {model!r}: it has no "
+                                 "spatial modes")
+    p, system = _system(model, params)
+    res = {k: marginal_tau(system, k, **options) for k in kinds}
+    warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
+    if n_temporal is None:
+        warnings += resolution_warnings(res, options["tol"])
+    warnings += certification_warnings(res)
+    return FloquetResult(model=model, params=dataclasses.asdict(p), harmonic=res.get("harmonic"),
+                         subharmonic=res.get("subharmonic"),
+                         provenance=provenance({"kind": kind, **options}), warnings=tuple(warnings))
+
+
+def spatial_system(model: str, params: dict[str, Any], n_spatial: int) -> HillSystem:
+    return hill_system(make_params(model, {**params, "n_spatial": n_spatial}))
+
+
+def priced_spatial(model: str, factory, kinds: tuple[str, ...], options: dict[str, Any],
+            n_spatial: int | None, max_seconds: float | None) -> CostEstimate:
+    """The cost estimate of a solve with spatial modes, refused (ParameterError) when its least
+    work is above the limit on estimated seconds -- unless the caller fixed both truncations
+    (n_spatial and n_temporal): then nothing is refined and the size is the caller's choice
+    (the dense price overstates the Arnoldi path there: N = 20, M = 300 priced 17 min, ran in
+    1.6 s)."""
+    estimate = spatial_cost(factory, kinds, n_spatial=n_spatial,
+                            n_temporal=options["n_temporal"])
+    if n_spatial is not None and options["n_temporal"] is not None:
+        return estimate
+    SECONDS.check(f"{model} solve needing {estimate.describe()}", estimate.seconds, max_seconds,
+                  "fix the truncations with n_spatial= / --n-spatial M and n_temporal= / "
+                  "--n-temporal N")
+    return estimate
+
+
+def _counted(factory, bar):
+    """``factory`` that moves ``bar`` by one at each M it builds."""
+    def build(n_spatial: int) -> HillSystem:
+        bar.set_postfix_str(f"M = {n_spatial}")
+        bar.update(1)
+        return factory(n_spatial)
+    return build
+
+
+def _solve_spatial(model: str, params: dict[str, Any], first, factory, kinds: tuple[str, ...],
+                   options: dict[str, Any], tol_spatial: float) -> tuple:
+    """(params, tau of each kind, spatial change, M, coarser M) at the given n_spatial of
+    ``first`` (M and M // 2) or refined in M (see :func:`_floquet_spatial`)."""
+    n_given = first.n_spatial
+    if n_given is None:
+        found = refine_spatial(factory, kinds, options=options, tol_spatial=tol_spatial)
+        p = make_params(model, {**params, "n_spatial": found.n_spatial})
+        return p, found.taus, found.change, found.n_spatial, found.n_spatial_previous
+    fine = solve_at(factory, n_given, kinds, options)
+    m_coarse = n_given // 2 or None
+    coarse = None if m_coarse is None else solve_at(factory, m_coarse, kinds, options)
+    cap = options.get("tau_max") or float("inf")
+    change = {k: None if coarse is None else spatial_change(fine[k], coarse[k], cap)
+              for k in kinds}
+    return first, fine, change, n_given, m_coarse
+
+
+def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dict[str, Any],
+                     physical: dict[str, float] | None, tol_spatial: float | None,
+                     max_seconds: float | None = None,
+                     progress: bool = False) -> SpatialFloquetResult:
+    """Marginal tau of a model with spatial modes, with an error estimate in their number M.
+
+    * ``spatial_mode`` given (a single decoupled mode): one solve, exact in space.
+    * ``n_spatial = M`` given: solves at M and at M // 2; the spatial change
+      |tau_min(M) - tau_min(M // 2)| (the thesis's epsilon_M of 5.3, Fig 5.6) enters the error
+      estimate.
+    * ``n_spatial = None``: M = 16, 32, 64, ... until every asked kind's tau_min changes by at
+      most ``tol_spatial`` between successive M (a kind without tau_min at both counts as
+      converged once the coarser M reaches the kind's resonance); ConvergenceError past
+      M = SPATIAL_LIMIT (:func:`spectralshell.solvers.spatial_refinement.refine_spatial`).
+
+    Before any solve (but the single mode's) the cost is estimated and checked against the
+    limit ``max_seconds`` (:func:`priced_spatial`); ``progress`` shows a bar over the M solved.
+
+    With ``tau_max`` the change is that of tau_min capped at tau_max (a missing tau_min counts
+    as tau_max). Each kind's ``error_estimate`` becomes max(temporal estimate, spatial change); a
+    missing change (tau_min at one M only without tau_max, or M = 1) makes it tau_min itself, as
+    for the temporal one.
+    """
+    kinds = expand_kind(kind)
+    first = make_params(model, params)
+    n_given = first.n_spatial
+    if tol_spatial is not None and (n_given is not None or first.spatial_mode is not None):
+        raise ParameterError(f"tol_spatial = {tol_spatial!r} is invalid with a fixed n_spatial or "
+                             "spatial_mode: it sets when the automatic refinement in n_spatial stops")
+    tol_spatial = require_positive("tol_spatial", TOL_SPATIAL if tol_spatial is None else tol_spatial)
+    factory = functools.partial(spatial_system, model, params)
+    if first.spatial_mode is not None:
+        p, fine = first, {k: marginal_tau(hill_system(first), k, **options) for k in kinds}
+        m_fine, m_coarse, change = 1, None, {k: 0.0 for k in kinds}
+    else:
+        from tqdm import tqdm  # lazy: keeps `import spectralshell` light
+
+        estimate = priced_spatial(model, factory, kinds, options, n_given, max_seconds)
+        with tqdm(total=estimate.levels, desc=f"{model} ({estimate.describe()})", unit="M",
+                  disable=not progress, file=sys.stderr, leave=False) as bar:
+            p, fine, change, m_fine, m_coarse = _solve_spatial(
+                model, params, first, _counted(factory, bar), kinds, options, tol_spatial)
+    res = {k: spatial_error(fine[k], change[k]) for k in kinds}
+    warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
+    auto = n_given is None and first.spatial_mode is None
+    opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
+    return SpatialFloquetResult(model=model, params=dataclasses.asdict(p),
+                                harmonic=res.get("harmonic"), subharmonic=res.get("subharmonic"),
+                                provenance=provenance(opts), warnings=tuple(warnings),
+                                n_spatial=m_fine, n_spatial_previous=m_coarse,
+                                spatial_change=change, physical=physical)
+
+
+PARALLEL_MIN_POINTS = 400  # below this a process pool costs more than it saves
+CHUNKS_PER_WORKER = 128
+MIN_CHUNK = 64
+
+
+def _map(factory, points: list, kinds: tuple[str, ...], workers: int | None, progress: bool,
+         desc: str, options: dict[str, Any]) -> list:
+    """Marginal tau at every point through the sweep runner: serial for ``workers=1`` or small
+    grids, otherwise a process pool (all cores when ``workers`` is None)."""
+    serial = workers == 1 or (workers is None and len(points) < PARALLEL_MIN_POINTS)
+    # CHUNKS_PER_WORKER tasks per worker, of at least MIN_CHUNK points: the progress bar moves
+    # often (a 200 x 200 Fig 6.13 map: every ~780 points, under one beat-rate row; with 32 per
+    # worker its first, dearest chunks took ~1.5 min), and the dispatch cost (~0.5 ms per task,
+    # validation/bench_sweep.py) stays ~1 % of a chunk's compute even for the cheapest points
+    # (Mathieu, ~0.5 ms each); each point is solved alone, so the numbers do not depend on it
+    per_worker = -(-len(points) // (CHUNKS_PER_WORKER * (workers or os.cpu_count() or 1)))
+    chunk = max(MIN_CHUNK, per_worker)
+    return map_points(factory, points, kinds, executor="serial" if serial else "processes",
+                      workers=None if serial else workers, chunk=chunk, progress=progress,
+                      desc=desc, **options)
+
+
+def _factory(model: str, params: dict[str, Any], kappa: float) -> HillSystem:
+    return _system(model, {**params, "kappa": kappa})[1]
+
+
+def _grid(name: str, spec: Any, max_points: int | None) -> np.ndarray:
+    """A non-empty 1-D grid from 'start:stop:num', {start, stop, num} or array-like values, its
+    size checked against the points limit before it is made (a range) or converted (values)."""
+    if isinstance(spec, (str, Mapping)):
+        return parse_range(name, spec, max_points)
+    values = np.atleast_1d(np.asarray(spec, dtype=object))
+    check_points(name, values.size, max_points)
+    if not values.size:
+        raise ParameterError(f"{name} = [] is invalid: must be a non-empty grid")
+    return np.array([require_real(name, v) for v in values])
+
+
+def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
+            n_temporal: int | None = None, tau_max: float | None = None, tips: bool = True,
+            workers: int | None = None, progress: bool = False, max_points: int | None = None,
+            **params: Any) -> TonguesResult:
+    """Ince-Strutt diagram: marginal tau of each kind over a kappa grid, and the finger tips.
+
+    Parameters
+    ----------
+    kappa : the grid (array-like, or 'start:stop:num').
+    tips : locate the minimum (kappa, tau) of every finger that shows as a local minimum of
+        tau_min on the grid (to ~1e-12 in kappa; see ``solvers.tongues.refine_tip``).
+    workers : processes (None: all cores for large grids; 1: serial). progress : show a bar.
+    tau_max : only the marginal tau <= tau_max are computed (as in :func:`floquet`).
+    max_points : raise the limit on the grid's points (default
+        :data:`spectralshell.params.limits.POINTS`, 1e6, or $SPECTRALSHELL_MAX_POINTS); a grid
+        above it, or whose results exceed the memory limit, is refused before any work.
+    Other parameters as in :func:`floquet`; ``params`` must not contain ``kappa``.
+    """
+    model = check_model(model)
+    kinds = expand_kind(kind)
+    options = solver_options(tol, n_temporal, tau_max)
+    grid = _grid("kappa", kappa, max_points)
+    check_grid("kappa", (grid.size,), RESULT_BYTES, max_points)
+    for k in (grid.min(), grid.max()):
+        make_params(model, {**params, "kappa": k})
+    factory = functools.partial(_factory, model, dict(params))
+    rows = _map(factory, list(grid), kinds, workers, progress, "tongues", options)
+    found, failures = find_tips(factory, grid, rows, kinds, tol=options["tol"]) if tips else ([], [])
+    warnings = threshold_warnings({k: [r[k].tau_min for r in rows] for k in kinds}) + failures
+    p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
+    p.pop("kappa")
+    return TonguesResult(model=model, params=p, kappa=grid, kinds=kinds, rows=tuple(rows),
+                         tips=tuple(found), warnings=tuple(warnings),
+                         provenance=provenance({"kind": kind, "tips": tips, **options}))
+
+
+def _point_params(params: dict[str, Any], physical: dict[str, float] | None,
+                  names: tuple[str, str], point: tuple[float, float, int]) -> dict[str, Any]:
+    """Model parameters of one map point (x, y, m), converted from cgs when ``physical`` is given."""
+    x, y, degree = point
+    values = {**params, names[0]: float(x), names[1]: float(y), "m": int(degree)}
+    return values if physical is None else sphere_forced_params({**physical, **values})
+
+
+def _map_system(model: str, params: dict[str, Any], physical: dict[str, float] | None,
+                names: tuple[str, str], point: tuple[float, float, int]) -> HillSystem:
+    return _system(model, _point_params(params, physical, names, point))[1]
+
+
+def _map_axis(model: str, label: str, axis: object, physical: bool,
+              max_points: int | None) -> tuple[str, np.ndarray]:
+    """(name, grid) of the map axis ``label`` = (name, grid spec): the name one of the model's
+    real parameters, or with physical input one of PHYSICAL_UNITS; the grid by :func:`_grid`."""
+    names = tuple(PHYSICAL_UNITS) if physical else tuple(
+        f.name for f in dataclasses.fields(PARAMS[model]) if f.type in (float, "float"))
+    if not (isinstance(axis, (tuple, list)) and len(axis) == 2):
+        raise ParameterError(f"{label} = {axis!r} is invalid: must be a pair (name, grid) with "
+                             f"name one of {', '.join(names)}")
+    if not isinstance(axis[0], str) or axis[0] not in names:
+        hint = "" if physical else f" (cgs axes {', '.join(PHYSICAL_UNITS)} need physical=)"
+        raise ParameterError(f"{label} axis name = {axis[0]!r} is invalid: must be one of "
+                             f"{', '.join(names)}{hint}")
+    name = str(axis[0])
+    return name, _grid(name, axis[1], max_points)
+
+
+def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str = "both",
+            tau_max: float = 0.5, tol: float = 1e-8, physical: Mapping[str, float] | None = None,
+            workers: int | None = None, progress: bool = False, max_points: int | None = None,
+            **params: Any) -> TauMapResult:
+    """Map of the smallest marginal tau <= tau_max over degrees ``m`` and kinds on an x-y grid.
+
+    Parameters
+    ----------
+    x, y : (parameter name, grid), the grid as array-like or 'start:stop:num'. Names are model
+        parameters (e.g. 'kappa', 'nu') or, with ``physical``, the cgs quantities 'sigma'
+        (dyn/cm), 'omega' (rad/s), 'bpm' (beats/min), 'radius', 'mu', 'rho'.
+    m : degrees, e.g. '2:6'. tau_max : only instabilities below it count (1/2: stiffness > 0).
+    physical : fixed cgs values (e.g. rho, mu, radius) for the conversion (6.4)-(6.5) of
+        :class:`spectralshell.params.physical.PhysicalSphere`.
+    tol : absolute tolerance on each tau_min (1e-8 is ample for a picture).
+    max_points : raise the limit on x * y * degrees points (as in :func:`tongues`).
+
+    Notes
+    -----
+    Every point solves only the marginal tau <= tau_max (``marginal_tau(tau_max=...)``), in
+    parallel over all cores with a progress bar; the value is the minimum over m and kind, and
+    ``degree``/``kind`` record which one attains it (thesis Fig 6.13 labels 'm H/S').
+    """
+    model = check_model(model)
+    kinds = expand_kind(kind)
+    options = solver_options(tol, None, tau_max)
+    degrees = parse_int_range("m", m, int_bounds(model, "m"), max_points)
+    phys = None if physical is None else physical_inputs(physical, PHYSICAL_UNITS)
+    (names, grids) = zip(*(_map_axis(model, label, axis, phys is not None, max_points)
+                           for label, axis in (("x", x), ("y", y))))
+    check_grid(f"tau map {names[0]} x {names[1]} x m", (grids[0].size, grids[1].size,
+                                                        len(degrees)), RESULT_BYTES, max_points)
+    factory = functools.partial(_map_system, model, dict(params), phys, names)
+    for gx in (grids[0][0], grids[0][-1]):  # validate the grid's corners before the sweep
+        for gy in (grids[1][0], grids[1][-1]):
+            make_params(model, _point_params(dict(params), phys, names, (gx, gy, degrees[0])))
+    points = [(gx, gy, d) for gy in grids[1] for gx in grids[0] for d in degrees]
+    rows = _map(factory, points, kinds, workers, progress, "tau map", options)
+    shape = (grids[1].size, grids[0].size, len(degrees))
+    best = np.full(shape[:2], float(tau_max))
+    has = np.zeros(shape[:2], dtype=bool)
+    degree = np.zeros(shape[:2], dtype=int)
+    which = np.full(shape[:2], "", dtype="<U1")
+    err = np.zeros(shape[:2])
+    for idx, row in zip(np.ndindex(*shape), rows):
+        for k in kinds:
+            t = row[k].tau_min
+            if t is not None and t <= best[idx[:2]] and (not has[idx[:2]] or t < best[idx[:2]]):
+                best[idx[:2]], has[idx[:2]] = t, True
+                degree[idx[:2]], which[idx[:2]] = degrees[idx[2]], k[0].upper()
+                err[idx[:2]] = row[k].error_estimate or 0.0
+    units = {n: PHYSICAL_UNITS.get(n, "dimensionless") for n in names}
+    p = dict(params) if phys is None else {**params, **phys}
+    return TauMapResult(model=model, params=p, x_name=names[0], y_name=names[1], units=units,
+                        x=grids[0], y=grids[1], degrees=tuple(degrees), tau_max=float(tau_max),
+                        tau_min=best, has_tau=has, degree=degree, kind=which, error_estimate=err,
+                        provenance=provenance({"kind": kind, **options}))
+
+
+def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,
+              **params: Any) -> ExponentsResult:
+    """Floquet characteristic exponents gamma at forcing amplitude ``tau``.
+
+    Re gamma is the growth rate per unit time; Im gamma is folded into (-1/2, 1/2]. Verified
+    against the monodromy matrix of ``scipy.integrate.solve_ivp`` in the tests.
+    """
+    model = check_model(model)
+    tau = require_real("tau", tau)
+    options = solver_options(tol, n_temporal)
+    p, system = _system(model, params)
+    if system.polynomial is None:  # Hill's companion form needs a matrix polynomial D(s)
+        if getattr(p, "nu", 0.0):
+            raise ParameterError(f"nu = {p.nu!r} is invalid for Floquet exponents of model {model!r}: "
+                                 "must be 0 (the viscous load is not polynomial in s); use "
+                                 "floquet/stability for the marginal tau of the viscous model")
+        raise ParameterError(f"component = {getattr(p, 'component', None)!r} is invalid for Floquet "
+                             "exponents at nu = 0: must be 'poloidal' (the inviscid toroidal component "
+                             "has no dynamics)")
+    result = floquet_exponents(system, tau, **options)
+    return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
+                                 exponents=result, options=options)
+
+
+def stability(model: str, *, tau: float, m, kind: str = "both", tol: float = 1e-10,
+              n_temporal: int | None = None, **params: Any) -> StabilityResult:
+    """Is each degree m unstable at forcing amplitude ``tau``, and with which kind?
+
+    Notes
+    -----
+    Every marginal tau of a kind is a Floquet multiplier crossing +1 (harmonic) or -1
+    (subharmonic); for one oscillatory degree of freedom, successive crossings of the same kind
+    alternately enter and leave the instability finger (thesis 2.2, Fig 2.2), so a kind is unstable
+    at ``tau`` when an odd number of its marginal amplitudes lie below ``tau``. Where both kinds are
+    unstable, ``kind`` names the one with the lower threshold. The rule is checked against the Floquet
+    exponents in the tests.
+    """
+    model = check_model(model)
+    tau = require_real("tau", tau)
+    degrees = parse_int_range("m", m, int_bounds(model, "m"))
+    options = solver_options(tol, n_temporal)
+    modes = []
+    for degree in degrees:  # only the marginal tau below the asked tau are needed
+        if tau > 0:
+            res = floquet(model, kind=kind, m=degree, tau_max=tau, **options, **params)
+            solved = res.params
+        else:  # marginal tau are >= 0: none lies below tau <= 0, nothing to solve
+            res, solved = None, dataclasses.asdict(make_params(model, {**params, "m": degree}))
+        entry: dict[str, Any] = {"m": degree, "unstable": False, "kind": None}
+        thresholds = {}
+        for k in expand_kind(kind):
+            below = [] if res is None else [float(t) for t in getattr(res, k).tau if t < tau]
+            entry[f"tau_{k}"] = below
+            if len(below) % 2 == 1:
+                thresholds[k] = below[0]
+        if thresholds:
+            entry["unstable"], entry["kind"] = True, min(thresholds, key=thresholds.get)
+        modes.append(entry)
+    p = {k: v for k, v in solved.items() if k != "m"}
+    return StabilityResult(model=model, tau=tau, params=p, modes=tuple(modes),
+                           warnings=tuple(amplitude_warnings(tau)),
+                           provenance=provenance({"kind": kind, **options}))
+
+
+def run_scene(scene: str | Path | Mapping | Plan, *, progress: bool = False,
+              workers: int | None = None) -> dict[str, Any]:
+    """Plan a scene, then compute only what it asks; returns {task name: result}."""
+    the_plan = scene if isinstance(scene, Plan) else plan(scene)
+    out: dict[str, Any] = {}
+    for task in the_plan.tasks:
+        opts = dict(task.options)
+        kind = "both" if len(task.kinds) == 2 else (task.kinds[0] if task.kinds else None)
+        if task.name == "floquet":
+            out["floquet"] = floquet(the_plan.model, kind=kind, **opts, **the_plan.params)
+        elif task.name == "tongues":
+            params = {k: v for k, v in the_plan.params.items() if k != "kappa"}
+            out["tongues"] = tongues(the_plan.model, kind=kind, progress=progress,
+                                     workers=workers, **opts, **params)
+        elif task.name == "exponents":
+            out["exponents"] = exponents(the_plan.model, **opts, **the_plan.params)
+    return out
+
+
