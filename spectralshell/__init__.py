@@ -12,6 +12,7 @@ Public API::
     ss.floquet("cochlea", omega=1000)                   # basilar membrane, Table 5.1 units
     ss.response("cochlea", omega=1000)                  # pure-tone BM envelope (thesis 5.5)
     ss.tau_map("sphere", x=("kappa", "0.01:0.3:50"), y=("nu", "1e-4:1e-2:50"), m="2:6")
+    ss.models()                                         # registered models (README "Adding a model")
     ss.run_scene("scene.toml")                          # a planned scene
     ss.sweep("map.toml", out="map.zarr")                # a parameter sweep -> xarray.Dataset
     ss.lp_coefficient(2)                                # lambda = lambda0 (1 + c eps^2), thesis 7.3
@@ -22,8 +23,9 @@ Public API::
 from ._version import __version__
 from .api import (exponents, floquet, lp_coefficient, natural_modes, open_sweep, response, run_scene,
                   simulate, stability, sweep, tau_map, tongues)
+from .models import models
 from .errors import BackendUnavailable, ConvergenceError, ParameterError, SpectralShellError
 
 __all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "natural_modes", "tau_map",
-           "run_scene", "sweep", "open_sweep", "lp_coefficient", "simulate", "response", "SpectralShellError",
+           "run_scene", "sweep", "open_sweep", "lp_coefficient", "simulate", "response", "models", "SpectralShellError",
            "ParameterError", "ConvergenceError", "BackendUnavailable"]

@@ -14,6 +14,7 @@ import dataclasses
 import json
 import math
 import os
+import re
 import sys
 import tempfile
 from collections.abc import Callable, Sequence
@@ -24,7 +25,8 @@ from . import api
 from ._validate import parse_int, parse_real, require_output_file, require_writable_directory
 from ._version import __version__
 from .errors import ConvergenceError, ParameterError, SpectralShellError
-from .params.registry import PARAMS, param_names
+from .params.registry import (get_model, load_entry_points, models, models_with, param_fields,
+                              param_names)
 from .params.scene import default_scene, load_scene, plan
 from .params.sweep_grid import is_sweep_scene, sweep_spec
 
@@ -35,11 +37,27 @@ class _Parser(argparse.ArgumentParser):
 
 
 
-def _model_flags(p: argparse.ArgumentParser, *, skip: Sequence[str] = ()) -> None:
-    names = sorted({n for m in PARAMS for n in param_names(m)} - set(skip))
-    for name in names:
-        p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X",
-                       help=f"model parameter {name}")
+def _flag(name: str) -> str:
+    return f"--{name.replace('_', '-')}"
+
+
+def _model_flags(p: argparse.ArgumentParser, model: str, *, skip: Sequence[str] = ()) -> None:
+    """One flag per parameter of ``model`` (its meaning, units and default from the parameter
+    metadata of the registry)."""
+    group = p.add_argument_group(f"parameters of model {model!r}")
+    for f in param_fields(model):
+        if f.name in skip:
+            continue
+        default = "" if f.default in (dataclasses.MISSING, None) else f" (default {f.default})"
+        group.add_argument(_flag(f.name), dest=f.name, metavar="X",
+                           help=f.metadata.get("help", f.name) + default)
+
+
+def _physical_flags(p: argparse.ArgumentParser, units: dict[str, str], note: str) -> None:
+    """Flags of a model's cgs inputs (quantity -> unit)."""
+    group = p.add_argument_group("physical input (cgs)", note or None)
+    for name, unit in units.items():
+        group.add_argument(_flag(name), dest=name, metavar="X", help=f"{name} ({unit})")
 
 
 def _solver_flags(p: argparse.ArgumentParser) -> None:
@@ -67,7 +85,7 @@ def _tau_max(args: argparse.Namespace) -> dict[str, float]:
 
 def _max_seconds_flag(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-seconds", dest="max_seconds", metavar="X",
-                   help="cochlea: raise the limit on the estimated cost of the solve (default "
+                   help="raise the limit on the estimated cost of the solve (default "
                         "600 s, or $SPECTRALSHELL_MAX_SECONDS)")
 
 
@@ -78,14 +96,9 @@ def _max_points_flag(p: argparse.ArgumentParser) -> None:
 
 
 def _params(args: argparse.Namespace, model: str, *, skip: Sequence[str] = ()) -> dict[str, Any]:
-    given = {n: getattr(args, n) for m in PARAMS for n in param_names(m)
-             if n not in skip and getattr(args, n, None) is not None}
-    allowed = set(param_names(model))
-    for name in given:
-        if name not in allowed:
-            raise ParameterError(f"--{name.replace('_', '-')} is not a parameter of model {model!r}")
-    types = {f.name: f.type for f in dataclasses.fields(PARAMS[model])}
-    return {n: _typed(n, v, types[n]) for n, v in given.items()}
+    """The model parameters given as flags, each as its parameter's type."""
+    return {f.name: _typed(f.name, getattr(args, f.name), f.type) for f in param_fields(model)
+            if f.name not in skip and getattr(args, f.name, None) is not None}
 
 
 def _typed(name: str, text: str, kind: object) -> Any:
@@ -193,20 +206,19 @@ def _floquet_text(res) -> str:
     return "\n".join(lines)
 
 
-#: cgs flags of models that accept physical input (cochlea: Table 5.1 defaults), with units.
-COCHLEA_FLAGS = {"omega": "rad/s", "rho": "g/cm^3", "mu": "g/(cm s)", "sigma": "g/(cm^2 s^2)",
-                 "length": "cm", "lambda_c": "1/cm"}
-
-
-def _physical(args: argparse.Namespace) -> dict[str, float]:
-    return {k: parse_real(k, getattr(args, k)) for k in COCHLEA_FLAGS
-            if getattr(args, k, None) is not None}
+def _physical(args: argparse.Namespace, units: dict[str, str] | None = None) -> dict[str, float]:
+    """The cgs inputs given as flags (``units``: the model's Floquet physical input by default)."""
+    if units is None:
+        spec = get_model(args.model).physical
+        units = {} if spec is None else dict(spec.units)
+    return {k: parse_real(k, getattr(args, k)) for k in units if getattr(args, k, None) is not None}
 
 
 def cmd_floquet(args) -> int:
     extra = _physical(args)
     for name in ("tol_spatial", "max_seconds"):
-        extra.update(_given(args, name, parse_real))
+        if hasattr(args, name):
+            extra.update(_given(args, name, parse_real))
     res = api.floquet(args.model, kind=args.kind, **_solver(args), **extra, **_tau_max(args),
                       progress=sys.stderr.isatty() and not args.json, **_params(args, args.model))
     _warn(res.warnings)
@@ -288,24 +300,8 @@ def _stability_text(res) -> str:
     return "\n".join(lines)
 
 
-PHYSICAL_FLAGS = ("radius", "sigma", "rho", "mu")
-
-
 def cmd_modes(args) -> int:
-    physical = {k: parse_real(k, getattr(args, k)) for k in PHYSICAL_FLAGS
-                if getattr(args, k) is not None}
-    if args.model == "cochlea":  # cgs input: any of rho mu sigma length lambda_c (Table 5.1 defaults)
-        if args.radius is not None:
-            raise ParameterError("--radius is not an input of model 'cochlea' (use --length)")
-        physical = {k: parse_real(k, getattr(args, k)) for k in COCHLEA_FLAGS
-                    if k != "omega" and getattr(args, k, None) is not None}
-    elif args.model == "fibre" and physical:
-        raise ParameterError(f"--{next(iter(physical))} is not an input of model 'fibre' (give "
-                             "--kappa and --nu, or --zeta)")
-    elif physical and len(physical) < len(PHYSICAL_FLAGS):
-        missing = [f"--{k}" for k in PHYSICAL_FLAGS if k not in physical]
-        raise ParameterError(f"physical input needs all of --radius --sigma --rho --mu: missing "
-                             f"{' '.join(missing)}")
+    physical = _physical(args, dict(get_model(args.model).mode_inputs))
     count = None
     if args.count is not None:
         try:
@@ -532,7 +528,8 @@ def cmd_plot(args) -> int:
 
 
 def _simulation_flags_scene(args) -> dict:
-    """The scene of ``spectralshell simulate sphere --m ... --kappa ...``."""
+    """The scene of ``spectralshell simulate MODEL --m ... --kappa ...`` (a model that can be
+    time-stepped: the sphere)."""
     if (args.m is None) == (args.shape is None):
         raise ParameterError("give exactly one of --m (degree of the initial (m, 0) shape) and "
                              "--shape (modes 'm:k[:amplitude], ...' or an expression in theta, phi)")
@@ -548,7 +545,7 @@ def _simulation_flags_scene(args) -> dict:
     if args.n_radial is not None:
         simulate["n_radial"] = _integer("n_radial", args.n_radial)
     shape = f"{_integer('m', args.m)}:0" if args.m is not None else args.shape
-    return {"model": "sphere", "params": params, "initial": {"shape": shape},
+    return {"model": args.target, "params": params, "initial": {"shape": shape},
             "simulate": simulate}
 
 
@@ -598,7 +595,7 @@ def cmd_simulate(args) -> int:
 
     flags = ("m", "shape", "kappa", "nu", "tau", "t_end", "dt", "n_radial")
     png, npz = args.png, args.npz
-    if args.target == "sphere":
+    if args.target in models_with("time_stepping"):
         scene = _simulation_flags_scene(args)
         json_path = None
     else:
@@ -623,39 +620,45 @@ def cmd_simulate(args) -> int:
     return _report(args.json, traj.to_dict(), lambda: _simulate_text(traj), written)
 
 
-def _computation(sub, name: str, help: str, func, models: Sequence[str], *, kind: bool = True,
-                 skip: Sequence[str] = ()) -> argparse.ArgumentParser:
-    """A computation subcommand: MODEL, [--kind], the model's flags, solver flags, --json."""
-    p = sub.add_parser(name, help=help)
-    p.add_argument("model", choices=tuple(models))
-    if kind:
-        p.add_argument("--kind", default="both", choices=("both", "harmonic", "subharmonic"))
-    _model_flags(p, skip=skip)
+def _computation(sub, name: str, help: str, func, names: Sequence[str], configure, *,
+                 skip: Sequence[str] = ()) -> None:
+    """A computation subcommand ``name MODEL ...``: one sub-parser per model in ``names`` (from
+    the registry) with that model's parameter flags and ``configure(parser, model)``'s options
+    for this command, and --json."""
+    p = sub.add_parser(name, help=help, description=f"{help}. Models: {', '.join(names)} "
+                       f"('spectralshell {name} MODEL -h' lists a model's parameters).")
+    per_model = p.add_subparsers(dest="model", metavar="MODEL", parser_class=_Parser,
+                                 required=True)
+    for model in names:
+        q = per_model.add_parser(model, help=get_model(model).summary,
+                                 description=f"{help}: {get_model(model).summary}")
+        _model_flags(q, model, skip=skip)
+        configure(q, model)
+        q.add_argument("--json", action="store_true", help="print exactly one JSON object")
+        q.set_defaults(func=func)
+
+
+def _kind_flag(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--kind", default="both", choices=("both", "harmonic", "subharmonic"))
+
+
+def _floquet_options(p: argparse.ArgumentParser, model: str) -> None:
+    spec = get_model(model)
+    _kind_flag(p)
     _solver_flags(p)
-    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
-    p.set_defaults(func=func)
-    return p
-
-
-def build_parser() -> argparse.ArgumentParser:
-    models = tuple(PARAMS)
-    parser = _Parser(prog="spectralshell", description=__doc__.splitlines()[0])
-    parser.add_argument("--version", action="version", version=f"spectralshell {__version__}")
-    sub = parser.add_subparsers(dest="command", parser_class=_Parser, required=True)
-
-    p = _computation(sub, "floquet", "marginal forcing amplitudes tau (harmonic/subharmonic)",
-                     cmd_floquet, models)
-    for name, unit in COCHLEA_FLAGS.items():
-        p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X",
-                       help=f"cochlea: physical input ({unit}; Table 5.1 defaults, --omega required)")
-    p.add_argument("--tol-spatial", dest="tol_spatial", metavar="X",
-                   help="cochlea without --n-spatial: tolerance of tau_min in the number of "
-                        "spatial modes (default 1e-3)")
-    _max_seconds_flag(p)
     _tau_max_flag(p)
+    if spec.physical is not None:
+        _physical_flags(p, dict(spec.physical.units), spec.physical.note)
+    if spec.spatial:
+        p.add_argument("--tol-spatial", dest="tol_spatial", metavar="X",
+                       help="without --n-spatial: tolerance of tau_min in the number of spatial "
+                            "modes (default 1e-3)")
+        _max_seconds_flag(p)
 
-    p = _computation(sub, "tongues", "Ince-Strutt diagram over a kappa range", cmd_tongues, models,
-                     skip=("kappa",))
+
+def _tongues_options(p: argparse.ArgumentParser, model: str) -> None:
+    _kind_flag(p)
+    _solver_flags(p)
     p.add_argument("--kappa", help="range START:STOP:NUM, e.g. 0:3:301")
     _tau_max_flag(p)
     p.add_argument("--png", help="write the diagram to a *.png file (an existing file is replaced)")
@@ -666,42 +669,62 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
     _max_points_flag(p)
 
-    p = _computation(sub, "exponents", "Floquet exponents gamma at a forcing amplitude tau",
-                     cmd_exponents, models, kind=False)
+
+def _exponents_options(p: argparse.ArgumentParser, model: str) -> None:
+    _solver_flags(p)
     p.add_argument("--tau", help="forcing amplitude")
 
-    p = _computation(sub, "stability", "which degrees m are unstable at a forcing amplitude tau",
-                     cmd_stability, [m for m in models if "m" in param_names(m)])
-    p.add_argument("--tau", help="forcing amplitude")
 
-    p = sub.add_parser("modes", help="natural modes gamma (decay rate, frequency) at tau = 0")
-    p.add_argument("model", choices=("sphere", "cochlea", "fibre"))
-    _model_flags(p)
-    p.add_argument("--length", help="cochlea: BM length L (cm; Table 5.1 default 3.5)")
-    p.add_argument("--lambda-c", dest="lambda_c", help="cochlea: stiffness decay rate (1/cm; default 1.4)")
+def _stability_options(p: argparse.ArgumentParser, model: str) -> None:
+    _kind_flag(p)
+    _solver_flags(p)
+    p.add_argument("--tau", help="forcing amplitude")
+    p.add_argument("--m", help="degrees, a range START:STOP, e.g. 2:6")
+
+
+def _modes_options(p: argparse.ArgumentParser, model: str) -> None:
+    spec = get_model(model)
     p.add_argument("--count", help="number of least-damped modes (default: all)")
     p.add_argument("--precision", help="digits of an mpmath polish, e.g. 30")
     p.add_argument("--zeta", help="shorthand for --kappa 1 --nu ZETA")
-    for name, unit in zip(PHYSICAL_FLAGS, ("cm", "dyn/cm", "g/cm^3", "g/(cm s)")):
-        p.add_argument(f"--{name}", help=f"physical input ({unit}); with all four, rates in s^-1")
-    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
-    p.set_defaults(func=cmd_modes)
+    if spec.mode_inputs:
+        _physical_flags(p, dict(spec.mode_inputs), "instead of --kappa and --nu; rates then in "
+                                                   "s^-1")
 
-    p = sub.add_parser("response", help="cochlea: BM displacement envelope for a pure tone (5.5)")
-    p.add_argument("model", choices=("cochlea",))
+
+def _response_options(p: argparse.ArgumentParser, model: str) -> None:
+    spec = get_model(model)
     p.add_argument("--kind", default="tone", choices=("tone", "harmonic", "subharmonic"),
                    help="tone: passive response to a load at the base; harmonic/subharmonic: the "
                         "Floquet solution at tau_min (thesis 5.5)")
-    _model_flags(p)
-    for name, unit in COCHLEA_FLAGS.items():
-        p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="X",
-                       help=f"physical input ({unit}; Table 5.1 defaults, --omega required)")
+    if spec.physical is not None:
+        _physical_flags(p, dict(spec.physical.units), spec.physical.note)
     _solver_flags(p)
     _max_seconds_flag(p)
     p.add_argument("--png", help="write the envelope and profile to a *.png file (an existing file "
                                  "is replaced)")
-    p.add_argument("--json", action="store_true", help="print exactly one JSON object")
-    p.set_defaults(func=cmd_response)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="spectralshell", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"spectralshell {__version__}")
+    sub = parser.add_subparsers(dest="command", parser_class=_Parser, required=True)
+    every = models()
+    _computation(sub, "floquet", "marginal forcing amplitudes tau (harmonic/subharmonic)",
+                 cmd_floquet, every, _floquet_options)
+    _computation(sub, "tongues", "Ince-Strutt diagram over a kappa range", cmd_tongues,
+                 [m for m in every if "kappa" in param_names(m)], _tongues_options,
+                 skip=("kappa",))
+    _computation(sub, "exponents", "Floquet exponents gamma at a forcing amplitude tau",
+                 cmd_exponents, every, _exponents_options)
+    _computation(sub, "stability", "which degrees m are unstable at a forcing amplitude tau",
+                 cmd_stability, [m for m in every if "m" in param_names(m)], _stability_options,
+                 skip=("m",))
+    _computation(sub, "modes", "natural modes gamma (decay rate, frequency) at tau = 0",
+                 cmd_modes, sorted({*models_with("modal_system"), *models_with("mode_family")},
+                                   key=every.index), _modes_options)
+    _computation(sub, "response", "BM displacement envelope for a pure tone (thesis 5.5)",
+                 cmd_response, models_with("response"), _response_options)
 
     p = sub.add_parser("lp", help="nonlinear frequency coefficient c (Lindstedt-Poincare, thesis 7.3)")
     p.add_argument("--m", help="degree of the initial shape, 2..8")
@@ -755,7 +778,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("simulate", help="time-step the sphere (spectral IMEX): mode amplitudes, "
                        "fitted growth rates and frequencies")
-    p.add_argument("target", help="'sphere' (then give the flags below) or a scene TOML file")
+    p.add_argument("target", help=f"a model that can be time-stepped "
+                   f"({', '.join(models_with('time_stepping'))}; then give the flags below) or a "
+                   "scene TOML file")
     p.add_argument("--m", help="degree of the initial (m, 0) shape")
     p.add_argument("--shape", help="initial shape: modes 'm:k[:amplitude], ...' or an expression "
                    "in theta (polar), phi (azimuth)")
@@ -780,16 +805,49 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _option_flags(parser: argparse.ArgumentParser) -> dict[str, str]:
+    """API keyword -> CLI flag of every option of ``parser`` and its subcommands."""
+    flags: dict[str, str] = {}
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for child in action.choices.values():
+                flags.update(_option_flags(child))
+        elif action.option_strings and action.option_strings[-1].startswith("--"):
+            flags[action.dest] = action.option_strings[-1]
+    return flags
+
+
+_KEYWORD = re.compile(r"(?<![\w.-])([a-z][a-z0-9_]*)=(?!=)")
+
+
+def _as_flags(message: str, flags: dict[str, str]) -> str:
+    """A library message in the CLI's words: each API keyword ``name=`` that is an option here
+    becomes its flag (``tau_max=0.5`` -> ``--tau-max 0.5``, ``tol=,`` -> ``--tol,``); messages
+    name API parameters (issue 24), the CLI names its flags."""
+    def flag(match: re.Match) -> str:
+        name = match.group(1)
+        if name not in flags:
+            return match.group(0)
+        rest = message[match.end():match.end() + 1]
+        return flags[name] + (" " if rest and not rest.isspace() and rest not in ",;)" else "")
+
+    return _KEYWORD.sub(flag, message)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``spectralshell`` and ``python -m spectralshell``."""
+    flags: dict[str, str] = {}
     try:
-        args = build_parser().parse_args(argv)
+        load_entry_points()
+        parser = build_parser()
+        flags = _option_flags(parser)
+        args = parser.parse_args(argv)
         return args.func(args)
     except ConvergenceError as exc:
-        print(f"spectralshell: not converged: {exc}", file=sys.stderr)
+        print(f"spectralshell: not converged: {_as_flags(str(exc), flags)}", file=sys.stderr)
         return 1
     except (ParameterError, SpectralShellError) as exc:
-        print(f"spectralshell: error: {exc}", file=sys.stderr)
+        print(f"spectralshell: error: {_as_flags(str(exc), flags)}", file=sys.stderr)
         return 2
     except MemoryError:
         print("spectralshell: out of memory: reduce the problem size (grid points, truncation, "

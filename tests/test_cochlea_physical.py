@@ -6,7 +6,8 @@ import pytest
 
 from spectralshell.errors import ParameterError
 from spectralshell.params.physical import (TABLE_5_1, cochlea_forced, cochlea_params,
-                                           cochlea_time_scale, convert_physical)
+                                           cochlea_time_scale)
+from spectralshell.params.registry import physical_values
 
 
 def table(omega):
@@ -37,10 +38,10 @@ def test_zeta_and_time_scale():
 
 
 def test_defaults_overrides_and_conflicts():
-    out, phys = convert_physical("cochlea", {"omega": 1000, "alpha": 0, "spatial_mode": 1})
+    out, phys = physical_values("cochlea", {"omega": 1000, "alpha": 0, "spatial_mode": 1})
     assert out["alpha"] == 0 and out["spatial_mode"] == 1 and phys["sigma"] == 6e5
     assert out["kappa"] == pytest.approx(6e5 * math.pi / (3.5 * 1e6), rel=1e-15)
-    assert convert_physical("sphere", {"m": 2})[1] is None
+    assert physical_values("sphere", {"m": 2})[1] is None
     with pytest.raises(ParameterError, match="omega"):
         cochlea_params({"sigma": 1e7})
     with pytest.raises(ParameterError, match="sigma"):

@@ -199,8 +199,25 @@ def test_floquet_tau_max_flag_and_the_hint_when_tau_min_runs_away(capsys):
     expected = min(t for t in qz["subharmonic"] if t > 0)
     assert code == 0 and json.loads(out)["subharmonic"]["tau_min"] == pytest.approx(expected, rel=1e-12)
     code, _, err = run_cli(capsys, "floquet", "sphere", *params, "--kind", "harmonic")
-    assert code == 1 and "--tau-max 0.5" in err
+    assert code == 1 and "--tau-max 0.5" in err and "tau_max=" not in err
+    with pytest.raises(ss.ConvergenceError) as api_err:  # the API names its keywords
+        ss.floquet("sphere", m=3, kappa=0.02, nu=0.006, component="toroidal", kind="harmonic")
+    assert "tau_max=0.5" in str(api_err.value) and "--" not in str(api_err.value)
     assert run_cli(capsys, "floquet", "sphere", *params, "--tau-max", "-1")[0] == 2
+
+
+def test_cli_names_its_flags_where_the_library_names_keywords():
+    """Library messages name API keywords ``name=``; the CLI shows the flag of each keyword
+    that is one of its options, and leaves other text alone."""
+    from spectralshell.cli import _as_flags, _option_flags, build_parser
+
+    flags = _option_flags(build_parser())
+    assert flags["tau_max"] == "--tau-max" and flags["max_points"] == "--max-points"
+    message = ("converge to tol=1e-10 by n_temporal=40; give tau_max= at most 3, raise it with "
+               "max_points= or SPECTRALSHELL_MAX_POINTS=...; complete_to=2 (a==b)")
+    assert _as_flags(message, flags) == (
+        "converge to --tol 1e-10 by --n-temporal 40; give --tau-max at most 3, raise it with "
+        "--max-points or SPECTRALSHELL_MAX_POINTS=...; complete_to=2 (a==b)")
 
 
 def test_tongues_tau_max_flag(capsys):

@@ -161,3 +161,72 @@ class ModalSystem:
     sheet_margin: Callable[[Any], Any]
     n_modes: int
     conjugate: Callable[[Any], Any] = _conjugate
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class ModeFamily:
+    """Natural modes of one model as the eigenvalues s of a nonlinear matrix function
+    T(s; zeta), continued in a viscosity-like parameter zeta from zeta -> 0, where they are known.
+
+    Used where the modes are too many for seeds of a scalar relation (the cochlea's M coupled
+    cosine modes, thesis (5.14)). A continuation solver
+    (:mod:`spectralshell.solvers.continued_modes`) needs nothing else; it never sees the physics.
+
+    Attributes
+    ----------
+    name : model name, for provenance only.
+    zeta : the parameter value at which the modes are wanted (>= 0).
+    at : zeta -> (T, T'), callables s -> complex (M, M) matrices (T' = dT/ds).
+    start : the modes at zeta -> 0 (complex, shape (M,)), e.g. the inviscid s = i w_j.
+    sheet_margin : (s, zeta) -> real, > 0 on the physical sheet, 0 on the branch cut.
+    contour : (zeta, radius, depth) -> closed counter-clockwise polygon (list of complex) around
+        the modes with Im s >= 0 and |s| <= radius on the physical sheet; ``depth`` is how far
+        below the real axis it dips where T is analytic (for an argument-principle count).
+    residual_mp : (s, zeta) -> (det T, d det T/ds) in mpmath at the current precision (zeta an
+        mpmath number), for a high-precision polish.
+    gamma_scale : gamma = gamma_scale * s (the time unit of s in units of the model's).
+    zeta_mp, gamma_scale_mp : () -> zeta and gamma_scale in mpmath at the current precision,
+        computed from the parameters as given (for the polish).
+    """
+
+    name: str
+    zeta: float
+    at: Callable[[float], tuple[Callable[[complex], np.ndarray], Callable[[complex], np.ndarray]]]
+    start: np.ndarray
+    sheet_margin: Callable[[complex, float], float]
+    contour: Callable[[float, float, float], list[complex]]
+    residual_mp: Callable[[Any, Any], tuple[Any, Any]]
+    gamma_scale: float
+    zeta_mp: Callable[[], Any]
+    gamma_scale_mp: Callable[[], Any]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class ResponseModel:
+    """What a model supplies for response envelopes along its membrane (thesis 5.5).
+
+    The displacement is h(x, t) = sum_k h_k(t) phi_k(x) over M spatial modes; the pure tone is
+    the passive (tau = 0) response to a load oscillating at the forcing frequency; the
+    parametric responses are the Floquet solutions at tau_min of a kind
+    (:mod:`spectralshell.runner.response`).
+
+    Attributes
+    ----------
+    domain : (x_start, x_end) of the membrane (dimensionless).
+    basis : (x, M) -> (len(x), M) real matrix of the spatial modes phi_k(x).
+    tone : M -> complex (M,) mode amplitudes of the pure-tone response.
+    tone_start : the envelope's peak is searched for x >= tone_start in the tone (the load
+        region itself is excluded).
+    wkb_peak : response frequency -> the leading-order WKB peak position, or None where the
+        approximation does not apply (its reason in ``wkb_note``).
+    with_modes : M -> the parameter object with M spatial modes (for the parametric kinds).
+    wkb_note : why ``wkb_peak`` is None, for the result's warnings.
+    """
+
+    domain: tuple[float, float]
+    basis: Callable[[np.ndarray, int], np.ndarray]
+    tone: Callable[[int], np.ndarray]
+    tone_start: float
+    wkb_peak: Callable[[float], float | None]
+    with_modes: Callable[[int], Any]
+    wkb_note: str = ""

@@ -32,12 +32,18 @@ printed u_k^n has the opposite overall sign to continuity; the coefficient must 
 
 from __future__ import annotations
 
+import dataclasses
+
 import mpmath
 import numpy as np
 
 from .._validate import require_int_in_range, require_nonnegative, require_positive
 from ..errors import ParameterError
-from .base import HillSystem
+from ..params.cochlea import CochleaParams
+from ..params.physical import (COCHLEA_MODE_INPUTS, COCHLEA_UNITS, cochlea_mode_scale,
+                               cochlea_physical)
+from ..params.registry import Model, PhysicalInput, register
+from .base import HillSystem, ModeFamily, ResponseModel
 
 
 def stiffness_fourier(j: np.ndarray, alpha: float) -> np.ndarray:
@@ -306,3 +312,77 @@ def wkb_peak(*, kappa: float, nu: float, alpha: float, frequency: float = 1.0) -
     w = require_positive("frequency", frequency)
     kp = np.sqrt(require_positive("alpha", alpha)) * (2.0 * w / require_positive("nu", nu)) ** 0.25
     return float(np.log(require_positive("kappa", kappa) * kp / (2.0 * w * w)) / alpha)
+
+
+# ----------------------------------------------------------------------------- the plug-in
+
+
+def _hill_system(p: CochleaParams) -> HillSystem:
+    if p.n_spatial is None and p.spatial_mode is None:
+        raise ParameterError("n_spatial = None is invalid here: this computation needs a fixed "
+                             "number of cosine modes (only floquet converges in n_spatial)")
+    return hill_system(kappa=p.kappa, nu=p.nu, alpha=p.alpha, n_spatial=p.n_spatial,
+                       spatial_mode=p.spatial_mode)
+
+
+def mode_family(p: CochleaParams) -> ModeFamily:
+    """The natural modes of the cochlea with M = n_spatial cosine modes as a
+    :class:`ModeFamily`: T(s) = diag(Z_k(s; zeta)) + C (D(gamma)/kappa, s = gamma/sqrt(kappa),
+    zeta = nu/sqrt(kappa), thesis (5.14)), started from the inviscid modes s = i w_j (w_j^2 the
+    eigenvalues of diag(sqrt(k/2)) C diag(sqrt(k/2))).
+
+    Near the cut s < -zeta (large zeta) the least damped modes become nearly real decays just
+    above the cut, thesis Fig 5.7 right: at zeta = 1e-2, alpha = 1.56, M = 20 the three slowest
+    have Im s = 2.5e-8, 1.6e-7, 7.5e-7; from zeta ~ 0.013 they pass the branch point -zeta one by
+    one and become real decays on (-zeta, 0) (their mirror images leave through the branch
+    point onto the other sheet).
+    """
+    if p.n_spatial is None or p.spatial_mode is not None:
+        raise ParameterError(f"n_spatial = {p.n_spatial!r} is invalid for natural modes: give the "
+                             "number of cosine modes M (e.g. 20, as in thesis Fig 5.7)")
+    M, alpha = p.n_spatial, p.alpha
+    return ModeFamily(
+        name="cochlea", zeta=p.nu / np.sqrt(p.kappa),
+        at=natural_mode_family(alpha=alpha, n_spatial=M),
+        start=1j * natural_frequencies(1.0, alpha, np.arange(1, M + 1)),
+        sheet_margin=lambda s, zeta: sheet_margin(s, zeta, M),
+        contour=lambda zeta, radius, depth: upper_half_contour(zeta=zeta, n_spatial=M,
+                                                               radius=radius, depth=depth),
+        residual_mp=lambda s, zeta: natural_mode_residual_mp(s, zeta=zeta, alpha=alpha,
+                                                             n_spatial=M),
+        gamma_scale=float(np.sqrt(p.kappa)),
+        zeta_mp=lambda: mpmath.mpf(p.nu) / mpmath.sqrt(mpmath.mpf(p.kappa)),
+        gamma_scale_mp=lambda: mpmath.sqrt(mpmath.mpf(p.kappa)))
+
+
+def response_model(p: CochleaParams) -> ResponseModel:
+    """The cochlea's response envelopes along x in [0, pi] (thesis 5.5): cosine modes
+    cos(k x), k = 1..M, the pure tone of :func:`tone_response` (its peak searched beyond
+    4 TONE_WIDTH, past the load), and the WKB peak of :func:`wkb_peak` (needs nu > 0 and
+    alpha > 0)."""
+    if p.spatial_mode is not None:
+        raise ParameterError(f"spatial_mode = {p.spatial_mode} is invalid for response: the "
+                             "envelope needs n_spatial cosine modes")
+
+    def wkb(frequency: float) -> float | None:
+        if p.nu > 0 and p.alpha > 0:
+            return wkb_peak(kappa=p.kappa, nu=p.nu, alpha=p.alpha, frequency=frequency)
+        return None
+
+    return ResponseModel(
+        domain=(0.0, float(np.pi)),
+        basis=lambda x, M: np.cos(np.outer(x, np.arange(1, M + 1))),
+        tone=lambda M: tone_response(kappa=p.kappa, nu=p.nu, alpha=p.alpha, n_spatial=M),
+        tone_start=4 * TONE_WIDTH, wkb_peak=wkb,
+        wkb_note="the WKB peak needs nu > 0 and alpha > 0: reported as NaN",
+        with_modes=lambda M: dataclasses.replace(p, n_spatial=M))
+
+
+MODEL = register(Model(
+    name="cochlea",
+    summary="2D box cochlea: basilar membrane of graded stiffness in viscous fluid (thesis 5)",
+    params=CochleaParams, hill_system=_hill_system, mode_family=mode_family,
+    spatial=True,
+    physical=PhysicalInput(units=COCHLEA_UNITS, convert=cochlea_physical,
+                           note="Table 5.1 defaults for the missing ones; omega required"),
+    mode_inputs=COCHLEA_MODE_INPUTS, mode_scale=cochlea_mode_scale, response=response_model))

@@ -48,6 +48,7 @@ import scipy.special as sc
 from .._validate import require_positive
 from ..errors import ParameterError
 from ..params.fibre import FibreParams
+from ..params.registry import Model, register
 from ..special.cylindrical import ratio_i, ratio_k
 from . import mathieu
 from .base import HillSystem, ModalSystem, boundary_layer, damped_newton, modal_system_in_beta
@@ -429,3 +430,24 @@ def modal_system(*, m: int, kappa: float, nu: float) -> ModalSystem:
             "are closer than 1e-6 relative and cannot be told apart)")
     return modal_system_in_beta("fibre", nu=p.nu, n_modes=N_MODES, residual=modal_residual,
                                 residual_mp=modal_residual_mp, seeds=modal_seeds, m=p.m, zeta=zeta)
+
+
+def _hill_system(p: FibreParams) -> HillSystem:
+    return hill_system(m=p.m, kappa=p.kappa, nu=p.nu, forcing=p.forcing)
+
+
+def _modal_system(p: FibreParams) -> ModalSystem:
+    return modal_system(m=p.m, kappa=p.kappa, nu=p.nu)
+
+
+def _inviscid_modes(p: FibreParams, kappa):
+    return lambda0_squared(p.m, kappa)
+
+
+MODEL = register(Model(
+    name="fibre",
+    summary="circular elastic fibre in viscous fluid, one wavenumber m (thesis 4)",
+    params=FibreParams, hill_system=_hill_system, modal_system=_modal_system,
+    inviscid_modes=_inviscid_modes,
+    inviscid_method="closed form lambda0^2 = kappa m (m^2 - 1)/2 "
+                    "(derivations/fibre_linear_result.md, 4a)"))

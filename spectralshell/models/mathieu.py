@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..params.mathieu import MathieuParams
+from ..params.registry import Model, register
 from .base import HillSystem
 
 
@@ -37,3 +39,13 @@ def hill_system(*, kappa: float, nu: float) -> HillSystem:
         polynomial=(np.array([[kappa]]), np.array([[nu]]), np.array([[1.0]])),
         n_resonant=float(np.sqrt(kappa)),
     )
+
+
+def _hill_system(p: MathieuParams) -> HillSystem:
+    return hill_system(kappa=p.kappa, nu=p.nu)
+
+
+MODEL = register(Model(
+    name="mathieu",
+    summary="damped Mathieu equation u'' + nu u' + kappa (1 + 2 tau sin t) u = 0 (thesis 2)",
+    params=MathieuParams, hill_system=_hill_system))

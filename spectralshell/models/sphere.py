@@ -26,6 +26,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import ParameterError
+from ..params.physical import SPHERE_MODE_INPUTS, sphere_mode_scale
+from ..params.registry import Model, register
+from ..params.sphere import SphereParams
 from ..special.spherical import ratio_i, ratio_k
 from . import mathieu
 from .base import HillSystem, boundary_layer
@@ -87,3 +91,29 @@ def hill_system(*, m: int, kappa: float, nu: float, component: str = "poloidal")
     return HillSystem(name="sphere", block_size=2, forcing=q * np.eye(2),
                       unforced=lambda s: poloidal_unforced(s, m=m, kappa=kappa, nu=nu),
                       n_resonant=float(np.sqrt(lam2)))
+
+
+def _hill_system(p: SphereParams) -> HillSystem:
+    return hill_system(m=p.m, kappa=p.kappa, nu=p.nu, component=p.component)
+
+
+def _modal_system(p: SphereParams):
+    from .sphere_modes import modal_system  # its seeds and residuals: imported when asked
+
+    return modal_system(m=p.m, kappa=p.kappa, nu=p.nu, component=p.component)
+
+
+def _inviscid_modes(p: SphereParams, kappa):
+    """lambda0^2 of (7.4) at nu = 0 (kappa may be an mpmath number)."""
+    if p.component == "toroidal":
+        raise ParameterError("nu = 0 is invalid for toroidal modes: without viscosity the "
+                             "toroidal component carries no mode")
+    return lambda0_squared(p.m, kappa)
+
+
+MODEL = register(Model(
+    name="sphere",
+    summary="spherical membrane in viscous fluid, one degree m (thesis 6-7)",
+    params=SphereParams, hill_system=_hill_system, modal_system=_modal_system,
+    inviscid_modes=_inviscid_modes, inviscid_method="closed form (7.4)",
+    mode_inputs=SPHERE_MODE_INPUTS, mode_scale=sphere_mode_scale, time_stepping=True))

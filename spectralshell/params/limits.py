@@ -42,14 +42,13 @@ def _half_the_memory() -> float:
 @dataclass(frozen=True)
 class Limit:
     """A ceiling on a computation: what it counts (``what``), its ``default``, the environment
-    variable ``env`` that replaces the default, and the API ``keyword`` and CLI ``flag`` that
-    raise it for one call (empty where there is none)."""
+    variable ``env`` that replaces the default, and the API ``keyword`` that raises it for one
+    call (empty where there is none; the CLI names its flag instead, see ``cli.main``)."""
 
     what: str
     default: float
     env: str
     keyword: str = ""
-    flag: str = ""
 
     def value(self, given: float | None = None) -> float:
         """The limit in force: ``given`` (a call's keyword), else $``env``, else the default."""
@@ -60,9 +59,8 @@ class Limit:
                                                                   parse_real(self.env, text))
 
     def how_to_raise(self) -> str:
-        """'raise it with ...': the keyword, flag and environment variable of this limit."""
-        ways = [f"{self.keyword}= (API)"] if self.keyword else []
-        ways += [f"{self.flag} (CLI)"] if self.flag else []
+        """'raise it with ...': the keyword and environment variable of this limit."""
+        ways = [f"{self.keyword}="] if self.keyword else []
         return f"raise it with {' or '.join(ways + [f'{self.env}=...'])}"
 
     def check(self, name: str, amount: float, given: float | None = None,
@@ -86,10 +84,9 @@ def _show(amount: float) -> str:
     return str(int(amount)) if float(amount).is_integer() and amount < 1e12 else f"{amount:.3g}"
 
 
-POINTS = Limit("grid points", 1_000_000, "SPECTRALSHELL_MAX_POINTS", "max_points", "--max-points")
+POINTS = Limit("grid points", 1_000_000, "SPECTRALSHELL_MAX_POINTS", "max_points")
 MEMORY = Limit("bytes of results", _half_the_memory(), "SPECTRALSHELL_MAX_MEMORY")
-SECONDS = Limit("seconds (estimated)", 600.0, "SPECTRALSHELL_MAX_SECONDS", "max_seconds",
-                "--max-seconds")
+SECONDS = Limit("seconds (estimated)", 600.0, "SPECTRALSHELL_MAX_SECONDS", "max_seconds")
 #: Bytes a solved point takes as result objects (tongues and tau-map rows: each kind's
 #: MarginalTau with its tau array); measured with tracemalloc: ~1 KB for Mathieu, both kinds.
 RESULT_BYTES = 2048
@@ -97,7 +94,7 @@ RESULT_BYTES = 2048
 #: error_estimate, n_temporal, n_spatial, has_tau, spatial_converged, computed) and the Dataset.
 SWEEP_BYTES = 64
 #: Another way out of a points limit, named in its message.
-SPLIT = "split the grid into sweeps with a store (spectralshell sweep --out PATH.zarr)"
+SPLIT = "split the grid into sweeps with a store (sweep with out=PATH.zarr)"
 
 
 def check_points(name: str, count: int, max_points: int | None = None) -> None:

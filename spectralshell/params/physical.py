@@ -281,16 +281,46 @@ def cochlea_params(values: dict) -> dict:
     return {**converted, **rest}
 
 
-def convert_physical(model: str, values: dict) -> tuple[dict, dict | None]:
-    """(model parameters, the cgs inputs used or None): the cgs quantities a model accepts in
-    place of its dimensionless ones are converted (cochlea: :func:`cochlea_params`); values of
-    other models pass through unchanged."""
-    if model == "cochlea" and any(k in COCHLEA_UNITS for k in values):
-        phys = physical_inputs({k: v for k, v in values.items() if k in COCHLEA_UNITS},
-                               COCHLEA_UNITS)
-        base = {k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
-        return cochlea_params(values), {**base, **phys}
-    return dict(values), None
+def cochlea_physical(values: dict) -> tuple[dict, dict | None]:
+    """(cochlea parameters, the cgs inputs used -- given or Table 5.1 -- or None when none was
+    given): the conversion of :func:`cochlea_params`, the cochlea's physical input."""
+    if not any(k in COCHLEA_UNITS for k in values):
+        return dict(values), None
+    phys = physical_inputs({k: v for k, v in values.items() if k in COCHLEA_UNITS}, COCHLEA_UNITS)
+    base = {k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
+    return cochlea_params(values), {**base, **phys}
+
+
+#: cgs inputs of the cochlea's natural modes (no forcing frequency: rates come out in s^-1).
+COCHLEA_MODE_INPUTS = {k: COCHLEA_UNITS[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
+#: cgs inputs of the sphere's natural modes.
+SPHERE_MODE_INPUTS = {k: PHYSICAL_UNITS[k] for k in ("radius", "sigma", "rho", "mu")}
+
+
+def sphere_mode_scale(params: dict, physical: dict) -> tuple[dict, float, dict]:
+    """(parameters kappa = 1, nu = zeta, 1 / T in s^-1, the cgs values to record) of the
+    sphere's natural modes from {rho, mu, radius, sigma} (all required): T = sqrt(rho R^3/sigma),
+    zeta = nu / sqrt(kappa) (:class:`PhysicalSphere`)."""
+    phys = PhysicalSphere(**physical_inputs(physical, SPHERE_INPUTS, SPHERE_INPUTS))
+    return ({**params, "kappa": 1.0, "nu": phys.zeta}, 1.0 / phys.time_scale,
+            {**physical, "units": "s^-1"})
+
+
+def cochlea_mode_scale(params: dict, physical: dict) -> tuple[dict, float, dict]:
+    """(parameters kappa = 1, nu = zeta, alpha, 1 / T in s^-1, the cgs values to record) of the
+    cochlea's natural modes from any of rho, mu, sigma, length, lambda_c (Table 5.1 defaults):
+    T = sqrt(rho L/(pi sigma)) (:func:`cochlea_time_scale`), zeta = nu / sqrt(kappa) and
+    alpha = lambda_c L / pi of :func:`cochlea_forced` (at omega = 1: zeta does not depend on it).
+    """
+    phys = {**{k: TABLE_5_1[k] for k in COCHLEA_MODE_INPUTS},
+            **physical_inputs(physical, tuple(COCHLEA_MODE_INPUTS))}
+    dimless = cochlea_forced(**phys, omega=1.0)
+    zeta = dimless["nu"] / math.sqrt(dimless["kappa"])
+    if "alpha" in params:
+        raise ParameterError("alpha = given with physical input is invalid: lambda_c sets it")
+    scale = 1.0 / cochlea_time_scale(rho=phys["rho"], sigma=phys["sigma"], length=phys["length"])
+    return ({**params, "alpha": dimless["alpha"], "kappa": 1.0, "nu": zeta}, scale,
+            {**phys, "zeta": float(zeta), "units": "s^-1"})
 
 
 def hz_to_rad_per_s(frequency: float) -> float:

@@ -74,7 +74,7 @@ from .grid import parse_int_range, parse_range
 from .limits import SWEEP_BYTES, check_grid, check_points
 from .physical import (COCHLEA_SWEEP_UNITS, PHYSICAL_UNITS, TABLE_5_1, cochlea_sweep_params,
                        sphere_forced_params)
-from .registry import PARAMS, check_model, int_bounds, make_params, param_names
+from .registry import check_model, int_bounds, make_params, param_fields, param_names
 from .scene import load_scene
 
 ASKS = ("tau_min",)
@@ -247,7 +247,7 @@ def scene_digest(canonical: Mapping[str, Any]) -> str:
 def _field_types(model: str) -> dict[str, str]:
     """'int', 'str' or 'float' for each parameter of ``model`` (from the dataclass annotations)."""
     out = {}
-    for f in dataclasses.fields(PARAMS[model]):
+    for f in param_fields(model):
         t = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", "float")
         t = t.removesuffix(" | None")  # optional parameters (the cochlea's n_spatial)
         out[f.name] = t if t in ("int", "str") else "float"

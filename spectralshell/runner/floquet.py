@@ -21,9 +21,9 @@ from ..models.registry import hill_system
 from ..params.grid import parse_int_range, parse_range
 from ..params.limits import RESULT_BYTES, SECONDS, check_grid, check_points
 from ..params.physical import PHYSICAL_UNITS, physical_inputs, sphere_forced_params
-from ..params.physical import convert_physical
 from ..params.stiffness import amplitude_warnings, threshold_warnings
-from ..params.registry import PARAMS, check_model, int_bounds, make_params, param_names
+from ..params.registry import (check_model, get_model, int_bounds, make_params, param_fields,
+                               physical_values)
 from ..params.scene import Plan, plan
 from ..results.maps import TauMapResult
 from ..results.spatial import SpatialFloquetResult
@@ -61,7 +61,7 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
 
     Parameters
     ----------
-    model : a name from ``spectralshell.params.registry.PARAMS`` ('mathieu', 'sphere', ...).
+    model : a name from ``spectralshell.params.registry.models()`` ('mathieu', 'sphere', ...).
     kind : 'both', 'harmonic' (gamma = 0) or 'subharmonic' (gamma = i/2); only those are computed.
     tol : absolute tolerance on tau_min; the truncation grows until it is met. Where rounding,
         not the truncation, keeps the error estimate above tol (tau = 0 as a double eigenvalue
@@ -97,8 +97,8 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     model = check_model(model)
     kinds = expand_kind(kind)
     options = solver_options(tol, n_temporal, tau_max)
-    params, physical = convert_physical(model, dict(params))
-    if "n_spatial" in param_names(model):
+    params, physical = physical_values(model, dict(params))
+    if get_model(model).spatial:
         return _floquet_spatial(model, kind, options, params, physical, tol_spatial,
                                 max_seconds, progress)
     for name, value in (("tol_spatial", tol_spatial), ("max_seconds", max_seconds)):
@@ -121,7 +121,7 @@ def spatial_system(model: str, params: dict[str, Any], n_spatial: int) -> HillSy
 
 
 def priced_spatial(model: str, factory, kinds: tuple[str, ...], options: dict[str, Any],
-            n_spatial: int | None, max_seconds: float | None) -> CostEstimate:
+                   n_spatial: int | None, max_seconds: float | None) -> CostEstimate:
     """The cost estimate of a solve with spatial modes, refused (ParameterError) when its least
     work is above the limit on estimated seconds -- unless the caller fixed both truncations
     (n_spatial and n_temporal): then nothing is refined and the size is the caller's choice
@@ -132,8 +132,7 @@ def priced_spatial(model: str, factory, kinds: tuple[str, ...], options: dict[st
     if n_spatial is not None and options["n_temporal"] is not None:
         return estimate
     SECONDS.check(f"{model} solve needing {estimate.describe()}", estimate.seconds, max_seconds,
-                  "fix the truncations with n_spatial= / --n-spatial M and n_temporal= / "
-                  "--n-temporal N")
+                  "fix the truncations with n_spatial=M and n_temporal=N")
     return estimate
 
 
@@ -309,7 +308,7 @@ def _map_axis(model: str, label: str, axis: object, physical: bool,
     """(name, grid) of the map axis ``label`` = (name, grid spec): the name one of the model's
     real parameters, or with physical input one of PHYSICAL_UNITS; the grid by :func:`_grid`."""
     names = tuple(PHYSICAL_UNITS) if physical else tuple(
-        f.name for f in dataclasses.fields(PARAMS[model]) if f.type in (float, "float"))
+        f.name for f in param_fields(model) if f.type in (float, "float"))
     if not (isinstance(axis, (tuple, list)) and len(axis) == 2):
         raise ParameterError(f"{label} = {axis!r} is invalid: must be a pair (name, grid) with "
                              f"name one of {', '.join(names)}")
@@ -396,9 +395,9 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
             raise ParameterError(f"nu = {p.nu!r} is invalid for Floquet exponents of model {model!r}: "
                                  "must be 0 (the viscous load is not polynomial in s); use "
                                  "floquet/stability for the marginal tau of the viscous model")
-        raise ParameterError(f"component = {getattr(p, 'component', None)!r} is invalid for Floquet "
-                             "exponents at nu = 0: must be 'poloidal' (the inviscid toroidal component "
-                             "has no dynamics)")
+        raise ParameterError(f"parameters {dataclasses.asdict(p)} are invalid for Floquet exponents "
+                             f"of model {model!r}: its D(s) is not a matrix polynomial in s with "
+                             "an invertible leading coefficient there (nothing oscillates)")
     result = floquet_exponents(system, tau, **options)
     return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
                                  exponents=result, options=options)

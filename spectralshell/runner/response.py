@@ -1,4 +1,5 @@
-"""Basilar-membrane response envelopes (thesis 5.5)."""
+"""Response envelopes along a membrane: the pure tone and the parametric responses at tau_min
+(thesis 5.5), for models with the ``response`` capability."""
 
 from __future__ import annotations
 
@@ -10,8 +11,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..models.registry import hill_system
-from ..params.physical import convert_physical
-from ..params.registry import check_model, make_params
+from ..params.registry import Model, make_params, physical_values, require_capability
 from ..results.floquet import provenance
 from ..solvers.marginal import marginal_tau
 from .floquet import priced_spatial, solver_options, spatial_system
@@ -34,21 +34,21 @@ def _peak(x: np.ndarray, env: np.ndarray, start: float) -> float:
     return float(x[i])
 
 
-def _response_at(p, n_spatial: int, kind: str, options: dict[str, Any]):
-    """(envelope, profile, peak, tau, response frequency) of the cochlea with n_spatial modes."""
-    from ..models.cochlea import TONE_WIDTH, tone_response
+def _response_at(spec: Model, p, n_spatial: int, kind: str, options: dict[str, Any]):
+    """(x, envelope, profile, peak, tau, response frequency) of the model's response with
+    ``n_spatial`` spatial modes (its :class:`~spectralshell.models.base.ResponseModel`)."""
     from ..solvers.marginal_mode import marginal_mode
 
-    x = np.linspace(0.0, np.pi, RESPONSE_POINTS)
-    basis = np.cos(np.outer(x, np.arange(1, n_spatial + 1)))
+    shape = spec.response(p)
+    x = np.linspace(*shape.domain, RESPONSE_POINTS)
+    basis = shape.basis(x, n_spatial)
     if kind == "tone":
-        h = basis @ tone_response(kappa=p.kappa, nu=p.nu, alpha=p.alpha, n_spatial=n_spatial)
+        h = basis @ shape.tone(n_spatial)
         env = np.abs(h)
         profile = (h * np.exp(-1j * np.angle(h[np.argmax(env)]))).real  # t_peak: phase of the peak
-        tau, freq, start = None, 1.0, 4 * TONE_WIDTH
+        tau, freq, start = None, 1.0, shape.tone_start
     else:
-        q = make_params("cochlea", {**dataclasses.asdict(p), "n_spatial": n_spatial})
-        system = hill_system(q)
+        system = hill_system(shape.with_modes(n_spatial))
         m = marginal_tau(system, kind, **options)
         if m.tau_min is None:
             raise ParameterError(f"kind = {kind!r} has no marginal tau here (tau_max = "
@@ -58,7 +58,7 @@ def _response_at(p, n_spatial: int, kind: str, options: dict[str, Any]):
         field = mode.evaluate(np.linspace(0.0, period, RESPONSE_TIMES, endpoint=False)) @ basis.T
         env = np.abs(field).max(axis=0)
         profile = field[np.argmax(np.abs(field).max(axis=1))]
-        tau, freq, start = m.tau_min, GAMMA_OF_KIND[kind], 0.0
+        tau, freq, start = m.tau_min, GAMMA_OF_KIND[kind], shape.domain[0]
     scale = env.max()
     return x, env / scale, profile / scale, _peak(x, env, start), tau, freq
 
@@ -66,11 +66,13 @@ def _response_at(p, n_spatial: int, kind: str, options: dict[str, Any]):
 def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: int | None = None,
              tau_max: float | None = None, max_seconds: float | None = None,
              **params: Any) -> "ResponseResult":
-    """Basilar-membrane displacement envelope for a pure tone (thesis 5.5, Figs 5.8-5.10).
+    """Displacement envelope along the membrane for a pure tone, or the parametric response at
+    tau_min (thesis 5.5, Figs 5.8-5.10), of a model with the ``response`` capability (the
+    cochlea).
 
     Parameters
     ----------
-    model : 'cochlea'.
+    model : a model with a response ('cochlea').
     kind : 'tone' (passive response, tau = 0, to a pressure load at the base oscillating at the
         forcing frequency: the externally forced tone of LeVeque, Peskin & Lax), or 'harmonic' /
         'subharmonic' (the Floquet solution at tau_min of that kind, as in thesis 5.5: response
@@ -84,45 +86,38 @@ def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: 
     Notes
     -----
     The envelope is the largest |h(x, t)| over a period (for the tone, |complex amplitude|); the
-    thesis draws the Hilbert-transform envelope of one snapshot instead. The peak is searched for
-    x >= 4 * TONE_WIDTH for the tone (the load region itself is excluded).
+    thesis draws the Hilbert-transform envelope of one snapshot instead. The tone's peak is
+    searched for x >= the model's ``tone_start`` (the cochlea: 4 TONE_WIDTH, past the load).
     """
     from ..results.response import ResponseResult
 
-    model = check_model(model)
-    if model != "cochlea":
-        raise ParameterError(f"model = {model!r} is invalid for response: must be 'cochlea'")
+    spec = require_capability(model, "response", "response")
     if kind not in ("tone", "harmonic", "subharmonic"):
         raise ParameterError(f"kind = {kind!r} is invalid: must be one of 'tone', 'harmonic', "
                              "'subharmonic'")
     options = solver_options(tol, n_temporal, tau_max)
-    params, physical = convert_physical(model, dict(params))
+    params, physical = physical_values(model, dict(params))
     p = make_params(model, params)
-    if p.spatial_mode is not None:
-        raise ParameterError(f"spatial_mode = {p.spatial_mode} is invalid for response: the "
-                             "envelope needs n_spatial cosine modes")
+    shape = spec.response(p)
     M = p.n_spatial or RESPONSE_MODES
     if kind != "tone":  # the parametric kinds solve marginal_tau at M and M // 2: priced first
-        priced_spatial(model, functools.partial(spatial_system, model, dataclasses.asdict(p)), (kind,),
-                options, M, max_seconds)
+        priced_spatial(model, functools.partial(spatial_system, model, dataclasses.asdict(p)),
+                       (kind,), options, M, max_seconds)
     elif max_seconds is not None:
         raise ParameterError(f"max_seconds = {max_seconds!r} is invalid for kind = 'tone': it "
                              "solves no marginal tau")
-    x, env, profile, peak, tau, freq = _response_at(p, M, kind, options)
-    coarse = _response_at(p, max(M // 2, 1), kind, options)[3]
-    from ..models.cochlea import wkb_peak
-
-    wkb = wkb_peak(kappa=p.kappa, nu=p.nu, alpha=p.alpha, frequency=freq) if p.nu > 0 and p.alpha > 0 \
-        else float("nan")
-    warnings = [] if np.isfinite(wkb) else ["the WKB peak needs nu > 0 and alpha > 0: reported as NaN"]
-    if np.isfinite(wkb) and not 0 < wkb < np.pi:
-        warnings.append(f"the WKB peak x = {wkb:.3g} lies outside the membrane [0, pi]")
+    x, env, profile, peak, tau, freq = _response_at(spec, p, M, kind, options)
+    coarse = _response_at(spec, p, max(M // 2, 1), kind, options)[3]
+    wkb = shape.wkb_peak(freq)
+    warnings = [] if wkb is not None else [shape.wkb_note]
+    low, high = shape.domain
+    if wkb is not None and not low < wkb < high:
+        warnings.append(f"the WKB peak x = {wkb:.3g} lies outside the membrane [{low:g}, "
+                        f"{'pi' if high == np.pi else f'{high:g}'}]")
     return ResponseResult(model=model, params={**dataclasses.asdict(p), "n_spatial": M}, kind=kind,
                           response_frequency=freq, x=x, envelope=env, profile=profile,
                           peak_x=peak, peak_error=abs(peak - coarse) + (x[1] - x[0]) / 10,
-                          wkb_peak_x=wkb if np.isfinite(wkb) else None, tau=tau,
-                          length=None if physical is None else physical["length"],
+                          wkb_peak_x=wkb, tau=tau,
+                          length=None if physical is None else physical.get("length"),
                           physical=physical, provenance=provenance({"kind": kind, **options}),
                           warnings=tuple(warnings))
-
-

@@ -151,7 +151,7 @@ def _unreadable(path: Path, name: str, exc: Exception) -> ParameterError:
 def _other_scene(path: Path, found: str | None, spec: SweepSpec) -> ParameterError:
     what = f"a different sweep (scene hash {found})" if found else "no spectralshell sweep"
     return ParameterError(f"out = {str(path)!r} holds {what}, not this scene (hash "
-                          f"{spec.digest}): choose another --out or delete it; sweeps are never "
+                          f"{spec.digest}): choose another out= or delete it; sweeps are never "
                           "mixed")
 
 
@@ -387,7 +387,7 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
         damage = stored.damage(spec)
         if damage:
             raise StoreDamaged(f"sweep = {str(path)!r} is damaged: {damage}; rerun its sweep "
-                               f"with --out {str(path)!r} to recompute exactly those")
+                               f"with out={str(path)!r} to recompute exactly those")
         return to_dataset(spec, stored.arrays, stored.attrs)
     with _open_netcdf(path, "sweep") as ds:
         if "scene_hash" not in ds.attrs or "tau_min" not in ds:

@@ -138,4 +138,4 @@ def floquet_exponents(system: HillSystem, tau: float, *, tol: float = 1e-10,
                              error_estimate=max(change, 8 * np.finfo(float).eps))
         previous = gamma
     raise ConvergenceError(f"Floquet exponents did not converge to tol={tol:g} by n_temporal={N_MAX} "
-                           f"(last change {change:.3g}); relax --tol")
+                           f"(last change {change:.3g}); relax tol=")

@@ -514,26 +514,26 @@ def _not_converged(kind: str, found: Truncation, previous: Truncation, n: int, t
             f"{kind}: no marginal tau found up to n_temporal={n}, but that is proved only for "
             f"tau <= {bound:.4g} (beyond it the truncations' eigenvalues near the real axis do "
             "not settle: an ill-conditioned Hill pencil, e.g. under strong damping): give "
-            f"tau_max <= {bound:.4g} (--tau-max) to accept 'none below it', or lower the damping")
+            f"tau_max= at most {bound:.4g} to accept 'none below it', or lower the damping")
     if tau.size and prev.size and abs(float(tau[0] - prev[0])) < tol:
         return ConvergenceError(
             f"{kind} tau_min = {float(tau[0]):.6g} has converged to tol={tol:g} at "
             f"n_temporal={n}, but the truncations prove no smaller real tau only below "
             f"{bound:.4g} (their eigenvalues near the real axis do not settle: an "
-            "ill-conditioned Hill pencil, e.g. under strong damping); fix n_temporal "
-            "(--n-temporal) to get the values with that bound (complete_to), or lower the damping")
+            "ill-conditioned Hill pencil, e.g. under strong damping); fix "
+            "n_temporal= to get the values with that bound (complete_to), or lower the damping")
     change = (f"last change {abs(float(tau[0] - prev[0])):.3g}" if tau.size and prev.size
               else "a tau at one of the last two truncations only")
     beyond = ""
     if tau_max > 0.5 and min(tau[:1].tolist() + prev[:1].tolist()) > 0.5:
         beyond = (f"; these tau_min ({tau[0] if tau.size else prev[0]:.6g} at the last N) "
-                  "exceed 1/2, where the stiffness turns negative: tau_max=0.5 (--tau-max 0.5) "
+                  "exceed 1/2, where the stiffness turns negative: tau_max=0.5 "
                   "asks only for the physical range")
     lowest = min([bound] + tau[:1].tolist() + prev[:1].tolist())
     return ConvergenceError(
         f"{kind} tau_min did not converge to tol={tol:g} by n_temporal={n} "
         f"({change}; that no marginal tau exists is proved only for tau <= {lowest:.4g}); "
-        f"relax tol (--tol), or fix n_temporal (--n-temporal) and read the error "
+        f"relax tol=, or fix n_temporal= and read the error "
         f"estimate{beyond}")
 
 
