@@ -185,13 +185,14 @@ def test_continuation_equals_independent_solves():
     ("mathieu", {"kappa": 0.3, "nu": 0.1}), ("mathieu", {"kappa": 6.0, "nu": 0.01}),
     ("sphere", {"m": 2, "kappa": 0.05, "nu": 2.39e-4}), ("sphere", {"m": 3, "kappa": 0.25, "nu": 1e-3}),
 ])
-def test_truncation_sequence_mirrors_the_solver(model, params):
+def test_the_solver_walks_the_schedule_continuation_reads(model, params):
+    """Continuation skips along TruncationSchedule: marginal_tau must stop at a pair of it."""
     from spectralshell.models.registry import hill_system
     from spectralshell.params.registry import make_params
-    from spectralshell.solvers.marginal import marginal_tau
+    from spectralshell.solvers.marginal import TruncationSchedule, marginal_tau
 
     system = hill_system(make_params(model, params))
-    seq = solve.truncation_sequence(system)
+    seq = TruncationSchedule.of(system).sequence()
     for kind in ("harmonic", "subharmonic"):
         m = marginal_tau(system, kind, tol=1e-10, tau_max=2.0)
         i = seq.index(m.n_previous)

@@ -32,8 +32,8 @@ from ..results.floquet import (ExponentsResult, FloquetResult, StabilityResult, 
 from ..solvers.cost import CostEstimate, spatial_cost
 from ..solvers.exponents import floquet_exponents
 from ..solvers.marginal import N_MAX, marginal_tau
-from ..solvers.spatial_refinement import (TOL_SPATIAL, refine_spatial, solve_at,
-                                           spatial_change, spatial_error)
+from ..solvers.spatial_refinement import TOL_SPATIAL, refine_spatial, solve_fixed, spatial_error
+from .solve import spatial_system
 from .sweep import map_points
 from ..solvers.tongues import find_tips
 
@@ -116,10 +116,6 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
                          provenance=provenance({"kind": kind, **options}), warnings=tuple(warnings))
 
 
-def spatial_system(model: str, params: dict[str, Any], n_spatial: int) -> HillSystem:
-    return hill_system(make_params(model, {**params, "n_spatial": n_spatial}))
-
-
 def priced_spatial(model: str, factory, kinds: tuple[str, ...], options: dict[str, Any],
                    n_spatial: int | None, max_seconds: float | None) -> CostEstimate:
     """The cost estimate of a solve with spatial modes, refused (ParameterError) when its least
@@ -149,18 +145,12 @@ def _solve_spatial(model: str, params: dict[str, Any], first, factory, kinds: tu
                    options: dict[str, Any], tol_spatial: float) -> tuple:
     """(params, tau of each kind, spatial change, M, coarser M) at the given n_spatial of
     ``first`` (M and M // 2) or refined in M (see :func:`_floquet_spatial`)."""
-    n_given = first.n_spatial
-    if n_given is None:
+    if first.n_spatial is None:
         found = refine_spatial(factory, kinds, options=options, tol_spatial=tol_spatial)
-        p = make_params(model, {**params, "n_spatial": found.n_spatial})
-        return p, found.taus, found.change, found.n_spatial, found.n_spatial_previous
-    fine = solve_at(factory, n_given, kinds, options)
-    m_coarse = n_given // 2 or None
-    coarse = None if m_coarse is None else solve_at(factory, m_coarse, kinds, options)
-    cap = options.get("tau_max") or float("inf")
-    change = {k: None if coarse is None else spatial_change(fine[k], coarse[k], cap)
-              for k in kinds}
-    return first, fine, change, n_given, m_coarse
+        first = make_params(model, {**params, "n_spatial": found.n_spatial})
+    else:
+        found = solve_fixed(factory, first.n_spatial, kinds, options)
+    return first, found.taus, found.change, found.n_spatial, found.n_spatial_previous
 
 
 def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dict[str, Any],

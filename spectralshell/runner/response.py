@@ -14,7 +14,8 @@ from ..models.registry import hill_system
 from ..params.registry import Model, make_params, physical_values, require_capability
 from ..results.floquet import provenance
 from ..solvers.marginal import marginal_tau
-from .floquet import priced_spatial, solver_options, spatial_system
+from .floquet import priced_spatial, solver_options
+from .solve import spatial_system
 
 
 RESPONSE_MODES = 128    # default number of cosine modes of a response

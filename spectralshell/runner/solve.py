@@ -3,7 +3,7 @@
 Continuation along the line axis
 --------------------------------
 ``marginal_tau`` solves the truncations x_0 < x_1 < ... (x_0 just above the model's resonant
-index, x_{i+1} = x_i + max(6, x_i // 2)) until tau_min changes by less than ``tol`` between two
+index, x_{i+1} = x_i + max(6, x_i // 2): ``solvers.marginal.TruncationSchedule``) until tau_min changes by less than ``tol`` between two
 successive ones, and reports the pair (n_previous, n_temporal). Neighbouring points of a line
 need about the same pair, so when the neighbour stopped at (x_k, x_{k+1}) with k >= 3, a point
 runs the same loop but starts one step lower, at x_{k-1}: it skips x_0 .. x_{k-2}, and, starting
@@ -16,9 +16,8 @@ same truncations through the same code); it differs -- by less than ``tol``, the
 value passing the same test at a larger N -- only where the independent solve would have stopped
 below x_{k-1}. What continuation saves is solver calls (k - 1 per point) rather than
 floating-point work, since the skipped truncations are the small ones: see the measurements in
-``validation/bench_sweep.py``. The sequence rule mirrors ``solvers.marginal`` (tested against
-it in tests/test_sweep.py); were the two to drift apart, results would stay correct (the
-acceptance test is the solver's own), only continuation would stop paying off.
+``validation/bench_sweep.py``. The sequence is the solver's own schedule, read from
+``TruncationSchedule``, and the acceptance test is the solver's own ``converged_pair``.
 
 Besides the truncation pair, each point passes its neighbour's tau_min to the solver as ``hint``
 (``marginal_tau`` / ``truncation_taus``): where a truncation is big enough for the shift-invert
@@ -59,8 +58,8 @@ from ..models.base import HillSystem
 from ..models.registry import hill_system
 from ..params.registry import make_params
 from ..params.sweep_grid import SolverOptions, SweepSpec
-from ..solvers.marginal import (N_MAX, MarginalTau, Truncation, converged_pair, marginal_tau,
-                                truncation_taus)
+from ..solvers.marginal import (MarginalTau, Truncation, TruncationSchedule, converged_pair,
+                                marginal_tau, truncation_taus)
 from ..solvers.spatial_refinement import (MINIMUM_LIMIT, SPATIAL_LIMIT, SPATIAL_START,
                                           refine_minimum, refine_spatial, spatial_error)
 from .engine import PartialFailure
@@ -71,7 +70,6 @@ VARIABLES = {"tau_min": np.float64, "has_tau": np.bool_, "error_estimate": np.fl
              "n_temporal": np.int32}
 #: Further variables of models with spatial modes (SweepSpec.spatial).
 SPATIAL_VARIABLES = {"n_spatial": np.int32, "spatial_converged": np.bool_}
-FIRST_MARGIN = 8  # solvers.marginal starts at x_0 = ceil(n_resonant) + 8
 
 
 class SweepError(SpectralShellError, RuntimeError):
@@ -123,21 +121,12 @@ def solve_full(system: HillSystem, kind: str, options: SolverOptions,
     return from_marginal(found, options.tau_max)
 
 
-def truncation_sequence(system: HillSystem, n_max: int = N_MAX) -> list[int]:
-    """The truncations x_0 < x_1 < ... <= n_max that ``marginal_tau`` tries (see the notes)."""
-    n = min(int(np.ceil(system.n_resonant)) + FIRST_MARGIN, n_max - max(2, n_max // 4))
-    out = [max(1, n)]
-    while out[-1] < n_max:
-        out.append(min(out[-1] + max(6, out[-1] // 2), n_max))
-    return out
-
-
 def continuation_start(system: HillSystem, hint: tuple[int, int] | None) -> int | None:
     """Index in this point's sequence where continuation from the neighbour's pair ``hint``
     starts (one step below it), or None when that would skip fewer than two truncations."""
     if hint is None:
         return None
-    seq = truncation_sequence(system)
+    seq = TruncationSchedule.of(system).sequence()
     k = int(np.searchsorted(seq, hint[0], side="right")) - 1  # largest x_k <= hint[0]
     return k - 1 if k >= 3 else None
 
@@ -160,7 +149,7 @@ def solve_continued(system: HillSystem, kind: str, options: SolverOptions, start
     step beyond the neighbour's pair, or none has a tau at all. The first truncation's ``hint``
     is ``tau_hint`` (the neighbour's tau_min), each later one's the previous truncation's
     tau_min."""
-    seq = truncation_sequence(system)
+    seq = TruncationSchedule.of(system).sequence()
     previous, prev = _truncation(system, kind, seq[start], options.tau_max, tau_hint)
     for i in range(start + 1, min(start + 4, len(seq))):
         found, tau = _truncation(system, kind, seq[i], options.tau_max, _first(prev, tau_hint))
@@ -190,7 +179,8 @@ def solve_kind(system: HillSystem, kind: str, options: SolverOptions,
     return solve_full(system, kind, options, tau_hint)
 
 
-def _spatial_system(model: str, params: dict, n_spatial: int) -> HillSystem:
+def spatial_system(model: str, params: dict, n_spatial: int) -> HillSystem:
+    """The model's HillSystem at ``params`` with ``n_spatial`` spatial modes (M)."""
     return hill_system(make_params(model, {**params, "n_spatial": n_spatial}))
 
 
@@ -205,7 +195,7 @@ def solve_spatial(spec: SweepSpec, params: dict, kind: str, hint: int | None = N
     """One kind at one point, refined in M from :func:`spatial_start` (see the module notes);
     ``tau_hint`` (the neighbour's tau_min) is the solver's ``hint`` at every M."""
     start = spatial_start(hint)
-    found = refine_spatial(functools.partial(_spatial_system, spec.model, params), (kind,),
+    found = refine_spatial(functools.partial(spatial_system, spec.model, params), (kind,),
                            options={**spec.options.marginal_kwargs(), "hint": tau_hint},
                            tol_spatial=spec.options.tol_spatial, start=start,
                            limit=SPATIAL_LIMIT, strict=False)
@@ -222,7 +212,7 @@ def solve_spatial_minimum(spec: SweepSpec, params: dict, hint: int | None, leade
     (the solver's hint)."""
     start = spatial_start(hint)
     kinds = spec.kinds if leader is None else (leader, *(k for k in spec.kinds if k != leader))
-    found = refine_minimum(functools.partial(_spatial_system, spec.model, params), kinds,
+    found = refine_minimum(functools.partial(spatial_system, spec.model, params), kinds,
                            options=spec.options.marginal_kwargs(),
                            tol_spatial=spec.options.tol_spatial, start=start,
                            limit=MINIMUM_LIMIT, strict=False, hints=tau_hints)

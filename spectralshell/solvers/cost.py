@@ -29,7 +29,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from ..models.base import HillSystem
-from .marginal import N_MAX, _next, _previous, _start
+from .marginal import FIRST_MARGIN, N_MAX, TruncationSchedule, coarser, finer
 from .spatial_refinement import SPATIAL_LIMIT, SPATIAL_START
 
 #: Seconds per n^3 of a dense truncation of order n (module notes).
@@ -67,12 +67,12 @@ def duration(seconds: float) -> str:
 def temporal_schedule(system: HillSystem, n_temporal: int | None = None) -> tuple[int, ...]:
     """The truncations N that :func:`marginal_tau` is expected to solve (module notes)."""
     if n_temporal is not None:
-        return (_previous(n_temporal), n_temporal)
+        return (coarser(n_temporal), n_temporal)
     top = system.n_highest if system.n_highest is not None else system.n_resonant
-    target = min(N_MAX, math.ceil(top) + 8)
-    schedule = [min(_start(system), _previous(N_MAX))]
+    target = min(N_MAX, math.ceil(top) + FIRST_MARGIN)
+    schedule = [TruncationSchedule.of(system).first]
     while len(schedule) < 2 or schedule[-1] < target:
-        schedule.append(min(_next(schedule[-1]), N_MAX))
+        schedule.append(min(finer(schedule[-1]), N_MAX))
         if schedule[-1] == N_MAX:
             break
     return tuple(schedule)

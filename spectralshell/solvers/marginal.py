@@ -123,6 +123,8 @@ from .shift_invert import Shift, interval_taus
 
 ZERO_CLUSTER = 1e-6
 N_MAX = 400
+#: The first truncation lies this many Fourier indices above the model's resonant index.
+FIRST_MARGIN = 8
 METHODS = ("auto", "dense", "krylov")
 KRYLOV_MIN_ORDER = 600
 EPS = np.finfo(float).eps
@@ -446,16 +448,39 @@ def solve_truncation(system: HillSystem, kind: str,
     return found.tau, found.method, found.spread
 
 
-def _start(system: HillSystem) -> int:
-    return math.ceil(system.n_resonant) + 8
-
-
-def _next(n: int) -> int:
+def finer(n: int) -> int:
+    """The truncation after N in a schedule: N + max(6, N // 2)."""
     return n + max(6, n // 2)
 
 
-def _previous(n: int) -> int:
+def coarser(n: int) -> int:
+    """The truncation a fixed N is compared with: max(1, N - max(2, N // 4))."""
     return max(1, n - max(2, n // 4))
+
+
+@dataclass(frozen=True)
+class TruncationSchedule:
+    """The truncations N that :func:`marginal_tau` solves, in order: the one owner of the rule
+    (the sweep's continuation and the cost estimate read it here).
+
+    x_0 = min(ceil(n_resonant) + FIRST_MARGIN, coarser(n_max)) -- just above the Fourier index
+    at which the model's modes resonate -- and x_{i+1} = min(finer(x_i), n_max).
+    """
+
+    first: int
+    n_max: int = N_MAX
+
+    @classmethod
+    def of(cls, system: HillSystem, n_max: int = N_MAX) -> TruncationSchedule:
+        """The schedule of ``system`` up to ``n_max``."""
+        return cls(min(math.ceil(system.n_resonant) + FIRST_MARGIN, coarser(n_max)), n_max)
+
+    def sequence(self) -> list[int]:
+        """x_0 < x_1 < ... <= n_max."""
+        out = [self.first]
+        while out[-1] < self.n_max:
+            out.append(min(finer(out[-1]), self.n_max))
+        return out
 
 
 def _matched(tau: np.ndarray, previous: np.ndarray, tol: float) -> np.ndarray:
@@ -589,7 +614,7 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         return MarginalTau(kind=kind, tau=np.empty(0), tau_min=None, n_temporal=0, n_previous=0,
                            error_estimate=None, method="structured")
     if n_temporal is not None:
-        n_prev = _previous(n_temporal)
+        n_prev = coarser(n_temporal)
         found, previous = solve(n_temporal), solve(n_prev)
         return _result(kind, found, previous, n_temporal, n_prev, tol, tau_max,
                        certified_bound(found, previous))
@@ -598,11 +623,11 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
             f"{kind} tau_min needs more than n_temporal={n_max} Fourier terms: the natural "
             f"frequency is {system.n_resonant:.4g} forcing frequencies; lower the stiffness "
             "(kappa) or the mode number m, or raise the forcing frequency")
-    n_prev = min(_start(system), _previous(n_max))
-    pencils.reserve = min(_next(n_prev), n_max)  # both are always solved
+    n_prev = TruncationSchedule.of(system, n_max).first
+    pencils.reserve = min(finer(n_prev), n_max)  # both are always solved
     previous = solve(n_prev)
     while True:
-        n = min(_next(n_prev), n_max)
+        n = min(finer(n_prev), n_max)
         found = solve(n)
         bound = certified_bound(found, previous)  # once per pair: O(N^2) for Mathieu
         if _passes(found, previous, tol, tau_max, bound):

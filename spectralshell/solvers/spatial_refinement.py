@@ -97,7 +97,7 @@ class SpatialTau:
 
     taus : kind -> MarginalTau at ``n_spatial`` (temporal error estimate only; see
         :func:`spatial_error`).
-    n_spatial, n_spatial_previous : the pair (M, M / 2) compared last.
+    n_spatial, n_spatial_previous : the pair (M, M / 2) compared last (None: M = 1 alone).
     change : kind -> :func:`spatial_change` of the pair (tau_min capped at tau_max, or at
         the smaller of the kind's two caps with :func:`refine_minimum`).
     converged : every change is <= tol_spatial (False only with ``strict=False``: the
@@ -110,7 +110,7 @@ class SpatialTau:
 
     taus: dict[str, MarginalTau]
     n_spatial: int
-    n_spatial_previous: int
+    n_spatial_previous: int | None
     change: dict[str, float | None]
     converged: bool
     caps: dict[str, float] = dataclasses.field(default_factory=dict)
@@ -166,6 +166,21 @@ def solve_at(factory: Callable[[int], HillSystem], n_spatial: int, kinds: Iterab
     """marginal_tau of each kind with ``n_spatial`` modes (``options``: tol, n_temporal,
     tau_max of :func:`~spectralshell.solvers.marginal.marginal_tau`)."""
     return _solve(factory(n_spatial), tuple(kinds), options, joint=False)[0]
+
+
+def solve_fixed(factory: Callable[[int], HillSystem], n_spatial: int, kinds: Iterable[str],
+                options: dict[str, Any]) -> SpatialTau:
+    """tau_min of each kind at the caller's M = ``n_spatial``, with the change from M // 2 (none
+    for M = 1) as its spatial error: the thesis's epsilon_M of 5.3 (Fig 5.6). Nothing is
+    refined, so ``converged`` is True."""
+    kinds = tuple(kinds)
+    fine = solve_at(factory, n_spatial, kinds, options)
+    coarse = solve_at(factory, n_spatial // 2, kinds, options) if n_spatial > 1 else None
+    cap = options.get("tau_max") or math.inf
+    change = {k: None if coarse is None else spatial_change(fine[k], coarse[k], cap)
+              for k in kinds}
+    return SpatialTau(taus=fine, n_spatial=n_spatial, n_spatial_previous=n_spatial // 2 or None,
+                      change=change, converged=True, caps={k: cap for k in kinds})
 
 
 def minimum(taus: dict[str, MarginalTau]) -> float | None:
