@@ -173,7 +173,7 @@ def test_tau_map_physical_keys_are_checked():
     common = dict(x=("sigma", [1e3]), y=("bpm", [60.0]), m="2", workers=1)
     with pytest.raises(ss.ParameterError, match="physical bogus is unknown"):
         ss.tau_map("sphere", physical={"rho": 1, "mu": 0.04, "radius": 2, "bogus": 1}, **common)
-    with pytest.raises(ss.ParameterError, match="physical radius is missing"):
+    with pytest.raises(ss.ParameterError, match="radius is missing"):
         ss.tau_map("sphere", physical={"rho": 1, "mu": 0.04}, **common)
     with pytest.raises(ss.ParameterError, match="rho = '1'"):
         ss.tau_map("sphere", physical={"rho": "1", "mu": 0.04, "radius": 2}, **common)

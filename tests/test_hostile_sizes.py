@@ -102,8 +102,8 @@ def test_memory_of_the_results_is_estimated_before_the_work(monkeypatch):
 
 
 def test_tau_map_counts_x_y_and_degrees(monkeypatch):
-    monkeypatch.setattr(floquet_runner, "_map", lambda *a, **k: pytest.fail("solved"))
-    with pytest.raises(ParameterError, match=r"tau map kappa x nu x m = 1000 x 1000 x 2"):
+    monkeypatch.setattr(sys.modules["spectralshell.runner.sweep"], "run_sweep", lambda *a, **k: pytest.fail("solved"))
+    with pytest.raises(ParameterError, match=r"grid kappa x nu x m = 1000 x 1000 x 2"):
         ss.tau_map("sphere", x=("kappa", "0.01:0.2:1000"), y=("nu", "0.001:0.01:1000"), m="2:3")
     with pytest.raises(ParameterError, match=r"m = 400 is invalid: must be an integer in \[2, 200\]"):
         ss.tau_map("sphere", x=("kappa", "0.01:0.2:3"), y=("nu", "0.001:0.01:3"), m="2:400")

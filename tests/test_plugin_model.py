@@ -134,7 +134,7 @@ def test_exponents_are_logarithms_of_the_monodromy_multipliers(twin):
     assert max(np.min(np.abs(want - g)) for g in got) < 1e-8
 
 
-def test_tongues_and_a_sweep_agree_with_the_point_solve_and_the_oracle(twin):
+def test_tongues_a_sweep_and_a_map_agree_with_the_point_solve_and_the_oracle(twin):
     p = TwinParams(kappa=0.3, ratio=1.5, coupling=0.4, nu=0.05)
     kappas = [0.2, 0.3, 0.45]
     diagram = ss.tongues("twin", kappa=kappas, kind="subharmonic", ratio=p.ratio,
@@ -150,6 +150,10 @@ def test_tongues_and_a_sweep_agree_with_the_point_solve_and_the_oracle(twin):
         q = TwinParams(kappa=kappa, ratio=p.ratio, coupling=p.coupling, nu=p.nu)
         multipliers = np.linalg.eigvals(monodromy(q, tau_min))
         assert np.min(np.abs(multipliers + 1.0)) < 1e-7
+    mapped = ss.tau_map("twin", x=("kappa", kappas), y=("nu", [p.nu]), kind="subharmonic",
+                        tau_max=2.0, tol=1e-10, ratio=p.ratio, coupling=p.coupling, workers=1)
+    np.testing.assert_allclose(mapped["tau_min"].sel(kind="subharmonic").values[:, 0], swept,
+                               atol=1e-9)
 
 
 def test_the_cli_offers_the_plug_in_with_its_parameters(twin, capsys):

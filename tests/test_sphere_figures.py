@@ -6,11 +6,14 @@ import math
 import numpy as np
 import pytest
 
+import spectralshell as ss
+
 from spectralshell.api import tau_map
 from spectralshell.cli import main
 from spectralshell.models.sphere import lambda0_squared
 from spectralshell.params.physical import TABLE_6_1
 from spectralshell.plots import tau_map as tau_plot
+from spectralshell.results.maps import map_dict, minimum_map, write_npz
 
 
 def test_map_in_physical_units_finds_case_2_mode():
@@ -18,30 +21,50 @@ def test_map_in_physical_units_finds_case_2_mode():
     simulations of 6.4.2 see m = 2 grow subharmonically at tau = 0.45; the map point agrees."""
     case = TABLE_6_1[2]
     bpm = case.omega * 60 / (2 * math.pi)
-    res = tau_map("sphere", x=("sigma", [case.sigma]), y=("bpm", [bpm]), m="2:6", workers=1,
-                  physical={"rho": case.rho, "mu": case.mu, "radius": case.radius})
+    ds = tau_map("sphere", x=("sigma", [case.sigma]), y=("bpm", [bpm]), m="2:6", workers=1,
+                 physical={"rho": case.rho, "mu": case.mu, "radius": case.radius})
+    res = minimum_map(ds, "sigma", "bpm")
     assert res.has_tau[0, 0] and res.tau_min[0, 0] < 0.45
-    assert (res.degree[0, 0], res.kind[0, 0]) == (2, "S")
+    assert (int(res.m[0, 0]), res.kind.values[0, 0], res.label.values[0, 0]) == (2, "subharmonic",
+                                                                               "2S")
     assert res.error_estimate[0, 0] < 1e-8
-    assert res.units == {"sigma": "dyn/cm", "bpm": "beats/min"}
+    assert map_dict(res)["units"] == {"sigma": "dyn/cm", "bpm": "beats/min"}
+
+
+def test_map_agrees_with_independent_point_solves():
+    """Oracle: the map's minimum over m and kind is the smallest of independent floquet solves
+    (tau_max = 1/2) at each point, within tol."""
+    ds = tau_map("sphere", x=("kappa", [0.02, 0.06]), y=("nu", [0.002, 0.006]), m="2:3",
+                 workers=1)
+    res = minimum_map(ds, "kappa", "nu")
+    for i, nu in enumerate([0.002, 0.006]):
+        for j, kappa in enumerate([0.02, 0.06]):
+            found = [t for m in (2, 3) for r in [ss.floquet("sphere", m=m, kappa=kappa, nu=nu,
+                                                            tau_max=0.5, tol=1e-8)]
+                     for t in (r.harmonic.tau_min, r.subharmonic.tau_min) if t is not None]
+            assert bool(res.has_tau[i, j]) == bool(found)
+            if found:
+                assert abs(float(res.tau_min[i, j]) - min(found)) < 2e-8
 
 
 def test_map_png_and_npz(tmp_path):
-    res = tau_map("sphere", x=("kappa", [0.02, 0.06]), y=("nu", [0.002, 0.006]), m="2:3", workers=1)
-    assert tau_plot.save(res, tmp_path / "map.png", min_cells=1).stat().st_size > 5_000
-    res.write_npz(tmp_path / "map.npz")
+    ds = tau_map("sphere", x=("kappa", [0.02, 0.06]), y=("nu", [0.002, 0.006]), m="2:3", workers=1)
+    assert tau_plot.save(ds, tmp_path / "map.png", min_cells=1).stat().st_size > 5_000
+    res = minimum_map(ds, "kappa", "nu")
+    write_npz(res, tmp_path / "map.npz")
     with np.load(tmp_path / "map.npz") as data:
-        np.testing.assert_array_equal(data["tau_min"], res.tau_min)
-        assert json.loads(str(data["metadata"]))["units"] == {"kappa": "dimensionless",
-                                                             "nu": "dimensionless"}
+        np.testing.assert_array_equal(data["tau_min"], res.tau_min.values)
+        np.testing.assert_array_equal(data["label"], res.label.values)
+        assert json.loads(str(data["metadata"]))["units"] == {"kappa": "1", "nu": "1"}
 
 
 def test_map_is_blank_without_instability_below_tau_max():
     """Large viscosity lifts every finger above tau = 1/2 (thesis 6.3): no point of the map
     is unstable, and the map says so instead of returning a value."""
-    res = tau_map("sphere", x=("kappa", [0.02, 0.05]), y=("nu", [0.5]), m="2:3", workers=1)
+    ds = tau_map("sphere", x=("kappa", [0.02, 0.05]), y=("nu", [0.5]), m="2:3", workers=1)
+    res = minimum_map(ds, "kappa", "nu")
     assert not res.has_tau.any() and np.all(np.isfinite(res.tau_min))
-    assert json.loads(json.dumps(res.to_dict()))["tau_min"] == [[None, None]]
+    assert json.loads(json.dumps(map_dict(res)))["tau_min"] == [[None, None]]
 
 
 def test_fig_6_6_marks_the_simulated_modes(tmp_path, capsys):

@@ -21,6 +21,7 @@ import xarray as xr
 from scipy import ndimage
 
 from ..errors import ParameterError
+from ..results.maps import category_label, minimum_map
 
 SYMBOLS = {"kappa": "κ", "nu": "ν", "sigma": "σ", "omega": "ω", "mu": "μ", "rho": "ρ",
            "radius": "R", "bpm": "beat rate", "frequency": "f", "length": "L",
@@ -43,21 +44,11 @@ def axis_label(coord: xr.DataArray) -> str:
     return f"{text} ({units})"
 
 
-def _picture_axes(ds: xr.Dataset) -> tuple[list[str], list[str]]:
+def picture_axes(ds: xr.Dataset) -> tuple[list[str], list[str]]:
     """(real axes with > 1 value, category dims) of ``tau_min``."""
     dims = list(ds["tau_min"].dims)
     real = [d for d in dims if ds[d].dtype.kind == "f" and ds.sizes[d] > 1]
     return real, [d for d in dims if d not in real]
-
-
-def _category_label(ds: xr.Dataset, cats: list[str], index: tuple[int, ...]) -> str:
-    parts = []
-    for d, i in zip(cats, index):
-        if ds.sizes[d] == 1 and d != "kind":
-            continue
-        v = ds[d].values[i]
-        parts.append(str(v)[0].upper() if d == "kind" else str(v))
-    return "".join(parts)
 
 
 def _title(ds: xr.Dataset, fixed: dict) -> str:
@@ -103,7 +94,7 @@ def _line(ds: xr.Dataset, axis: str, cats: list[str]):
         group = tuple(i for d, i in zip(cats, index) if d != "kind")
         colour = colours[(np.ravel_multi_index(group, [ds.sizes[d] for d in non_kind])
                           if group else 0) % len(colours)]
-        label = _category_label(ds, cats, index) or None
+        label = category_label(ds, cats, index) or None
         ax.plot(x[order], y[order], styles.get(kind, "-"), color=colour, label=label, lw=1.4)
     tau_max = float(ds.attrs.get("tau_max", np.nanmax(tau)))
     ax.set_ylim(0.0, tau_max)
@@ -153,33 +144,28 @@ def unconverged(ds: xr.Dataset, xname: str, yname: str) -> np.ndarray:
 
 
 def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
-             labels: bool = True, cmap: str = "Blues_r"):
-    """Minimum tau_min over the categories on the (x, y) cells of ``ax``: white where none
-    <= tau_max, grey hatched where the M refinement did not converge; returns
-    (mesh, number of hatched cells)."""
+             labels: bool = True, cmap: str = "Blues_r", headroom: float = 1.0):
+    """Minimum tau_min over the categories (:func:`~spectralshell.results.maps.minimum_map`)
+    on the (x, y) cells of ``ax``: white where none <= tau_max, grey hatched where the M
+    refinement did not converge; the colour scale runs to ``headroom`` x tau_max (above 1 it
+    stops short of a colour map's white end). Returns (mesh, number of hatched cells)."""
     ds = ds.sortby([xname, yname])
-    cats = [d for d in ds["tau_min"].dims if d not in (xname, yname)]
-    order = [yname, xname, *cats]
-    tau = ds["tau_min"].transpose(*order).values
-    ok = _valid(ds.transpose(*order))
-    tau_max = float(ds.attrs.get("tau_max", tau.max()))
-    shape = tau.shape[:2]
-    flat_tau = np.where(ok, tau, np.inf).reshape(*shape, -1)
-    best = flat_tau.argmin(axis=-1)
-    value = np.take_along_axis(flat_tau, best[..., None], axis=-1)[..., 0]
-    found = np.isfinite(value)
+    mm = minimum_map(ds, xname, yname)
+    found = mm["has_tau"].values
+    tau_max = float(ds.attrs.get("tau_max", mm["tau_min"].values.max(initial=0.0)))
     xe, ye = _edges(ds[xname]), _edges(ds[yname])
-    shown = np.ma.masked_where(~found, np.where(found, value, 0.0))
-    mesh = ax.pcolormesh(xe, ye, shown, cmap=cmap, vmin=0.0, vmax=tau_max, shading="flat")
+    shown = np.ma.masked_where(~found, mm["tau_min"].values)
+    mesh = ax.pcolormesh(xe, ye, shown, cmap=cmap, vmin=0.0, vmax=headroom * tau_max,
+                         shading="flat")
     bad = unconverged(ds, xname, yname)
     if bad.any():
-        ax.pcolor(xe, ye, np.ma.masked_where(~bad, np.ones(shape)), cmap="Greys", vmin=0.0,
-                  vmax=2.5, hatch="///", edgecolor="0.35", linewidth=0.0)
+        ax.pcolor(xe, ye, np.ma.masked_where(~bad, np.ones(found.shape)), cmap="Greys",
+                  vmin=0.0, vmax=2.5, hatch="///", edgecolor="0.35", linewidth=0.0)
     if labels:
-        combos = list(itertools.product(*(range(ds.sizes[d]) for d in cats)))
-        names = [_category_label(ds, cats, c) for c in combos]
-        _band_labels(ax, ds[xname].values, ds[yname].values, np.where(found & ~bad, best, -1),
-                     names, min_cells)
+        names, code = np.unique(mm["label"].values, return_inverse=True)
+        _band_labels(ax, ds[xname].values, ds[yname].values,
+                     np.where(found & ~bad, code.reshape(found.shape), -1), list(names),
+                     min_cells)
     ax.set_xlabel(axis_label(ds[xname]))
     ax.set_ylabel(axis_label(ds[yname]))
     _scale(ax, ds, xname, "x")
@@ -229,7 +215,7 @@ def save(ds: xr.Dataset, path: str | Path, *, min_cells: int = 6, dpi: int = 120
     """
     if "tau_min" not in ds or "has_tau" not in ds:
         raise ParameterError("sweep is invalid for plotting: it has no tau_min/has_tau variables")
-    real, cats = _picture_axes(ds)
+    real, cats = picture_axes(ds)
     if len(real) == 1:
         fig = _line(ds, real[0], cats)
     elif len(real) == 2:

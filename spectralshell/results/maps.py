@@ -1,59 +1,101 @@
-"""Minimum-tau maps over two parameter axes (thesis Fig 6.13, Fig 5.18): result and file forms."""
+"""Minimum-tau maps (thesis Fig 6.13, Fig 5.18) of a sweep Dataset, and their file forms.
+
+A map is a sweep (:func:`spectralshell.sweep`, or :func:`spectralshell.tau_map`, which runs one
+in memory) over two real axes x, y and any categories (degree m, kind, ...). Its minimum map is
+the smallest tau_min over the categories at each (x, y) cell, with the category attaining it
+(labelled as the thesis's Fig 6.13: '3S' = m 3, subharmonic).
+"""
 
 from __future__ import annotations
 
+import itertools
 import json
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+if TYPE_CHECKING:
+    import xarray as xr
 
-@dataclass(frozen=True, kw_only=True, eq=False)
-class TauMapResult:
-    """Smallest marginal tau <= tau_max over the degrees m and kinds, at every (x, y) point.
 
-    Attributes
-    ----------
-    x_name, y_name : the axes' parameter names (with units in ``units``).
-    x, y : grids (1-D). tau_min : array (len(y), len(x)), NaN-free: ``has_tau`` marks points with
-        an instability below tau_max; elsewhere tau_min holds tau_max.
-    degree : the m attaining tau_min (0 where none). kind : 'H', 'S' or '' per point.
-    error_estimate : Floquet error estimate of tau_min (0 where none).
+def categories(ds: xr.Dataset, x: str, y: str) -> list[str]:
+    """The dims of ``tau_min`` other than the map's axes ``x`` and ``y``, in order."""
+    return [d for d in ds["tau_min"].dims if d not in (x, y)]
+
+
+def category_label(ds: xr.Dataset, cats: list[str], index: tuple[int, ...]) -> str:
+    """Label of one category combination: each value with more than one choice, a kind by its
+    initial ('3S' = m 3, subharmonic; 'H' for a harmonic with one m)."""
+    parts = []
+    for d, i in zip(cats, index):
+        if ds.sizes[d] == 1 and d != "kind":
+            continue
+        v = ds[d].values[i]
+        parts.append(str(v)[0].upper() if d == "kind" else str(v))
+    return "".join(parts)
+
+
+def minimum_map(ds: xr.Dataset, x: str, y: str) -> xr.Dataset:
+    """The smallest tau_min over the categories of the sweep ``ds`` at each (y, x) cell.
+
+    Only computed points with a marginal tau <= tau_max count; ties go to the first category in
+    the sweep's order (lower m, then harmonic). Variables, each (y, x): ``tau_min`` (tau_max
+    where none: NaN-free), ``has_tau``, ``error_estimate`` (0 where none), ``label``
+    (:func:`category_label`, '' where none) and, per category dim d, ``d`` the value attaining
+    the minimum (0 or '' where none). Coordinates x and y and the attrs are the sweep's.
     """
+    import xarray as xr  # lazy: ~0.35 s to import
 
-    model: str
-    params: dict[str, Any]
-    x_name: str
-    y_name: str
-    units: dict[str, str]
-    x: np.ndarray
-    y: np.ndarray
-    degrees: tuple[int, ...]
-    tau_max: float
-    tau_min: np.ndarray
-    has_tau: np.ndarray
-    degree: np.ndarray
-    kind: np.ndarray
-    error_estimate: np.ndarray
-    provenance: dict[str, Any]
+    cats = categories(ds, x, y)
+    order = [y, x, *cats]
+    tau = ds["tau_min"].transpose(*order).values
+    ok = (ds["has_tau"] & ds["computed"]).transpose(*order).values
+    err = ds["error_estimate"].transpose(*order).values
+    shape = tau.shape[:2]
+    flat = np.where(ok, tau, np.inf).reshape(*shape, -1)
+    best = flat.argmin(axis=-1)
+    value = np.take_along_axis(flat, best[..., None], axis=-1)[..., 0]
+    found = np.isfinite(value)
+    tau_max = float(ds.attrs.get("tau_max", np.max(tau, initial=0.0)))
+    error = np.take_along_axis(err.reshape(*shape, -1), best[..., None], axis=-1)[..., 0]
+    combos = list(itertools.product(*(range(ds.sizes[d]) for d in cats)))
+    names = np.array([category_label(ds, cats, c) for c in combos] or [""])
+    data = {"tau_min": ((y, x), np.where(found, value, tau_max)),
+            "has_tau": ((y, x), found),
+            "error_estimate": ((y, x), np.where(found, error, 0.0)),
+            "label": ((y, x), np.where(found, names[best], ""))}
+    for j, d in enumerate(cats):
+        values = ds[d].values
+        picked = values[np.array([c[j] for c in combos])[best]]
+        blank = "" if values.dtype.kind in "US" else 0
+        data[d] = ((y, x), np.where(found, picked, blank))
+    return xr.Dataset(data, coords={x: ds[x], y: ds[y]}, attrs=dict(ds.attrs))
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"model": self.model, "params": dict(self.params), "x_name": self.x_name,
-                "y_name": self.y_name, "units": dict(self.units), "x": self.x.tolist(),
-                "y": self.y.tolist(), "degrees": list(self.degrees), "tau_max": self.tau_max,
-                "tau_min": [[float(v) if h else None for v, h in zip(row, hrow)]
-                            for row, hrow in zip(self.tau_min, self.has_tau)],
-                "degree": self.degree.tolist(), "kind": self.kind.tolist(),
-                "max_error_estimate": float(self.error_estimate.max(initial=0.0)),
-                "provenance": self.provenance}
 
-    def write_npz(self, path: str | Path) -> None:
-        """Arrays x, y, tau_min, has_tau, degree, kind, error_estimate and JSON metadata."""
-        meta = {k: v for k, v in self.to_dict().items()
-                if k in ("model", "params", "x_name", "y_name", "units", "degrees", "tau_max",
-                         "provenance")}
-        np.savez(path, x=self.x, y=self.y, tau_min=self.tau_min, has_tau=self.has_tau,
-                 degree=self.degree, kind=self.kind.astype("U1"), error_estimate=self.error_estimate,
-                 metadata=np.array(json.dumps(meta)))
+def map_dict(mm: xr.Dataset) -> dict[str, Any]:
+    """JSON form of a :func:`minimum_map`: axes with units, tau_min rows (None where no
+    instability), the category values attaining it, the largest error estimate, provenance."""
+    y, x = mm["tau_min"].dims
+    out: dict[str, Any] = {"x_name": x, "y_name": y,
+                           "units": {n: mm[n].attrs.get("units", "1") for n in (x, y)},
+                           "x": mm[x].values.tolist(), "y": mm[y].values.tolist(),
+                           "tau_min": [[float(v) if h else None for v, h in zip(row, hrow)]
+                                       for row, hrow in zip(mm["tau_min"].values,
+                                                            mm["has_tau"].values)]}
+    for name in mm.data_vars:
+        if name not in ("tau_min", "has_tau", "error_estimate"):
+            out[str(name)] = mm[name].values.tolist()
+    out["max_error_estimate"] = float(mm["error_estimate"].values.max(initial=0.0))
+    out["attrs"] = {k: v.item() if hasattr(v, "item") else v for k, v in mm.attrs.items()}
+    return out
+
+
+def write_npz(mm: xr.Dataset, path: str | Path) -> Path:
+    """A :func:`minimum_map` as NPZ: every variable and both axes as arrays, the rest of
+    :func:`map_dict` (units, provenance) as JSON in ``metadata``."""
+    y, x = mm["tau_min"].dims
+    arrays = {str(n): mm[n].values for n in (x, y, *mm.data_vars)}
+    meta = {k: v for k, v in map_dict(mm).items() if k in ("x_name", "y_name", "units", "attrs")}
+    np.savez(path, **arrays, metadata=np.array(json.dumps(meta)))
+    return Path(path)

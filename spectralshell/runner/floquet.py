@@ -20,12 +20,12 @@ from ..models.base import HillSystem
 from ..models.registry import hill_system
 from ..params.grid import parse_int_range, parse_range
 from ..params.limits import RESULT_BYTES, SECONDS, check_grid, check_points
-from ..params.physical import PHYSICAL_UNITS, physical_inputs, sphere_forced_params
+from ..params.sweep_grid import PHYSICAL_NAMES, sweep_spec
+from ..params.physical import physical_inputs
 from ..params.stiffness import amplitude_warnings, threshold_warnings
 from ..params.registry import (check_model, get_model, int_bounds, make_params, param_fields,
                                physical_values)
 from ..params.scene import Plan, plan
-from ..results.maps import TauMapResult
 from ..results.spatial import SpatialFloquetResult
 from ..results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
                               certification_warnings, provenance, resolution_warnings)
@@ -280,93 +280,84 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
                          provenance=provenance({"kind": kind, "tips": tips, **options}))
 
 
-def _point_params(params: dict[str, Any], physical: dict[str, float] | None,
-                  names: tuple[str, str], point: tuple[float, float, int]) -> dict[str, Any]:
-    """Model parameters of one map point (x, y, m), converted from cgs when ``physical`` is given."""
-    x, y, degree = point
-    values = {**params, names[0]: float(x), names[1]: float(y), "m": int(degree)}
-    return values if physical is None else sphere_forced_params({**physical, **values})
-
-
-def _map_system(model: str, params: dict[str, Any], physical: dict[str, float] | None,
-                names: tuple[str, str], point: tuple[float, float, int]) -> HillSystem:
-    return _system(model, _point_params(params, physical, names, point))[1]
-
-
 def _map_axis(model: str, label: str, axis: object, physical: bool,
-              max_points: int | None) -> tuple[str, np.ndarray]:
-    """(name, grid) of the map axis ``label`` = (name, grid spec): the name one of the model's
-    real parameters, or with physical input one of PHYSICAL_UNITS; the grid by :func:`_grid`."""
-    names = tuple(PHYSICAL_UNITS) if physical else tuple(
+              max_points: int | None) -> tuple[str, Any]:
+    """(name, grid spec) of the map axis ``label`` = (name, grid): the name one of the model's
+    real parameters, or with physical input one of the model's cgs quantities in a sweep."""
+    cgs = PHYSICAL_NAMES.get(model, ())
+    names = tuple(cgs) if physical else tuple(
         f.name for f in param_fields(model) if f.type in (float, "float"))
     if not (isinstance(axis, (tuple, list)) and len(axis) == 2):
         raise ParameterError(f"{label} = {axis!r} is invalid: must be a pair (name, grid) with "
                              f"name one of {', '.join(names)}")
     if not isinstance(axis[0], str) or axis[0] not in names:
-        hint = "" if physical else f" (cgs axes {', '.join(PHYSICAL_UNITS)} need physical=)"
+        hint = f" (cgs axes {', '.join(cgs)} need physical=)" if cgs and not physical else ""
         raise ParameterError(f"{label} axis name = {axis[0]!r} is invalid: must be one of "
                              f"{', '.join(names)}{hint}")
-    name = str(axis[0])
-    return name, _grid(name, axis[1], max_points)
+    grid = axis[1]
+    if not isinstance(grid, (str, Mapping)):  # values: plain floats for the scene
+        values = np.atleast_1d(np.asarray(grid, dtype=object))
+        check_points(axis[0], values.size, max_points)
+        grid = [require_real(axis[0], v) for v in values]
+    return str(axis[0]), grid
 
 
-def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m, kind: str = "both",
+def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m=None, kind: str = "both",
             tau_max: float = 0.5, tol: float = 1e-8, physical: Mapping[str, float] | None = None,
             workers: int | None = None, progress: bool = False, max_points: int | None = None,
-            **params: Any) -> TauMapResult:
-    """Map of the smallest marginal tau <= tau_max over degrees ``m`` and kinds on an x-y grid.
+            **params: Any):
+    """Marginal tau_min <= tau_max on an x-y grid, for each degree ``m`` and kind: a sweep
+    (:func:`spectralshell.runner.sweep.run_sweep`) run in memory.
 
     Parameters
     ----------
-    x, y : (parameter name, grid), the grid as array-like or 'start:stop:num'. Names are model
-        parameters (e.g. 'kappa', 'nu') or, with ``physical``, the cgs quantities 'sigma'
-        (dyn/cm), 'omega' (rad/s), 'bpm' (beats/min), 'radius', 'mu', 'rho'.
-    m : degrees, e.g. '2:6'. tau_max : only instabilities below it count (1/2: stiffness > 0).
-    physical : fixed cgs values (e.g. rho, mu, radius) for the conversion (6.4)-(6.5) of
-        :class:`spectralshell.params.physical.PhysicalSphere`.
+    x, y : (parameter name, grid), the grid as array-like, 'start:stop:num' or {start, stop,
+        num[, spacing = 'log']}. Names are real model parameters (e.g. 'kappa', 'nu') or, with
+        ``physical``, the model's cgs quantities (sphere: 'sigma' (dyn/cm), 'omega' (rad/s),
+        'bpm' (beats/min), 'radius', 'mu', 'rho'; see :mod:`spectralshell.params.sweep_grid`).
+    m : degrees, e.g. '2:6' (models with a degree m; None for the others).
+    tau_max : only instabilities below it count (1/2: stiffness > 0).
+    physical : fixed cgs values (e.g. rho, mu, radius), converted with the axes' values as the
+        sweep converts them (sphere: (6.4)-(6.5), :class:`~spectralshell.params.physical.PhysicalSphere`).
     tol : absolute tolerance on each tau_min (1e-8 is ample for a picture).
-    max_points : raise the limit on x * y * degrees points (as in :func:`tongues`).
+    workers : processes (None: all cores for large grids; 1: serial). progress : a bar.
+    max_points : raise the limit on x * y * degrees * kinds points.
+
+    Returns
+    -------
+    xarray.Dataset : the sweep's (:func:`spectralshell.sweep`): tau_min, has_tau,
+        error_estimate, n_temporal over (x, y, m, kind), units and provenance in attrs.
+        :func:`spectralshell.results.maps.minimum_map` reduces it to the smallest tau over m and
+        kind with the m/kind attaining it (thesis Fig 6.13 labels 'm H/S'), and
+        :func:`spectralshell.plots.tau_map.save` draws it.
 
     Notes
     -----
-    Every point solves only the marginal tau <= tau_max (``marginal_tau(tau_max=...)``), in
-    parallel over all cores with a progress bar; the value is the minimum over m and kind, and
-    ``degree``/``kind`` record which one attains it (thesis Fig 6.13 labels 'm H/S').
+    Every point solves only the marginal tau <= tau_max, each continuing from its neighbour
+    along y (:mod:`spectralshell.runner.solve`): values agree with independent ``floquet``
+    solves within ``tol``.
     """
+    from .sweep import run_sweep  # lazy: xarray costs ~0.35 s to import
+
     model = check_model(model)
     kinds = expand_kind(kind)
-    options = solver_options(tol, None, tau_max)
-    degrees = parse_int_range("m", m, int_bounds(model, "m"), max_points)
-    phys = None if physical is None else physical_inputs(physical, PHYSICAL_UNITS)
-    (names, grids) = zip(*(_map_axis(model, label, axis, phys is not None, max_points)
-                           for label, axis in (("x", x), ("y", y))))
-    check_grid(f"tau map {names[0]} x {names[1]} x m", (grids[0].size, grids[1].size,
-                                                        len(degrees)), RESULT_BYTES, max_points)
-    factory = functools.partial(_map_system, model, dict(params), phys, names)
-    for gx in (grids[0][0], grids[0][-1]):  # validate the grid's corners before the sweep
-        for gy in (grids[1][0], grids[1][-1]):
-            make_params(model, _point_params(dict(params), phys, names, (gx, gy, degrees[0])))
-    points = [(gx, gy, d) for gy in grids[1] for gx in grids[0] for d in degrees]
-    rows = _map(factory, points, kinds, workers, progress, "tau map", options)
-    shape = (grids[1].size, grids[0].size, len(degrees))
-    best = np.full(shape[:2], float(tau_max))
-    has = np.zeros(shape[:2], dtype=bool)
-    degree = np.zeros(shape[:2], dtype=int)
-    which = np.full(shape[:2], "", dtype="<U1")
-    err = np.zeros(shape[:2])
-    for idx, row in zip(np.ndindex(*shape), rows):
-        for k in kinds:
-            t = row[k].tau_min
-            if t is not None and t <= best[idx[:2]] and (not has[idx[:2]] or t < best[idx[:2]]):
-                best[idx[:2]], has[idx[:2]] = t, True
-                degree[idx[:2]], which[idx[:2]] = degrees[idx[2]], k[0].upper()
-                err[idx[:2]] = row[k].error_estimate or 0.0
-    units = {n: PHYSICAL_UNITS.get(n, "dimensionless") for n in names}
-    p = dict(params) if phys is None else {**params, **phys}
-    return TauMapResult(model=model, params=p, x_name=names[0], y_name=names[1], units=units,
-                        x=grids[0], y=grids[1], degrees=tuple(degrees), tau_max=float(tau_max),
-                        tau_min=best, has_tau=has, degree=degree, kind=which, error_estimate=err,
-                        provenance=provenance({"kind": kind, **options}))
+    require_positive("tol", tol)
+    require_positive("tau_max", tau_max)
+    cgs = physical_inputs(physical, PHYSICAL_NAMES.get(model, ())) if physical is not None else {}
+    (xname, xgrid), (yname, ygrid) = (_map_axis(model, label, axis, physical is not None,
+                                                max_points)
+                                      for label, axis in (("x", x), ("y", y)))
+    grid: dict[str, Any] = {xname: xgrid, yname: ygrid}
+    if m is not None:
+        grid["m"] = m if isinstance(m, str) else (list(m) if isinstance(m, (list, tuple))
+                                                  else [m])
+    grid["kind"] = list(kinds)
+    scene = {"model": model, "ask": ["tau_min"], "params": {**params, **cgs}, "grid": grid,
+             "tau_min": {"tol": float(tol), "tau_max": float(tau_max)}}
+    spec = sweep_spec(scene, max_points=max_points)
+    serial = workers == 1 or (workers is None and spec.size < PARALLEL_MIN_POINTS)
+    return run_sweep(spec, executor="serial" if serial else "processes",
+                     workers=None if serial else workers, progress=progress).dataset
 
 
 def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,
