@@ -143,3 +143,20 @@ def test_cli_reports_complete_to_and_exits_1(tmp_path):
     assert rc == 0
     for kind in ("harmonic", "subharmonic"):
         assert data[kind]["tau"] == [] and data[kind]["complete_to"] >= 500
+
+
+@pytest.mark.parametrize("nu", [1e6, 1e10, 1e100])
+def test_strongly_damped_exponents_are_refused_or_within_their_estimate(nu):
+    """Oracle: for nu >> kappa the exponents of u'' + nu u' + kappa (1 + 2 tau sin t) u = 0 are
+    -kappa / nu (quasi-static u' = -(kappa / nu)(1 + 2 tau sin t) u, whose mean of sin t is 0;
+    next term O(kappa^2 / nu^3)) and -nu + kappa / nu. At tol = 1e-10 rounding (eps nu) forbids
+    an answer: refused, naming the tol that is reachable; at that tol the answer holds it."""
+    kappa, tau = 1.0, 0.3
+    with pytest.raises(ss.ConvergenceError, match=r"relax tol= to at least") as err:
+        ss.exponents("mathieu", kappa=kappa, nu=nu, tau=tau)
+    reachable = 2 * float(re.search(r"at least (\S+)$", str(err.value)).group(1))
+    res = ss.exponents("mathieu", kappa=kappa, nu=nu, tau=tau, tol=reachable)
+    want = np.array([-kappa / nu, -nu + kappa / nu])
+    assert res.error_estimate <= reachable
+    assert np.max(np.abs(np.sort(res.gamma.real)[::-1] - want)) <= res.error_estimate
+    assert np.max(np.abs(res.gamma.imag)) <= res.error_estimate

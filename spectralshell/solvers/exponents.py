@@ -26,6 +26,9 @@ from ..models.base import HillSystem
 
 N_MAX = 200
 SIZE_MAX = 6000  # largest dense companion-form eigenproblem attempted
+EPS = np.finfo(float).eps
+#: The rounding floor of the exponents is ROUNDING eps max |eigenvalue| (:func:`_exponents_at`).
+ROUNDING = 8.0
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -68,7 +71,11 @@ def _fold(gamma: np.ndarray) -> np.ndarray:
     return gamma.real + 1j * imag
 
 
-def _exponents_at(system: HillSystem, tau: float, n: int) -> np.ndarray:
+def _exponents_at(system: HillSystem, tau: float, n: int) -> tuple[np.ndarray, float]:
+    """(exponents of the truncation N = ``n``, their rounding floor ROUNDING eps max |eigenvalue|:
+    LAPACK's eig has backward error ~ eps ||H||, so no exponent is known better than that in
+    absolute terms however the truncation converges; under strong damping nu the eigenvalues
+    span |gamma| ~ kappa / nu .. nu and the small ones drown in it)."""
     C0, C1 = companion(system)
     d = C0.shape[0]
     if d * (2 * n + 1) > SIZE_MAX:  # dense eig with vectors: memory ~ size^2, time ~ size^3
@@ -93,7 +100,16 @@ def _exponents_at(system: HillSystem, tau: float, n: int) -> np.ndarray:
         if len(chosen) == d:
             break
     gamma = _fold(np.array(chosen))
-    return gamma[np.lexsort((gamma.imag, -gamma.real))]
+    floor = ROUNDING * EPS * float(np.max(np.abs(values)))
+    return gamma[np.lexsort((gamma.imag, -gamma.real))], floor
+
+
+def _unresolvable(tol: float, floor: float) -> ConvergenceError:
+    return ConvergenceError(
+        f"Floquet exponents cannot be resolved to tol={tol:g} here: rounding limits them to "
+        f"+-{floor:.2g} (the Hill eigenproblem's eigenvalues reach |gamma| = "
+        f"{floor / (ROUNDING * EPS):.3g}, e.g. under strong damping nu); relax tol= to at least "
+        f"{floor:.2g}")
 
 
 def _distance(a: np.ndarray, b: np.ndarray) -> float:
@@ -121,21 +137,24 @@ def floquet_exponents(system: HillSystem, tau: float, *, tol: float = 1e-10,
     start = int(np.ceil(system.n_resonant + 2 * abs(tau) * np.sqrt(abs(system.forcing).max()))) + 8
     if n_temporal is not None:
         n_prev = max(1, n_temporal - max(2, n_temporal // 4))
-        gamma = _exponents_at(system, tau, n_temporal)
-        return Exponents(gamma=gamma, n_temporal=n_temporal,
-                         error_estimate=_distance(gamma, _exponents_at(system, tau, n_prev)))
+        gamma, floor = _exponents_at(system, tau, n_temporal)
+        change = _distance(gamma, _exponents_at(system, tau, n_prev)[0])
+        return Exponents(gamma=gamma, n_temporal=n_temporal, error_estimate=max(change, floor))
     if start >= N_MAX:  # the resonant Fourier index alone exceeds the limit: nothing to converge
         raise ConvergenceError(f"Floquet exponents need a truncation above n_temporal={N_MAX} here "
                                f"(resonant Fourier index ~{start - 8}): lower kappa or |tau|")
     n = start
-    previous = _exponents_at(system, tau, n)
+    previous, floor = _exponents_at(system, tau, n)
+    if floor >= tol:
+        raise _unresolvable(tol, floor)
     while n < N_MAX:
         n = min(n + max(6, n // 2), N_MAX)
-        gamma = _exponents_at(system, tau, n)
+        gamma, floor = _exponents_at(system, tau, n)
         change = _distance(gamma, previous)
-        if change < tol:
-            return Exponents(gamma=gamma, n_temporal=n,
-                             error_estimate=max(change, 8 * np.finfo(float).eps))
+        if change < tol and floor < tol:
+            return Exponents(gamma=gamma, n_temporal=n, error_estimate=max(change, floor))
+        if floor >= tol:
+            raise _unresolvable(tol, floor)
         previous = gamma
     raise ConvergenceError(f"Floquet exponents did not converge to tol={tol:g} by n_temporal={N_MAX} "
                            f"(last change {change:.3g}); relax tol=")
