@@ -162,6 +162,46 @@ def test_an_undamaged_store_reads_back_as_the_run(clean):
     assert back.attrs == json.loads(json.dumps(fresh.attrs))
 
 
+def _rewrite_netcdf(path: Path, change) -> None:
+    """Rewrite a NetCDF sweep with ``change(ds)`` applied, its attributes (and digest) kept."""
+    import xarray as xr
+
+    with xr.open_dataset(path) as ds:
+        ds = ds.load()
+    change(ds)
+    path.unlink()
+    ds.to_netcdf(path)
+
+
+NETCDF_DAMAGE = {
+    "value": lambda ds: ds["tau_min"].values.__setitem__((1, 4, 0), 0.123),
+    "computed flag": lambda ds: ds["computed"].values.__setitem__((0, 0, 1), False),
+    "coordinate": lambda ds: ds.__setitem__("kappa", ds["kappa"] + 1e-9),
+    "digest removed": lambda ds: ds.attrs.pop("data_sha256"),
+}
+
+
+@pytest.mark.parametrize("damage", list(NETCDF_DAMAGE))
+def test_a_damaged_netcdf_is_refused_then_recomputed_whole(damage, tmp_path, capsys):
+    """A NetCDF sweep is written at once, with one digest of its values and axes: any change
+    is refused on reading; a rerun recomputes it and ends equal to a clean run."""
+    clean = tmp_path / "clean.nc"
+    run_sweep(SCENE, executor="serial", out=clean)
+    out = tmp_path / "map.nc"
+    shutil.copy(clean, out)
+    assert open_sweep(out)["tau_min"].values.tolist() == open_sweep(clean)["tau_min"].values.tolist()
+    _rewrite_netcdf(out, NETCDF_DAMAGE[damage])
+    with pytest.raises(StoreDamaged, match="is damaged.*rerun"):
+        open_sweep(out)
+    assert cli.main(["plot", str(out), "--png", str(tmp_path / "m.png")]) == 2
+    assert "is damaged" in capsys.readouterr().err
+    run = run_sweep(SCENE, executor="serial", out=out)
+    assert (run.computed, run.damaged) == (SPEC.size, SPEC.size)
+    back, want = open_sweep(out), open_sweep(clean)
+    for name in want.variables:
+        assert np.array_equal(back[name].values, want[name].values), name
+
+
 def _start(out: Path, executor: str = "serial", workers: int = 1,
            watchdog: bool = False) -> subprocess.Popen:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}

@@ -13,6 +13,9 @@ stored variable (name, dtype, shape and bytes). Reading the store back, a chunk 
   store's record; identical bytes would verify, and are harmless;
 * unfinished: it has no record (never written, interrupted, or its record removed).
 
+A NetCDF sweep (written whole, at the end) carries one such digest of all its values and axes
+in its attributes (:func:`dataset_digest`), checked on reading.
+
 The digest detects accidents, not forgery: whoever rewrites a chunk and its record together
 with this code makes a store that verifies.
 """
@@ -38,17 +41,32 @@ RECORDS = ".chunks"  # directory of the completion records, inside the store
 DECODE_ERRORS = (RuntimeError, ValueError, OSError)
 
 
-def record_text(spec: SweepSpec, chunk: Chunk, block: Mapping[str, np.ndarray]) -> str:
-    """The completion record (JSON) of a chunk holding ``block`` (every stored variable, in
-    the store's order and dtypes)."""
-    place = {"scene_hash": spec.digest, "chunk": chunk.index, "origin": list(chunk.origin),
-             "length": chunk.length}
+def _sha256(place: Mapping, block: Mapping[str, np.ndarray]) -> str:
+    """sha256 of ``place`` (JSON) and of each array of ``block``: name, dtype, shape, bytes."""
     digest = hashlib.sha256(json.dumps(place, sort_keys=True).encode())
     for name, values in block.items():
         values = np.ascontiguousarray(values)
         digest.update(json.dumps([name, values.dtype.str, values.shape]).encode())
         digest.update(values.tobytes())
-    return json.dumps({**place, "sha256": digest.hexdigest()}, sort_keys=True)
+    return digest.hexdigest()
+
+
+def record_text(spec: SweepSpec, chunk: Chunk, block: Mapping[str, np.ndarray]) -> str:
+    """The completion record (JSON) of a chunk holding ``block`` (every stored variable, in
+    the store's order and dtypes)."""
+    place = {"scene_hash": spec.digest, "chunk": chunk.index, "origin": list(chunk.origin),
+             "length": chunk.length}
+    return json.dumps({**place, "sha256": _sha256(place, block)}, sort_keys=True)
+
+
+def dataset_digest(spec: SweepSpec, arrays: Mapping[str, np.ndarray]) -> str:
+    """sha256 of a whole sweep written at once (NetCDF): the scene hash, every axis's values
+    and every stored variable (``arrays``, in the store's order and dtypes). Kept in the file's
+    attributes (``data_sha256``) and checked when it is read back, as a Zarr chunk's record is."""
+    place = {"scene_hash": spec.digest,
+             "axes": [[a.name, [v.item() if hasattr(v, "item") else v for v in a.values]]
+                      for a in spec.axes]}
+    return _sha256(place, arrays)
 
 
 def record_path(store: Path, spec: SweepSpec, chunk: Chunk) -> Path:

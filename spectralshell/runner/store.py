@@ -46,8 +46,8 @@ from .._validate import require_writable_directory
 from .._version import stamp
 from ..errors import ParameterError, StoreDamaged
 from ..params.sweep_grid import LONG_NAMES, SweepSpec, sweep_spec
-from .integrity import (DECODE_ERRORS, census, read_records, read_variable, record_path,
-                        write_record)
+from .integrity import (DECODE_ERRORS, census, dataset_digest, read_records, read_variable,
+                        record_path, write_record)
 from .layout import Chunk, chunk_key, chunks, region, store_chunks
 from .solve import SPATIAL_VARIABLES, VARIABLES, variables
 
@@ -259,12 +259,26 @@ def load_existing(path: Path, spec: SweepSpec) -> StoredSweep | None:
         found = ds.attrs.get("scene_hash")
         if found != spec.digest:
             raise _other_scene(path, found, spec)
-        wanted = stored_variables(spec)
-        if any(v not in ds for v in wanted) or tuple(ds["tau_min"].dims) != spec.dims:
-            raise ParameterError(f"out = {str(path)!r} is a damaged store (variables or "
-                                 "dimensions missing): delete it and rerun")
-        return StoredSweep({name: np.asarray(ds[name].values, dtype=dtype)
-                            for name, dtype in wanted.items()}, dict(ds.attrs))
+        arrays = _netcdf_arrays(ds, spec)
+        if arrays is None:  # damaged: every chunk is recomputed, and the file replaced
+            return StoredSweep(empty_arrays(spec), dict(ds.attrs),
+                               frozenset(c.index for c in chunks(spec)))
+        return StoredSweep(arrays, dict(ds.attrs))
+
+
+def _netcdf_arrays(ds: xr.Dataset, spec: SweepSpec) -> dict[str, np.ndarray] | None:
+    """The stored variables of a NetCDF sweep of ``spec``, or None when they are missing, have
+    other dimensions or coordinates, or differ from their digest (attrs ``data_sha256``)."""
+    wanted = stored_variables(spec)
+    if any(v not in ds for v in wanted) or tuple(ds["tau_min"].dims) != spec.dims:
+        return None
+    try:
+        arrays = {name: np.asarray(ds[name].values, dtype=dtype) for name, dtype in wanted.items()}
+    except (*DECODE_ERRORS, TypeError):
+        return None
+    if any(not np.array_equal(ds[a.name].values, np.array(a.values)) for a in spec.axes):
+        return None
+    return arrays if ds.attrs.get("data_sha256") == dataset_digest(spec, arrays) else None
 
 
 class ZarrStore:
@@ -356,8 +370,11 @@ def _sigint_deferred() -> Iterator[None]:
                 raise KeyboardInterrupt
 
 
-def write_netcdf(ds: xr.Dataset, path: Path) -> None:
-    """Write ``ds`` as NetCDF via a temporary file in the same directory (never a partial file)."""
+def write_netcdf(spec: SweepSpec, arrays: dict[str, np.ndarray], path: Path) -> None:
+    """Write the sweep as NetCDF, with the digest of its values (:func:`dataset_digest`), via
+    a temporary file in the same directory (never a partial file)."""
+    ds = to_dataset(spec, arrays)
+    ds.attrs["data_sha256"] = dataset_digest(spec, {n: arrays[n] for n in stored_variables(spec)})
     tmp = path.parent / f".partial-{uuid.uuid4().hex[:8]}-{path.name}"
     try:
         ds.to_netcdf(tmp)
@@ -392,6 +409,10 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
     with _open_netcdf(path, "sweep") as ds:
         if "scene_hash" not in ds.attrs or "tau_min" not in ds:
             raise ParameterError(f"sweep = {str(path)!r} is invalid: not a spectralshell sweep")
+        if _netcdf_arrays(ds, _stored_spec(path, dict(ds.attrs))) is None:
+            raise StoreDamaged(f"sweep = {str(path)!r} is damaged: its variables, dimensions, "
+                               "coordinates or values differ from what was written (data_sha256);"
+                               f" rerun its sweep with out={str(path)!r} to recompute it")
         order = [v for v in KNOWN_VARIABLES if v in ds]
         order += [v for v in ds.data_vars if v not in KNOWN_VARIABLES]
         return ds[order].load()

@@ -208,7 +208,7 @@ def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | No
             bar.close()
     ds = to_dataset(spec, arrays)
     if path is not None and path.suffix == ".nc" and todo:
-        write_netcdf(ds, path)
+        write_netcdf(spec, arrays, path)
     return SweepRun(dataset=ds, points=spec.size, computed=n_todo, skipped=spec.size - n_todo,
                     damaged=damaged, out=None if path is None else str(path),
                     seconds=time.perf_counter() - t0,
