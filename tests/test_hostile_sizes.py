@@ -169,7 +169,7 @@ def test_cochlea_at_low_forcing_frequency_is_refused_with_what_it_needs(monkeypa
         raise AssertionError("marginal_tau ran before the cost was refused")
 
     monkeypatch.setattr(refinement, "marginal_tau", no_solve)
-    monkeypatch.setattr(floquet_runner, "marginal_tau", no_solve)
+    monkeypatch.setattr(sys.modules["spectralshell.runner.solve"], "marginal_tau", no_solve)
     with pytest.raises(ParameterError) as err:
         ss.floquet("cochlea", omega=10.0)
     message = str(err.value)

@@ -31,9 +31,9 @@ from ..results.floquet import (ExponentsResult, FloquetResult, StabilityResult, 
                               certification_warnings, provenance, resolution_warnings)
 from ..solvers.cost import CostEstimate, spatial_cost
 from ..solvers.exponents import floquet_exponents
-from ..solvers.marginal import N_MAX, marginal_tau
-from ..solvers.spatial_refinement import TOL_SPATIAL, refine_spatial, solve_fixed, spatial_error
-from .solve import spatial_system
+from ..solvers.marginal import N_MAX
+from ..solvers.spatial_refinement import TOL_SPATIAL, spatial_error
+from .solve import solve_kinds, spatial_point, spatial_system
 from .sweep import map_points
 from ..solvers.tongues import find_tips
 
@@ -106,7 +106,7 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
             raise ParameterError(f"{name} = {value!r} is invalid for model {model!r}: it has no "
                                  "spatial modes")
     p, system = _system(model, params)
-    res = {k: marginal_tau(system, k, **options) for k in kinds}
+    res = solve_kinds(system, kinds, options)
     warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
     if n_temporal is None:
         warnings += resolution_warnings(res, options["tol"])
@@ -141,18 +141,6 @@ def _counted(factory, bar):
     return build
 
 
-def _solve_spatial(model: str, params: dict[str, Any], first, factory, kinds: tuple[str, ...],
-                   options: dict[str, Any], tol_spatial: float) -> tuple:
-    """(params, tau of each kind, spatial change, M, coarser M) at the given n_spatial of
-    ``first`` (M and M // 2) or refined in M (see :func:`_floquet_spatial`)."""
-    if first.n_spatial is None:
-        found = refine_spatial(factory, kinds, options=options, tol_spatial=tol_spatial)
-        first = make_params(model, {**params, "n_spatial": found.n_spatial})
-    else:
-        found = solve_fixed(factory, first.n_spatial, kinds, options)
-    return first, found.taus, found.change, found.n_spatial, found.n_spatial_previous
-
-
 def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dict[str, Any],
                      physical: dict[str, float] | None, tol_spatial: float | None,
                      max_seconds: float | None = None,
@@ -185,7 +173,7 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
     tol_spatial = require_positive("tol_spatial", TOL_SPATIAL if tol_spatial is None else tol_spatial)
     factory = functools.partial(spatial_system, model, params)
     if first.spatial_mode is not None:
-        p, fine = first, {k: marginal_tau(hill_system(first), k, **options) for k in kinds}
+        p, fine = first, solve_kinds(hill_system(first), kinds, options)
         m_fine, m_coarse, change = 1, None, {k: 0.0 for k in kinds}
     else:
         from tqdm import tqdm  # lazy: keeps `import spectralshell` light
@@ -193,8 +181,11 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
         estimate = priced_spatial(model, factory, kinds, options, n_given, max_seconds)
         with tqdm(total=estimate.levels, desc=f"{model} ({estimate.describe()})", unit="M",
                   disable=not progress, file=sys.stderr, leave=False) as bar:
-            p, fine, change, m_fine, m_coarse = _solve_spatial(
-                model, params, first, _counted(factory, bar), kinds, options, tol_spatial)
+            found = spatial_point(_counted(factory, bar), kinds, options, n_given, tol_spatial)
+        p = first if n_given is not None else make_params(
+            model, {**params, "n_spatial": found.n_spatial})
+        fine, change = found.taus, found.change
+        m_fine, m_coarse = found.n_spatial, found.n_spatial_previous
     res = {k: spatial_error(fine[k], change[k]) for k in kinds}
     warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
     auto = n_given is None and first.spatial_mode is None

@@ -13,9 +13,8 @@ from ..errors import ParameterError
 from ..models.registry import hill_system
 from ..params.registry import Model, make_params, physical_values, require_capability
 from ..results.floquet import provenance
-from ..solvers.marginal import marginal_tau
 from .floquet import priced_spatial, solver_options
-from .solve import spatial_system
+from .solve import solve_kinds, spatial_system
 
 
 RESPONSE_MODES = 128    # default number of cosine modes of a response
@@ -50,7 +49,7 @@ def _response_at(spec: Model, p, n_spatial: int, kind: str, options: dict[str, A
         tau, freq, start = None, 1.0, shape.tone_start
     else:
         system = hill_system(shape.with_modes(n_spatial))
-        m = marginal_tau(system, kind, **options)
+        m = solve_kinds(system, (kind,), options)[kind]
         if m.tau_min is None:
             raise ParameterError(f"kind = {kind!r} has no marginal tau here (tau_max = "
                                  f"{options.get('tau_max')}): no parametric response to show")

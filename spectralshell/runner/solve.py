@@ -1,4 +1,15 @@
-"""Per-point and per-chunk solves of a sweep (run inside the workers), with continuation.
+"""Solving a point: the one place where the marginal tau of a model are solved at given
+parameters -- independently (:func:`solve_kinds`, :func:`spatial_point`: ``floquet``,
+``tongues``, ``response``) or point by point along the lines of a sweep, continued from a
+neighbour (:func:`solve_chunk`: ``sweep``, ``tau_map``, the map figures). Who owns what:
+
+* the truncation schedule in N: :class:`~spectralshell.solvers.marginal.TruncationSchedule`,
+  read here for continuation, never restated;
+* the refinement in M (models with spatial modes):
+  :mod:`spectralshell.solvers.spatial_refinement`, started here from a neighbour's M;
+* tol, n_temporal, tau_max: one options mapping (``marginal_tau``'s keywords; a sweep's
+  :class:`~spectralshell.params.sweep_grid.SolverOptions` gives them by ``marginal_kwargs``);
+* continuation hints (a neighbour's truncation pair, M and tau_min): here, per line.
 
 Continuation along the line axis
 --------------------------------
@@ -49,7 +60,9 @@ from __future__ import annotations
 import dataclasses
 import functools
 import time
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -61,7 +74,8 @@ from ..params.sweep_grid import SolverOptions, SweepSpec
 from ..solvers.marginal import (MarginalTau, Truncation, TruncationSchedule, converged_pair,
                                 marginal_tau, truncation_taus)
 from ..solvers.spatial_refinement import (MINIMUM_LIMIT, SPATIAL_LIMIT, SPATIAL_START,
-                                          refine_minimum, refine_spatial, spatial_error)
+                                          SpatialTau, refine_minimum, refine_spatial,
+                                          solve_fixed, spatial_error)
 from .engine import PartialFailure
 from .layout import Chunk, block_index, block_shape, chunk_points
 
@@ -113,11 +127,36 @@ def from_marginal(m: MarginalTau, tau_max: float) -> KindSolution:
                         n_previous=m.n_previous)
 
 
+def solve_kinds(system: HillSystem, kinds: Iterable[str], options: Mapping[str, Any],
+                hints: Mapping[str, float | None] | None = None) -> dict[str, MarginalTau]:
+    """The marginal tau of each kind at one point, solved independently: ``marginal_tau`` with
+    ``options`` (tol, n_temporal, tau_max), its truncations N those of
+    :class:`~spectralshell.solvers.marginal.TruncationSchedule`; ``hints``: kind -> a
+    neighbour's tau_min, the solver's ``hint`` (only speed depends on it). ``floquet``,
+    ``tongues`` (through :func:`solve_points`) and the sweep's fallback all solve here."""
+    hints = hints or {}
+    return {k: marginal_tau(system, k, **options, hint=hints.get(k)) for k in kinds}
+
+
+def spatial_point(factory: Callable[[int], HillSystem], kinds: tuple[str, ...],
+                  options: Mapping[str, Any], n_spatial: int | None,
+                  tol_spatial: float) -> SpatialTau:
+    """The marginal tau of each kind of a model with spatial modes at one point (``factory``:
+    M -> its Hill system): at the caller's M = ``n_spatial`` and M // 2
+    (:func:`~spectralshell.solvers.spatial_refinement.solve_fixed`), or, with None, refined in
+    M until tau_min changes by at most ``tol_spatial``, raising past the limit
+    (:func:`~spectralshell.solvers.spatial_refinement.refine_spatial`). The sweep refines with
+    its neighbours' hints instead (:func:`solve_spatial`)."""
+    if n_spatial is None:
+        return refine_spatial(factory, kinds, options=dict(options), tol_spatial=tol_spatial)
+    return solve_fixed(factory, n_spatial, kinds, dict(options))
+
+
 def solve_full(system: HillSystem, kind: str, options: SolverOptions,
                tau_hint: float | None = None) -> KindSolution:
-    """Independent solve of one kind (``marginal_tau``; ``tau_hint``, a neighbour's tau_min, is
-    the solver's ``hint``: only speed depends on it)."""
-    found = marginal_tau(system, kind, **options.marginal_kwargs(), hint=tau_hint)
+    """Independent solve of one kind (:func:`solve_kinds`; ``tau_hint``, a neighbour's
+    tau_min, is the solver's ``hint``: only speed depends on it)."""
+    found = solve_kinds(system, (kind,), options.marginal_kwargs(), {kind: tau_hint})[kind]
     return from_marginal(found, options.tau_max)
 
 
@@ -366,5 +405,4 @@ def solve_points(factory, points: list, kinds: tuple[str, ...],
                  options: dict) -> list[dict[str, MarginalTau]]:
     """Full ``marginal_tau`` of each kind at each point (``factory(point)`` -> HillSystem): the
     task of :func:`spectralshell.runner.map_points`."""
-    return [{k: marginal_tau(system, k, **options) for k in kinds}
-            for system in map(factory, points)]
+    return [solve_kinds(system, kinds, options) for system in map(factory, points)]
