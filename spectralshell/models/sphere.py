@@ -33,11 +33,7 @@ from ..params.sphere import SphereParams
 from ..special.spherical import ratio_i, ratio_k
 from . import mathieu
 from .base import HillSystem, boundary_layer
-
-
-def lambda0_squared(m: int, kappa: float) -> float:
-    """Inviscid natural frequency squared, lambda0^2 = kappa m(m+1)(m-1)(m+2)/(2m+1) (6.23)."""
-    return kappa * m * (m + 1) * (m - 1) * (m + 2) / (2 * m + 1)
+from .sphere_modes import lambda0_squared, modal_system  # noqa: F401 (lambda0_squared: API)
 
 
 def _p_q(m: int, s: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
@@ -98,8 +94,6 @@ def _hill_system(p: SphereParams) -> HillSystem:
 
 
 def _modal_system(p: SphereParams):
-    from .sphere_modes import modal_system  # its seeds and residuals: imported when asked
-
     return modal_system(m=p.m, kappa=p.kappa, nu=p.nu, component=p.component)
 
 

@@ -81,9 +81,14 @@ from .._validate import require_choice, require_int_in_range, require_positive
 from ..errors import ParameterError
 from ..special.spherical_scalar import ratio_i_scalar
 from .base import ModalSystem, damped_newton, modal_system_in_beta
-from .sphere import lambda0_squared
 
-__all__ = ["ZETA_MIN", "ZETA_MAX", "poloidal_residual", "toroidal_residual",
+
+def lambda0_squared(m: int, kappa: float) -> float:
+    """Inviscid natural frequency squared, lambda0^2 = kappa m(m+1)(m-1)(m+2)/(2m+1) (6.23)."""
+    return kappa * m * (m + 1) * (m - 1) * (m + 2) / (2 * m + 1)
+
+
+__all__ = ["lambda0_squared", "ZETA_MIN", "ZETA_MAX", "poloidal_residual", "toroidal_residual",
            "poloidal_residual_mp", "toroidal_residual_mp", "poloidal_seeds", "toroidal_seeds",
            "inviscid_limit", "psi_relaxation_limit", "stokes_limit", "stokes_matrix",
            "toroidal_limits", "modal_system"]

@@ -1,1 +1,1 @@
-"""Stage 6a: figures (matplotlib only here, imported lazily by the callers)."""
+"""Stage 7: figures (matplotlib only here, imported lazily by the callers)."""

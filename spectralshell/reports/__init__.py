@@ -1,1 +1,1 @@
-"""Stage 6b: the figure registry (name -> thesis reproduction) and reports."""
+"""Stage 8: the figure registry (name -> thesis reproduction) and reports."""
