@@ -253,7 +253,7 @@ def test_fig_5_18_at_a_tiny_resolution(tmp_path):
 def test_spatial_change_caps_at_tau_max():
     """A tau_min just below tau_max at one M and none at the other: the capped values differ by
     tau_max - tau_min; without a cap the change is unknown (None)."""
-    from spectralshell.solvers.marginal import MarginalTau
+    from spectralshell.results.records import MarginalTau
 
     def m(tau):
         return MarginalTau(kind="subharmonic", tau=np.array([] if tau is None else [tau]),

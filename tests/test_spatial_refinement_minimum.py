@@ -13,8 +13,9 @@ from spectralshell.discretise.hill import assemble
 from spectralshell.errors import ConvergenceError
 from spectralshell.models.cochlea import hill_system
 from spectralshell.params.physical import cochlea_forced
+from spectralshell.results.records import MarginalTau
 from spectralshell.solvers import spatial_refinement as sr
-from spectralshell.solvers.marginal import MarginalTau, dense_taus, structured_taus
+from spectralshell.solvers.marginal import dense_taus, structured_taus
 
 OPTIONS = {"n_temporal": 6, "tau_max": 0.5}
 KINDS = ("harmonic", "subharmonic")

@@ -13,9 +13,7 @@ import numpy as np
 
 from .._version import stamp
 from ..params.stiffness import amplitude_warnings
-from ..solvers.exponents import Exponents
-from ..solvers.marginal import MarginalTau
-from ..solvers.tongues import Tip
+from .records import Exponents, MarginalTau, Tip
 
 
 def provenance(options: dict[str, Any]) -> dict[str, Any]:

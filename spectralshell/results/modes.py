@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from ..solvers.modes import ModeRoots
 from .floquet import provenance
+from .records import ModeRoots
 
 ON_CUT = ("mode(s) {} lie on the branch cut to within their error (|Re beta| <= error): the sheet is "
           "not resolved at this precision; to working accuracy they decay as real exponentials "

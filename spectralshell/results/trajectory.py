@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..solvers.rate_fit import RateFit
+from .records import RateFit
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -71,8 +71,9 @@ from ..models.base import HillSystem
 from ..models.registry import hill_system
 from ..params.registry import make_params
 from ..params.sweep_grid import SolverOptions, SweepSpec
-from ..solvers.marginal import (MarginalTau, Truncation, TruncationSchedule, converged_pair,
-                                marginal_tau, truncation_taus)
+from ..results.records import MarginalTau
+from ..solvers.marginal import (Truncation, TruncationSchedule, converged_pair, marginal_tau,
+                                truncation_taus)
 from ..solvers.spatial_refinement import (MINIMUM_LIMIT, SPATIAL_LIMIT, SPATIAL_START,
                                           SpatialTau, refine_minimum, refine_spatial,
                                           solve_fixed, spatial_error)

@@ -25,14 +25,13 @@ precision + 10 digits (:func:`spectralshell.solvers.modes.polish_root`), error =
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import mpmath
 import numpy as np
 
 from .._validate import require_int_in_range
 from ..errors import ConvergenceError
 from ..models.base import ModeFamily
+from ..results.records import ContinuedModes
 from .modes import PRECISION_MAX, polish_root
 from .nonlinear_eigen import (SINGULAR_RTOL, continue_roots, count_by_winding, newton,
                               singular_ratio)
@@ -40,25 +39,6 @@ from .nonlinear_eigen import (SINGULAR_RTOL, continue_roots, count_by_winding, n
 #: Continuation starts at MODES_START * zeta.
 MODES_START = 1e-10
 METHOD = "continuation in zeta, Newton on det T (trace form)"
-
-
-@dataclass(frozen=True, eq=False)
-class ContinuedModes:
-    """Natural modes of a mode family, least damped first (Im gamma >= 0).
-
-    gamma, error : the modes gamma = unit * gamma_scale * s and their error estimates.
-    on_cut : the mode lies on the branch cut within its error.
-    digits : with ``precision``, (Re, Im) of each gamma as decimal strings, else None.
-    double_error : with ``precision``, |double - polished| of each gamma, else None.
-    warnings : lost branches, merged branches, a failed completeness count, modes on the cut.
-    """
-
-    gamma: np.ndarray
-    error: np.ndarray
-    on_cut: np.ndarray
-    digits: tuple[tuple[str, str], ...] | None
-    double_error: np.ndarray | None
-    warnings: tuple[str, ...]
 
 
 def continued_modes(family: ModeFamily, *, count: int | None = None,

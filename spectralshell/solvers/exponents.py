@@ -16,35 +16,18 @@ decreasing Re gamma (the growth rate per unit time); multipliers are exp(2 pi ga
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import scipy.linalg as sla
 
 from ..errors import ConvergenceError
 from ..models.base import HillSystem
+from ..results.records import Exponents
 
 N_MAX = 200
 SIZE_MAX = 6000  # largest dense companion-form eigenproblem attempted
 EPS = np.finfo(float).eps
 #: The rounding floor of the exponents is ROUNDING eps max |eigenvalue| (:func:`_exponents_at`).
 ROUNDING = 8.0
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class Exponents:
-    """Floquet exponents of one model at one tau.
-
-    Attributes
-    ----------
-    gamma : complex exponents, Im in (-1/2, 1/2], sorted by decreasing Re.
-    n_temporal : truncation N (Fourier indices -N..N).
-    error_estimate : max |change| of the exponents between N and the previous truncation.
-    """
-
-    gamma: np.ndarray
-    n_temporal: int
-    error_estimate: float
 
 
 def companion(system: HillSystem) -> tuple[np.ndarray, np.ndarray]:

@@ -116,6 +116,7 @@ from .._threads import one_blas_thread
 from ..discretise.hill import HillMatrices, assemble
 from ..errors import ConvergenceError
 from ..models.base import HillSystem
+from ..results.records import MarginalTau
 from . import tridiagonal
 from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
                            smallest_taus, tau_from_squares, tridiagonal_half_product)
@@ -136,37 +137,6 @@ SEPARATION = 100.0
 #: threads only cost (2 threads vs 1 on a 2-core machine, sphere W: 1.1-2x slower at orders
 #: 162-598, the same at 82); the ~11 us switch is not worth it on smaller W.
 ONE_THREAD_ORDERS = range(100, KRYLOV_MIN_ORDER)
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class MarginalTau:
-    """Marginal amplitudes of one Floquet kind.
-
-    Attributes
-    ----------
-    kind : 'harmonic' or 'subharmonic'.
-    tau : ascending real tau >= 0 at the final truncation that reappear at the previous one to
-        within max(tol, error_estimate) * max(1, tau).
-    tau_min : smallest such tau (None if there is none).
-    n_temporal : final truncation N.
-    n_previous : the truncation it was compared with.
-    error_estimate : max(|tau_min(N) - tau_min(previous N)|, spread of a reported tau = 0,
-        8 eps max(1, tau_min)) (None if there is no tau_min).
-    method : 'structured', 'krylov', 'shift-invert' or 'qz' (the fallback), at the final
-        truncation.
-    complete_to : ``tau`` is complete up to this value: every real tau <= complete_to (and
-        <= tau_max) of both truncations was computed, and beyond it none was looked for; inf
-        when both were solved completely (dense), else the smaller Krylov radius.
-    """
-
-    kind: str
-    tau: np.ndarray
-    tau_min: float | None
-    n_temporal: int
-    n_previous: int
-    error_estimate: float | None
-    method: str
-    complete_to: float = np.inf
 
 
 def structured_taus(hill: HillMatrices, inv: BlockInverses | None = None) -> np.ndarray | None:

@@ -41,42 +41,13 @@ import numpy as np
 from .._validate import require_int_in_range
 from ..errors import ConvergenceError, ParameterError
 from ..models.base import ModalSystem
+from ..results.records import ModeRoots
 
 _EPS = 2.220446049250313e-16
 FLOOR = 64 * _EPS
 DUPLICATE_RTOL = 1e-8
 STALL_RTOL = 1e-9
 PRECISION_MAX = 1000
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class ModeRoots:
-    """Natural modes of one system, least damped first.
-
-    Attributes
-    ----------
-    x : roots in the system's variable (complex; for the sphere beta).
-    gamma : gamma = to_gamma(x), Im gamma >= 0, sorted by decreasing Re gamma.
-    error_estimate : absolute error bound of each gamma.
-    principal_sheet : margin > error (a resolved, genuine mode).
-    on_cut : |margin| <= error (sheet not resolved at this precision).
-    precision : digits of the mpmath polish, or None (double precision).
-    gamma_digits : with precision, (Re, Im) of each gamma as decimal strings of that many digits.
-    double_error : with precision, |gamma_double - gamma_polished| of each mode.
-    evaluations : residual evaluations in double precision (all seeds tried).
-    seeds_tried : number of seeds drawn.
-    """
-
-    x: np.ndarray
-    gamma: np.ndarray
-    error_estimate: np.ndarray
-    principal_sheet: np.ndarray
-    on_cut: np.ndarray
-    precision: int | None
-    gamma_digits: tuple[tuple[str, str], ...] | None
-    double_error: np.ndarray | None
-    evaluations: int
-    seeds_tried: int
 
 
 @dataclass(frozen=True)

@@ -21,32 +21,15 @@ following there the component closest to the one found on the whole window.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from .._validate import require_positive, require_real
 from ..errors import ConvergenceError, ParameterError
+from ..results.records import RateFit
 from .stepper import one_blas_thread
 
 SUB_WINDOW = 0.7
 DEPTH = 40
-
-
-@dataclass(frozen=True, kw_only=True)
-class RateFit:
-    """Dominant growth rate (Re gamma) and angular frequency of a signal, with error estimate.
-
-    multiplier : exp(gamma h) (unforced, h the sample spacing) or the Floquet multiplier
-    exp(gamma T) (forced). window : the fitted time interval. rank : exponentials fitted.
-    """
-
-    growth_rate: float
-    frequency: float
-    multiplier: complex
-    error_estimate: float
-    window: tuple[float, float]
-    rank: int
 
 
 def _dmd(Y: np.ndarray, rank_tol: float) -> tuple[np.ndarray, np.ndarray, int]:

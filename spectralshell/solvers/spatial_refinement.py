@@ -77,7 +77,8 @@ import numpy as np
 
 from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
-from .marginal import MarginalTau, marginal_tau
+from ..results.records import MarginalTau
+from .marginal import marginal_tau
 
 SPATIAL_START = 16    # first M of the refinement
 SPATIAL_LIMIT = 512   # the refinement stops (not converged) at this M

@@ -9,7 +9,6 @@ systems serves (e.g. the cochlea's spatial wavenumber k in thesis Fig 5.11).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
@@ -18,24 +17,10 @@ from scipy.optimize import brentq
 from ..discretise.hill import assemble
 from ..errors import ConvergenceError
 from ..models.base import HillSystem
-from .marginal import MarginalTau, marginal_tau, solve_truncation
+from ..results.records import MarginalTau, Tip
+from .marginal import marginal_tau, solve_truncation
 
 SystemFactory = Callable[[float], HillSystem]
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class Tip:
-    """Minimum (kappa, tau) of one finger of an Ince-Strutt diagram.
-
-    kappa_error : width of the final bracket of the root of d tau / d kappa.
-    tau_error : the Floquet error estimate of tau at the tip.
-    """
-
-    kind: str
-    kappa: float
-    tau: float
-    kappa_error: float
-    tau_error: float
 
 
 def tau_slope(factory: SystemFactory, kind: str, kappa: float, tau: float, n_temporal: int) -> float:
