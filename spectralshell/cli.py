@@ -12,7 +12,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-import math
 import os
 import re
 import sys
@@ -29,6 +28,7 @@ from .params.registry import (get_model, load_entry_points, models, models_with,
                               param_names)
 from .params.scene import default_scene, load_scene, plan
 from .params.sweep_grid import is_sweep_scene, sweep_spec
+from .results.base import format_params
 
 
 class _Parser(argparse.ArgumentParser):
@@ -183,29 +183,6 @@ def _warn(warnings: Sequence[str]) -> None:
         print(f"warning: {w}", file=sys.stderr)
 
 
-def _fmt_params(params: dict) -> str:
-    return "  ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in params.items())
-
-
-def _floquet_text(res) -> str:
-    lines = [f"{res.model}: {_fmt_params(res.params)}   (K(t) = kappa (1 + 2 tau sin t))"]
-    for kind in ("harmonic", "subharmonic"):
-        m = getattr(res, kind)
-        if m is None:
-            continue
-        complete = "" if math.isinf(m.complete_to) else f" (complete to {m.complete_to:.4g})"
-        if m.tau_min is None:
-            bound = res.provenance.get("options", {}).get("tau_max")
-            below = "" if bound is None else f" <= {bound:g}"
-            lines.append(f"  {kind:<12} no marginal tau{below}{complete} "
-                         f"(N = {m.n_temporal})")
-            continue
-        taus = ", ".join(f"{t:.10g}" for t in m.tau[:6]) + (" ..." if m.tau.size > 6 else "")
-        lines.append(f"  {kind:<12} tau_min = {m.tau_min:.12g}   error <= {m.error_estimate:.1e}   "
-                     f"N = {m.n_temporal}   all tau{complete}: {taus}")
-    return "\n".join(lines)
-
-
 def _physical(args: argparse.Namespace, units: dict[str, str] | None = None) -> dict[str, float]:
     """The cgs inputs given as flags (``units``: the model's Floquet physical input by default)."""
     if units is None:
@@ -222,16 +199,7 @@ def cmd_floquet(args) -> int:
     res = api.floquet(args.model, kind=args.kind, **_solver(args), **extra, **_tau_max(args),
                       progress=sys.stderr.isatty() and not args.json, **_params(args, args.model))
     _warn(res.warnings)
-    return _report(args.json, res.to_dict(), lambda: _floquet_text(res))
-
-
-def _tongues_text(res) -> str:
-    lines = [f"{res.model} Ince-Strutt diagram: {_fmt_params(res.params)}, kappa in "
-             f"[{res.kappa.min():g}, {res.kappa.max():g}] ({res.kappa.size} points)"]
-    for t in res.tips:
-        lines.append(f"  {t.kind:<12} finger tip: kappa = {t.kappa:.12g} (+-{t.kappa_error:.0e})  "
-                     f"tau = {t.tau:.12g} (+-{t.tau_error:.0e})")
-    return "\n".join(lines)
+    return _report(args.json, res.to_dict(), res.summary)
 
 
 def _write_tongues(res, *, png=None, csv=None, npz=None) -> list[str]:
@@ -260,7 +228,7 @@ def cmd_tongues(args) -> int:
                       **_params(args, args.model, skip=("kappa",)))
     _warn(res.warnings)
     written = _write_tongues(res, png=args.png, csv=args.csv, npz=args.npz)
-    return _report(args.json, res.to_dict(), lambda: _tongues_text(res), written)
+    return _report(args.json, res.to_dict(), res.summary, written)
 
 
 def cmd_exponents(args) -> int:
@@ -269,16 +237,7 @@ def cmd_exponents(args) -> int:
     res = api.exponents(args.model, tau=parse_real("tau", args.tau), **_solver(args),
                         **_params(args, args.model))
     _warn(res.warnings)
-    return _report(args.json, res.to_dict(), lambda: _exponents_text(res))
-
-
-def _exponents_text(res) -> str:
-    lines = [f"{res.model}: {_fmt_params(res.params)}  tau = {res.tau:g}   (N = {res.n_temporal}, "
-             f"error <= {res.error_estimate:.1e})"]
-    for g, q in zip(res.gamma, res.multipliers):
-        lines.append(f"  gamma = {g.real:+.12f} {g.imag:+.12f}i   multiplier = {q.real:+.10f} "
-                     f"{q.imag:+.10f}i")
-    return "\n".join(lines)
+    return _report(args.json, res.to_dict(), res.summary)
 
 
 def cmd_stability(args) -> int:
@@ -287,17 +246,7 @@ def cmd_stability(args) -> int:
     res = api.stability(args.model, tau=parse_real("tau", args.tau), m=args.m, kind=args.kind,
                         **_solver(args), **_params(args, args.model, skip=("m",)))
     _warn(res.warnings)
-    return _report(args.json, res.to_dict(), lambda: _stability_text(res))
-
-
-def _stability_text(res) -> str:
-    lines = [f"{res.model} at tau = {res.tau:g}: {_fmt_params(res.params)}"]
-    for mode in res.modes:
-        state = f"UNSTABLE ({mode['kind']})" if mode["unstable"] else "stable"
-        below = "; ".join(f"{k[4:]} tau below: {', '.join(f'{t:.6g}' for t in v) or 'none'}"
-                          for k, v in mode.items() if k.startswith("tau_"))
-        lines.append(f"  m = {mode['m']:<3} {state:<24} {below}")
-    return "\n".join(lines)
+    return _report(args.json, res.to_dict(), res.summary)
 
 
 def cmd_modes(args) -> int:
@@ -319,34 +268,7 @@ def cmd_modes(args) -> int:
                             zeta=None if args.zeta is None else parse_real("zeta", args.zeta),
                             physical=physical or None, **_params(args, args.model))
     _warn(res.warnings)
-    return _report(args.json, res.to_dict(), lambda: _modes_text(res))
-
-
-#: Im gamma/|Re gamma| below which a mode is labelled overdamped in practice: it then decays by
-#: e^(-pi/ratio) < e^(-314) before its first sign change (the threshold of the mode-structure
-#: notes of spectralshell.models.sphere_modes).
-PRACTICALLY_REAL = 0.01
-
-
-def _mode_kind(gamma: complex, error: float) -> str:
-    """Text label of a natural mode: real within its error, practically real, or oscillatory."""
-    if gamma.imag <= error:
-        return "overdamped"
-    ratio = gamma.imag / abs(gamma.real) if gamma.real else math.inf
-    if ratio < PRACTICALLY_REAL:
-        return f"overdamped in practice: Im/|Re| = {ratio:.1e}"
-    return "oscillatory"
-
-
-def _modes_text(res) -> str:
-    unit = res.params.get("units", "dimensionless, time unit 1/omega")
-    lines = [f"{res.model} natural modes: {_fmt_params(res.params)}   (X ~ exp(gamma t), {unit})"]
-    digits = res.gamma_digits or [None] * len(res.gamma)
-    for g, e, d in zip(res.gamma, res.error_estimate, digits):
-        kind = _mode_kind(g, e)
-        value = f"{d[0]} {'' if d[1].startswith('-') else '+'}{d[1]}i" if d else f"{g.real:+.12g} {g.imag:+.12g}i"
-        lines.append(f"  gamma = {value}   error <= {e:.1e}   ({kind})")
-    return "\n".join(lines)
+    return _report(args.json, res.to_dict(), res.summary)
 
 
 def cmd_response(args) -> int:
@@ -358,18 +280,10 @@ def cmd_response(args) -> int:
     if args.png:
         from .plots import cochlea as cochlea_plots
 
-        title = f"{res.model}: {_fmt_params(res.params)}"
+        title = f"{res.model}: {format_params(res.params)}"
         _atomic_write(args.png, lambda path: cochlea_plots.save_responses([(title, [res])], path))
         written.append(args.png)
-
-    def text() -> str:
-        unit = "" if res.length is None else (f" = {res.to_cm(res.peak_x):.4g} cm "
-                                              f"(WKB {res.to_cm(res.wkb_peak_x or float('nan')):.4g} cm)")
-        tau = "" if res.tau is None else f"  tau = {res.tau:.10g}"
-        return (f"{res.model} {res.kind} response: {_fmt_params(res.params)}{tau}\n"
-                f"  envelope peak x = {res.peak_x:.6g} +- {res.peak_error:.1e} (of pi){unit}")
-
-    return _report(args.json, res.to_dict(), text, written)
+    return _report(args.json, res.to_dict(), res.summary, written)
 
 
 def _integer(name: str, text: str) -> int:
@@ -437,17 +351,14 @@ def cmd_validate(args) -> int:
 
 
 def _summary(results: dict[str, Any]) -> str:
+    """A scene's text: the Floquet summary, the exponents' headline, the diagram's summary."""
     parts = []
     if "floquet" in results:
-        parts.append(_floquet_text(results["floquet"]))
+        parts.append(results["floquet"].summary())
     if "exponents" in results:
-        e = results["exponents"]
-        g = e.gamma[0]
-        state = "unstable" if g.real > 0 else "stable"
-        parts.append(f"  exponents at tau = {e.tau:g}: largest growth rate Re gamma = {g.real:+.10f} "
-                     f"({state}), Im gamma = {g.imag:+.6f}")
+        parts.append(results["exponents"].headline())
     if "tongues" in results:
-        parts.append(_tongues_text(results["tongues"]))
+        parts.append(results["tongues"].summary())
     return "\n".join(parts)
 
 
@@ -557,16 +468,6 @@ def _is_text(value: str) -> bool:
         return True
 
 
-def _simulate_text(traj) -> str:
-    p = traj.params
-    lines = [f"sphere: kappa = {p['kappa']}  nu = {p['nu']:g}  tau = {p['tau']:g}   "
-             f"t_end = {p['t_end']:.6g}  {p['scheme']}  dt = {p['dt']:.4g}"]
-    for f in traj.fits:
-        lines.append(f"  (m, k) = ({f.m}, {f.k}):  growth rate {f.growth_rate:+.10f}   frequency "
-                     f"{f.frequency:.10f}   error <= {f.error_estimate:.1e}")
-    return "\n".join(lines)
-
-
 def _shape_png(png: str) -> str:
     """The membrane-shape PNG written next to the amplitude PNG ``png`` of a simulation."""
     return str(Path(png).with_name(Path(png).stem + "_shape.png"))
@@ -617,7 +518,7 @@ def cmd_simulate(args) -> int:
     if json_path is not None:
         _atomic_write(json_path, lambda p: p.write_text(json.dumps(traj.to_dict(), indent=1)))
         written.append(str(json_path))
-    return _report(args.json, traj.to_dict(), lambda: _simulate_text(traj), written)
+    return _report(args.json, traj.to_dict(), traj.summary, written)
 
 
 def _computation(sub, name: str, help: str, func, names: Sequence[str], configure, *,

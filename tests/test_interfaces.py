@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import spectralshell as ss
-from spectralshell.cli import _mode_kind, main
+from spectralshell.cli import main
+from spectralshell.results.modes import mode_kind
 
 
 def run_cli(capsys, *args):
@@ -243,7 +244,7 @@ def test_modes_text_labels_a_practically_real_mode():
     res = ss.natural_modes("sphere", m=2, zeta=5.0, count=1, precision=30)
     assert res.gamma_digits[0][1].startswith("3.3659263")
     g = complex(res.gamma[0])
-    assert _mode_kind(g, float(res.error_estimate[0])) == "overdamped in practice: Im/|Re| = 7.4e-12"
-    assert _mode_kind(g, 1e-12) == "overdamped"  # real to within a larger error
-    assert _mode_kind(2.19j, 1e-15) == "oscillatory"
-    assert _mode_kind(-1.09 + 1.58j, 1e-14) == "oscillatory"
+    assert mode_kind(g, float(res.error_estimate[0])) == "overdamped in practice: Im/|Re| = 7.4e-12"
+    assert mode_kind(g, 1e-12) == "overdamped"  # real to within a larger error
+    assert mode_kind(2.19j, 1e-15) == "oscillatory"
+    assert mode_kind(-1.09 + 1.58j, 1e-14) == "oscillatory"

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -13,6 +14,7 @@ import numpy as np
 
 from .._version import stamp
 from ..params.stiffness import amplitude_warnings
+from .base import Result, format_params
 from .records import Exponents, MarginalTau, Tip
 
 
@@ -57,8 +59,8 @@ def resolution_warnings(res: Mapping[str, MarginalTau], tol: float) -> list[str]
             if m.tau_min is not None and m.error_estimate is not None and m.error_estimate > tol]
 
 
-@dataclass(frozen=True, kw_only=True, eq=False)
-class FloquetResult:
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
+class FloquetResult(Result):
     """Marginal amplitudes of each requested Floquet kind (None for a kind not asked)."""
 
     model: str
@@ -77,9 +79,28 @@ class FloquetResult:
         out["provenance"] = self.provenance
         return out
 
+    def summary(self) -> str:
+        """The parameters, then per kind tau_min, its error, N and the first six marginal tau."""
+        lines = [f"{self.model}: {format_params(self.params)}   (K(t) = kappa (1 + 2 tau sin t))"]
+        for kind in ("harmonic", "subharmonic"):
+            m = getattr(self, kind)
+            if m is None:
+                continue
+            complete = "" if math.isinf(m.complete_to) else f" (complete to {m.complete_to:.4g})"
+            if m.tau_min is None:
+                bound = self.provenance.get("options", {}).get("tau_max")
+                below = "" if bound is None else f" <= {bound:g}"
+                lines.append(f"  {kind:<12} no marginal tau{below}{complete} "
+                             f"(N = {m.n_temporal})")
+                continue
+            taus = ", ".join(f"{t:.10g}" for t in m.tau[:6]) + (" ..." if m.tau.size > 6 else "")
+            lines.append(f"  {kind:<12} tau_min = {m.tau_min:.12g}   error <= "
+                         f"{m.error_estimate:.1e}   N = {m.n_temporal}   all tau{complete}: {taus}")
+        return "\n".join(lines)
 
-@dataclass(frozen=True, kw_only=True, eq=False)
-class ExponentsResult:
+
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
+class ExponentsResult(Result):
     """Floquet exponents gamma (growth rate Re gamma per unit time) at one tau."""
 
     model: str
@@ -108,9 +129,25 @@ class ExponentsResult:
                 "n_temporal": self.n_temporal, "error_estimate": self.error_estimate,
                 "warnings": list(self.warnings), "provenance": self.provenance}
 
+    def summary(self) -> str:
+        """The parameters and N, then each exponent gamma with its multiplier."""
+        lines = [f"{self.model}: {format_params(self.params)}  tau = {self.tau:g}   "
+                 f"(N = {self.n_temporal}, error <= {self.error_estimate:.1e})"]
+        for g, q in zip(self.gamma, self.multipliers):
+            lines.append(f"  gamma = {g.real:+.12f} {g.imag:+.12f}i   multiplier = "
+                         f"{q.real:+.10f} {q.imag:+.10f}i")
+        return "\n".join(lines)
 
-@dataclass(frozen=True, kw_only=True, eq=False)
-class TonguesResult:
+    def headline(self) -> str:
+        """One line: the largest growth rate Re gamma, stable or not (a scene's summary)."""
+        g = self.gamma[0]
+        state = "unstable" if g.real > 0 else "stable"
+        return (f"  exponents at tau = {self.tau:g}: largest growth rate Re gamma = "
+                f"{g.real:+.10f} ({state}), Im gamma = {g.imag:+.6f}")
+
+
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
+class TonguesResult(Result):
     """An Ince-Strutt diagram: marginal tau of each kind at every kappa, and the finger tips."""
 
     model: str
@@ -140,6 +177,15 @@ class TonguesResult:
         out["provenance"] = self.provenance
         return out
 
+    def summary(self) -> str:
+        """The parameters and kappa range, then each finger tip with its errors."""
+        lines = [f"{self.model} Ince-Strutt diagram: {format_params(self.params)}, kappa in "
+                 f"[{self.kappa.min():g}, {self.kappa.max():g}] ({self.kappa.size} points)"]
+        for t in self.tips:
+            lines.append(f"  {t.kind:<12} finger tip: kappa = {t.kappa:.12g} "
+                         f"(+-{t.kappa_error:.0e})  tau = {t.tau:.12g} (+-{t.tau_error:.0e})")
+        return "\n".join(lines)
+
     def write_csv(self, path: str | Path) -> None:
         """Rows kind,kappa,tau (one per marginal point)."""
         with open(path, "w", newline="") as fh:
@@ -163,8 +209,8 @@ class TonguesResult:
         np.savez(path, **arrays)
 
 
-@dataclass(frozen=True, kw_only=True, eq=False)
-class StabilityResult:
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
+class StabilityResult(Result):
     """Stability of each degree m at one forcing amplitude tau.
 
     ``modes`` holds, per m: ``unstable``, ``kind`` (the kind whose instability has the lower
@@ -182,3 +228,13 @@ class StabilityResult:
         return {"model": self.model, "tau": self.tau, "params": dict(self.params),
                 "modes": [dict(m) for m in self.modes], "warnings": list(self.warnings),
                 "provenance": self.provenance}
+
+    def summary(self) -> str:
+        """One line per degree m: stable or unstable (which kind), the marginal tau below tau."""
+        lines = [f"{self.model} at tau = {self.tau:g}: {format_params(self.params)}"]
+        for mode in self.modes:
+            state = f"UNSTABLE ({mode['kind']})" if mode["unstable"] else "stable"
+            below = "; ".join(f"{k[4:]} tau below: {', '.join(f'{t:.6g}' for t in v) or 'none'}"
+                              for k, v in mode.items() if k.startswith("tau_"))
+            lines.append(f"  m = {mode['m']:<3} {state:<24} {below}")
+        return "\n".join(lines)

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from .base import Result, format_params
 from .floquet import provenance
 from .records import ModeRoots
 
@@ -19,10 +21,24 @@ FEWER = ("count = {} asks for more modes than the dispersion relation has: all {
          "branch cut gamma <= 0)")
 UNPHYSICAL = ("mode(s) {} lie on the unphysical sheet (Re beta < 0): roots of the dispersion relation "
               "whose exterior field grows at infinity, not decaying modes")
+#: Im gamma/|Re gamma| below which a mode is labelled overdamped in practice: it then decays by
+#: e^(-pi/ratio) < e^(-314) before its first sign change (the threshold of the mode-structure
+#: notes of spectralshell.models.sphere_modes).
+PRACTICALLY_REAL = 0.01
 
 
-@dataclass(frozen=True, kw_only=True, eq=False)
-class NaturalModesResult:
+def mode_kind(gamma: complex, error: float) -> str:
+    """Text label of a natural mode: real within its error, practically real, or oscillatory."""
+    if gamma.imag <= error:
+        return "overdamped"
+    ratio = gamma.imag / abs(gamma.real) if gamma.real else math.inf
+    if ratio < PRACTICALLY_REAL:
+        return f"overdamped in practice: Im/|Re| = {ratio:.1e}"
+    return "oscillatory"
+
+
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
+class NaturalModesResult(Result):
     """Least damped natural modes gamma (X ~ exp(gamma t)) of one model, least damped first.
 
     Attributes
@@ -93,3 +109,15 @@ class NaturalModesResult:
         return {"model": self.model, "params": dict(self.params), "modes": modes,
                 "precision": self.precision, "warnings": list(self.warnings),
                 "provenance": self.provenance}
+
+    def summary(self) -> str:
+        """The parameters and units, then each gamma with its error and :func:`mode_kind`."""
+        unit = self.params.get("units", "dimensionless, time unit 1/omega")
+        lines = [f"{self.model} natural modes: {format_params(self.params)}   "
+                 f"(X ~ exp(gamma t), {unit})"]
+        digits = self.gamma_digits or [None] * len(self.gamma)
+        for g, e, d in zip(self.gamma, self.error_estimate, digits):
+            value = (f"{d[0]} {'' if d[1].startswith('-') else '+'}{d[1]}i" if d
+                     else f"{g.real:+.12g} {g.imag:+.12g}i")
+            lines.append(f"  gamma = {value}   error <= {e:.1e}   ({mode_kind(g, e)})")
+        return "\n".join(lines)

@@ -7,9 +7,11 @@ from typing import Any
 
 import numpy as np
 
+from .base import Result, format_params
 
-@dataclass(frozen=True, kw_only=True, eq=False)
-class ResponseResult:
+
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
+class ResponseResult(Result):
     """Displacement envelope along the membrane for one tone frequency.
 
     Attributes
@@ -67,3 +69,12 @@ class ResponseResult:
         out["warnings"] = list(self.warnings)
         out["provenance"] = self.provenance
         return out
+
+    def summary(self) -> str:
+        """The parameters (and tau), then the envelope peak with its error (and in cm)."""
+        unit = "" if self.length is None else (
+            f" = {self.to_cm(self.peak_x):.4g} cm "
+            f"(WKB {self.to_cm(self.wkb_peak_x or float('nan')):.4g} cm)")
+        tau = "" if self.tau is None else f"  tau = {self.tau:.10g}"
+        return (f"{self.model} {self.kind} response: {format_params(self.params)}{tau}\n"
+                f"  envelope peak x = {self.peak_x:.6g} +- {self.peak_error:.1e} (of pi){unit}")

@@ -8,7 +8,7 @@ from typing import Any
 from .floquet import FloquetResult
 
 
-@dataclass(frozen=True, kw_only=True, eq=False)
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class SpatialFloquetResult(FloquetResult):
     """Marginal amplitudes at a spatial truncation, with the spatial part of the error estimate.
 

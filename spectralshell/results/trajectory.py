@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from .base import Result
 from .records import RateFit
 
 
@@ -30,8 +31,8 @@ class ModeFit:
                 "frequency": self.frequency, "error_estimate": self.error_estimate}
 
 
-@dataclass(frozen=True, kw_only=True, eq=False)
-class Trajectory:
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
+class Trajectory(Result):
     """Membrane displacement coefficients against time, per real harmonic mode (m, k).
 
     Attributes
@@ -60,6 +61,8 @@ class Trajectory:
     provenance: dict[str, Any]
     warnings: tuple[str, ...] = field(default=())
 
+    record_types = (ModeFit,)
+
     @staticmethod
     def fit_of(m: int, k: int, fit: RateFit, extra_error: float) -> ModeFit:
         """A ModeFit from a rate fit, with ``extra_error`` added to the fit's own estimate."""
@@ -78,6 +81,16 @@ class Trajectory:
         """The JSON of ``spectralshell simulate --json``: model, params, modes (fits)."""
         return {"model": self.model, "params": dict(self.params),
                 "modes": [f.to_dict() for f in self.fits]}
+
+    def summary(self) -> str:
+        """The parameters and run settings, then each mode's fitted growth rate and frequency."""
+        p = self.params
+        lines = [f"{self.model}: kappa = {p['kappa']}  nu = {p['nu']:g}  tau = {p['tau']:g}   "
+                 f"t_end = {p['t_end']:.6g}  {p['scheme']}  dt = {p['dt']:.4g}"]
+        for f in self.fits:
+            lines.append(f"  (m, k) = ({f.m}, {f.k}):  growth rate {f.growth_rate:+.10f}   "
+                         f"frequency {f.frequency:.10f}   error <= {f.error_estimate:.1e}")
+        return "\n".join(lines)
 
     def write_npz(self, path: str | Path) -> None:
         """Arrays times, m, k, radial, tangential (and toroidal_*), fits, plus JSON metadata."""

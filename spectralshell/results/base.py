@@ -1,0 +1,117 @@
+"""The base of every result object: JSON form, text summary, a JSON file round trip, short repr."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+from typing import Any
+
+from .._version import __version__
+from ..errors import ParameterError
+from .records import RECORDS, decode, fields_of
+
+#: Lines of a result's repr at most (the first lines of its summary).
+REPR_LINES = 20
+
+
+def format_params(params: dict[str, Any]) -> str:
+    """Parameters as one line, 'kappa = 0.3  nu = 0.1' (floats with %g)."""
+    return "  ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
+                     for k, v in params.items())
+
+
+def _one_line(exc: Exception) -> str:
+    return f"{type(exc).__name__}: {' '.join(str(exc).split())}"
+
+
+def _subclass_named(cls: type, name: str) -> type | None:
+    """``cls`` or its (imported) subclass called ``name``, else None."""
+    if cls.__name__ == name:
+        return cls
+    return next((found for sub in cls.__subclasses__()
+                 if (found := _subclass_named(sub, name)) is not None), None)
+
+
+class Result:
+    """Base of the result objects (frozen dataclasses, declared with ``repr=False``).
+
+    A subclass defines :meth:`to_dict` (its JSON form, printed by ``--json``) and
+    :meth:`summary` (the text the command line prints), and lists in ``record_types`` the
+    dataclasses its fields hold besides the record types of :mod:`spectralshell.results.records`.
+    :meth:`save` and :meth:`load` store every field in a JSON file, with the type name and the
+    package version.
+    """
+
+    record_types: tuple[type, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form (``spectralshell ... --json``)."""
+        raise NotImplementedError
+
+    def summary(self) -> str:
+        """The human text of the result (what the command line prints)."""
+        raise NotImplementedError
+
+    def __repr__(self) -> str:
+        lines = self.summary().splitlines()
+        if len(lines) > REPR_LINES:
+            more = len(lines) - REPR_LINES + 1
+            lines = lines[:REPR_LINES - 1] + [f"  ... ({more} more lines: .summary())"]
+        return f"<{type(self).__name__}> " + "\n".join(lines)
+
+    def save(self, path: str | Path) -> Path:
+        """Write every field to the JSON file ``path`` (replaced if it exists), with the type
+        name and the package version; :meth:`load` reads it back. Returns the path."""
+        path = Path(path)
+        data = {"type": type(self).__name__, "version": __version__, "fields": fields_of(self)}
+        path.write_text(json.dumps(data, allow_nan=False) + "\n")
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path):
+        """The result that :meth:`save` wrote to ``path``: an instance of this class (or of a
+        subclass). Raises :class:`~spectralshell.errors.ParameterError`, naming the path and
+        what is wrong, for a file that cannot be read, is not JSON, holds another type, or
+        lacks or has damaged fields."""
+        where = f"result file {str(path)!r}"
+        try:
+            data = json.loads(Path(path).read_text())
+        except OSError as exc:
+            raise ParameterError(f"{where} cannot be read: {exc.strerror or exc}") from None
+        except UnicodeDecodeError:
+            raise ParameterError(f"{where} is not a text file") from None
+        except json.JSONDecodeError as exc:
+            raise ParameterError(f"{where} is not valid JSON: {exc.msg} at line {exc.lineno}, "
+                                 f"column {exc.colno}") from None
+        if not (isinstance(data, dict) and isinstance(data.get("type"), str)
+                and isinstance(data.get("fields"), dict)):
+            raise ParameterError(f"{where} is not a saved spectralshell result: no 'type' and "
+                                 "'fields'")
+        kind = _subclass_named(cls, data["type"])
+        if kind is None:
+            raise ParameterError(f"{where} holds a {data['type']}, not a {cls.__name__}")
+        fields = {f.name: f for f in dataclasses.fields(kind)}
+        stored = data["fields"]
+        missing = [name for name, f in fields.items() if name not in stored
+                   and f.default is dataclasses.MISSING
+                   and f.default_factory is dataclasses.MISSING]
+        unknown = [name for name in stored if name not in fields]
+        if missing or unknown:
+            what = "lacks field" if missing else "has unknown field"
+            raise ParameterError(f"{where} {what} {(missing or unknown)[0]!r} of {kind.__name__}")
+        types = {**RECORDS, **{t.__name__: t for t in kind.record_types}}
+        values = {}
+        for name, raw in stored.items():
+            try:
+                values[name] = decode(raw, types)
+            except (KeyError, TypeError, ValueError) as exc:
+                raise ParameterError(f"{where}: field {name!r} is damaged "
+                                     f"({_one_line(exc)})") from None
+        result = kind(**values)
+        try:  # every field in use: a value of the wrong kind fails here, not later
+            result.to_dict()
+            result.summary()
+        except (AttributeError, IndexError, KeyError, TypeError, ValueError) as exc:
+            raise ParameterError(f"{where} has a damaged field ({_one_line(exc)})") from None
+        return result
