@@ -179,6 +179,12 @@ def test_load_refuses_other_damage(change, what, built, tmp_path):
     assert what in _damaged(built("tongues"), tmp_path, change)
 
 
+@pytest.mark.parametrize("target", ["result.txt", "."])
+def test_save_refuses_a_path_that_is_not_a_json_file(target, built, tmp_path):
+    with pytest.raises(ParameterError, match="path = "):
+        built("exponents").save(tmp_path / target)
+
+
 def test_load_refuses_a_missing_file(tmp_path):
     path = tmp_path / "absent.json"
     with pytest.raises(ParameterError, match="cannot be read") as info:

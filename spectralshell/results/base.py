@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+from .._validate import require_output_file
 from .._version import __version__
 from ..errors import ParameterError
 from .records import RECORDS, decode, fields_of
@@ -61,9 +62,10 @@ class Result:
         return f"<{type(self).__name__}> " + "\n".join(lines)
 
     def save(self, path: str | Path) -> Path:
-        """Write every field to the JSON file ``path`` (replaced if it exists), with the type
-        name and the package version; :meth:`load` reads it back. Returns the path."""
-        path = Path(path)
+        """Write every field to the JSON file ``path`` (a new or existing regular file ending in
+        .json, which is replaced), with the type name and the package version; :meth:`load`
+        reads it back. Returns the path."""
+        path = require_output_file("path", path, (".json",))
         data = {"type": type(self).__name__, "version": __version__, "fields": fields_of(self)}
         path.write_text(json.dumps(data, allow_nan=False) + "\n")
         return path

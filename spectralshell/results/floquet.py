@@ -131,12 +131,11 @@ class ExponentsResult(Result):
 
     def summary(self) -> str:
         """The parameters and N, then each exponent gamma with its multiplier."""
-        lines = [f"{self.model}: {format_params(self.params)}  tau = {self.tau:g}   "
-                 f"(N = {self.n_temporal}, error <= {self.error_estimate:.1e})"]
-        for g, q in zip(self.gamma, self.multipliers):
-            lines.append(f"  gamma = {g.real:+.12f} {g.imag:+.12f}i   multiplier = "
-                         f"{q.real:+.10f} {q.imag:+.10f}i")
-        return "\n".join(lines)
+        head = (f"{self.model}: {format_params(self.params)}  tau = {self.tau:g}   "
+                f"(N = {self.n_temporal}, error <= {self.error_estimate:.1e})")
+        return "\n".join([head, *(f"  gamma = {g.real:+.12f} {g.imag:+.12f}i   multiplier = "
+                                  f"{q.real:+.10f} {q.imag:+.10f}i"
+                                  for g, q in zip(self.gamma, self.multipliers))])
 
     def headline(self) -> str:
         """One line: the largest growth rate Re gamma, stable or not (a scene's summary)."""
@@ -179,12 +178,11 @@ class TonguesResult(Result):
 
     def summary(self) -> str:
         """The parameters and kappa range, then each finger tip with its errors."""
-        lines = [f"{self.model} Ince-Strutt diagram: {format_params(self.params)}, kappa in "
-                 f"[{self.kappa.min():g}, {self.kappa.max():g}] ({self.kappa.size} points)"]
-        for t in self.tips:
-            lines.append(f"  {t.kind:<12} finger tip: kappa = {t.kappa:.12g} "
-                         f"(+-{t.kappa_error:.0e})  tau = {t.tau:.12g} (+-{t.tau_error:.0e})")
-        return "\n".join(lines)
+        head = (f"{self.model} Ince-Strutt diagram: {format_params(self.params)}, kappa in "
+                f"[{self.kappa.min():g}, {self.kappa.max():g}] ({self.kappa.size} points)")
+        return "\n".join([head, *(f"  {t.kind:<12} finger tip: kappa = {t.kappa:.12g} "
+                                  f"(+-{t.kappa_error:.0e})  tau = {t.tau:.12g} "
+                                  f"(+-{t.tau_error:.0e})" for t in self.tips)])
 
     def write_csv(self, path: str | Path) -> None:
         """Rows kind,kappa,tau (one per marginal point)."""

@@ -85,12 +85,11 @@ class Trajectory(Result):
     def summary(self) -> str:
         """The parameters and run settings, then each mode's fitted growth rate and frequency."""
         p = self.params
-        lines = [f"{self.model}: kappa = {p['kappa']}  nu = {p['nu']:g}  tau = {p['tau']:g}   "
-                 f"t_end = {p['t_end']:.6g}  {p['scheme']}  dt = {p['dt']:.4g}"]
-        for f in self.fits:
-            lines.append(f"  (m, k) = ({f.m}, {f.k}):  growth rate {f.growth_rate:+.10f}   "
-                         f"frequency {f.frequency:.10f}   error <= {f.error_estimate:.1e}")
-        return "\n".join(lines)
+        head = (f"{self.model}: kappa = {p['kappa']}  nu = {p['nu']:g}  tau = {p['tau']:g}   "
+                f"t_end = {p['t_end']:.6g}  {p['scheme']}  dt = {p['dt']:.4g}")
+        return "\n".join([head, *(f"  (m, k) = ({f.m}, {f.k}):  growth rate {f.growth_rate:+.10f}"
+                                  f"   frequency {f.frequency:.10f}   error <= "
+                                  f"{f.error_estimate:.1e}" for f in self.fits)])
 
     def write_npz(self, path: str | Path) -> None:
         """Arrays times, m, k, radial, tangential (and toroidal_*), fits, plus JSON metadata."""
