@@ -77,31 +77,14 @@ class Result:
         what is wrong, for a file that cannot be read, is not JSON, holds another type, or
         lacks or has damaged fields."""
         where = f"result file {str(path)!r}"
-        try:
-            data = json.loads(Path(path).read_text())
-        except OSError as exc:
-            raise ParameterError(f"{where} cannot be read: {exc.strerror or exc}") from None
-        except UnicodeDecodeError:
-            raise ParameterError(f"{where} is not a text file") from None
-        except json.JSONDecodeError as exc:
-            raise ParameterError(f"{where} is not valid JSON: {exc.msg} at line {exc.lineno}, "
-                                 f"column {exc.colno}") from None
-        if not (isinstance(data, dict) and isinstance(data.get("type"), str)
-                and isinstance(data.get("fields"), dict)):
-            raise ParameterError(f"{where} is not a saved spectralshell result: no 'type' and "
-                                 "'fields'")
+        data = _read_json(path, where)
         kind = _subclass_named(cls, data["type"])
         if kind is None:
             raise ParameterError(f"{where} holds a {data['type']}, not a {cls.__name__}")
-        fields = {f.name: f for f in dataclasses.fields(kind)}
         stored = data["fields"]
-        missing = [name for name, f in fields.items() if name not in stored
-                   and f.default is dataclasses.MISSING
-                   and f.default_factory is dataclasses.MISSING]
-        unknown = [name for name in stored if name not in fields]
-        if missing or unknown:
-            what = "lacks field" if missing else "has unknown field"
-            raise ParameterError(f"{where} {what} {(missing or unknown)[0]!r} of {kind.__name__}")
+        wrong = _field_mismatch(kind, stored)
+        if wrong:
+            raise ParameterError(f"{where} {wrong}")
         types = {**RECORDS, **{t.__name__: t for t in kind.record_types}}
         values = {}
         for name, raw in stored.items():
@@ -117,3 +100,34 @@ class Result:
         except (AttributeError, IndexError, KeyError, TypeError, ValueError) as exc:
             raise ParameterError(f"{where} has a damaged field ({_one_line(exc)})") from None
         return result
+
+
+def _read_json(path: str | Path, where: str) -> dict[str, Any]:
+    """The JSON object in ``path`` with a str 'type' and an object 'fields'; else ParameterError
+    (``where`` names the file)."""
+    try:
+        data = json.loads(Path(path).read_text())
+    except OSError as exc:
+        raise ParameterError(f"{where} cannot be read: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise ParameterError(f"{where} is not a text file") from None
+    except json.JSONDecodeError as exc:
+        raise ParameterError(f"{where} is not valid JSON: {exc.msg} at line {exc.lineno}, "
+                             f"column {exc.colno}") from None
+    if not (isinstance(data, dict) and isinstance(data.get("type"), str)
+            and isinstance(data.get("fields"), dict)):
+        raise ParameterError(f"{where} is not a saved spectralshell result: no 'type' and "
+                             "'fields'")
+    return data
+
+
+def _field_mismatch(kind: type, stored: dict[str, Any]) -> str | None:
+    """What is wrong with the field names ``stored`` for the dataclass ``kind``: a required
+    field missing or an unknown one (None if nothing)."""
+    fields = {f.name: f for f in dataclasses.fields(kind)}
+    for name, f in fields.items():
+        if (name not in stored and f.default is dataclasses.MISSING
+                and f.default_factory is dataclasses.MISSING):
+            return f"lacks field {name!r} of {kind.__name__}"
+    unknown = [name for name in stored if name not in fields]
+    return f"has unknown field {unknown[0]!r} of {kind.__name__}" if unknown else None
