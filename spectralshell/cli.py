@@ -49,8 +49,11 @@ def _model_flags(p: argparse.ArgumentParser, model: str, *, skip: Sequence[str] 
         if f.name in skip:
             continue
         default = "" if f.default in (dataclasses.MISSING, None) else f" (default {f.default})"
-        group.add_argument(_flag(f.name), dest=f.name, metavar="X",
-                           help=f.metadata.get("help", f.name) + default)
+        meaning = f.metadata.get("help", f.name)
+        units = f.metadata.get("units")
+        if units and "dimensionless" not in meaning and units not in meaning:
+            meaning += " [dimensionless]" if units == "1" else f" [{units}]"
+        group.add_argument(_flag(f.name), dest=f.name, metavar="X", help=meaning + default)
 
 
 def _physical_flags(p: argparse.ArgumentParser, units: dict[str, str], note: str) -> None:

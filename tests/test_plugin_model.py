@@ -160,7 +160,7 @@ def test_the_cli_offers_the_plug_in_with_its_parameters(twin, capsys):
     with pytest.raises(SystemExit):
         cli.main(["floquet", "twin", "-h"])
     help_text = capsys.readouterr().out
-    assert "--coupling" in help_text and "coupling spring / kappa" in help_text
+    assert "--coupling" in help_text and "coupling spring / kappa [dimensionless]" in help_text
     assert cli.main(["floquet", "twin", "--kappa", "0.3", "--ratio", "1.5", "--coupling", "0.4",
                      "--nu", "0.05", "--kind", "subharmonic", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
