@@ -25,7 +25,6 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 import spectralshell as ss
-from spectralshell.runner import floquet as floquet_runner
 from _bench import best_time, row
 from spectralshell._threads import one_blas_thread
 from spectralshell.discretise.hill import assemble
@@ -57,15 +56,17 @@ def dense_tau_min(system, n: int) -> float:
 
 def map_points() -> None:
     """One Fig 6.13 map point per kind (sphere, cardiac atrium; marginal_tau with tau_max = 1/2
-    and tol = 1e-8 as api.tau_map runs it, two truncations) against QZ of the same two
+    and tol = 1e-8 as ss.tau_map runs it, two truncations) against QZ of the same two
     truncations (scipy.linalg.eigvals(A, B) of the real-form pencils, assembled)."""
-    from spectralshell import api
-    from spectralshell.params.physical import CARDIAC
+    from spectralshell.models.registry import hill_system
+    from spectralshell.params.physical import CARDIAC, sphere_forced_params
+    from spectralshell.params.registry import make_params
     from spectralshell.solvers.marginal import marginal_tau
     physical = {k: CARDIAC[k] for k in ("rho", "mu", "radius")}
     print("Fig 6.13 map points: marginal_tau(tau_max = 1/2) vs QZ of the same two truncations")
     for sigma, bpm, m in ((5e3, 300.0, 3), (1e4, 150.0, 3), (2e4, 50.0, 6)):
-        system = floquet_runner._map_system("sphere", {}, physical, ("sigma", "bpm"), (sigma, bpm, m))
+        params = sphere_forced_params({**physical, "sigma": sigma, "bpm": bpm, "m": m})
+        system = hill_system(make_params("sphere", params))  # as tau_map's sweep builds it
         for kind in ("harmonic", "subharmonic"):
             t_pkg, res = best_time(lambda: marginal_tau(system, kind, tol=1e-8, tau_max=0.5),
                                    3 if system.n_resonant < 60 else 1)

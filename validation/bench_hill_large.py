@@ -23,20 +23,19 @@ Run: python validation/bench_hill_large.py
 
 from __future__ import annotations
 
-import functools
 import sys
 from pathlib import Path
 
 import numpy as np
-import scipy.linalg as sla
 from threadpoolctl import threadpool_limits
 
 from _bench import best_time, row
-from spectralshell.runner import floquet as floquet_runner
+from spectralshell.models.registry import hill_system
 from spectralshell.discretise.hill import assemble
 from spectralshell.models import cochlea, sphere
 from spectralshell.models.mathieu import hill_system as mathieu
-from spectralshell.params.physical import CARDIAC, cochlea_params
+from spectralshell.params.physical import CARDIAC, cochlea_params, sphere_forced_params
+from spectralshell.params.registry import make_params
 from spectralshell.solvers.half_product import smallest_taus
 from spectralshell.solvers.marginal import (dense_taus, marginal_tau, preferred_form,
                                             structured_taus, truncation_taus)
@@ -129,9 +128,9 @@ def cardiac_point() -> None:
     print("\nFig 6.13 (sphere, cardiac): one tau-map point = m = 2..6 x both kinds, tau_max = 1/2, "
           "tol = 1e-8")
     phys = {k: CARDIAC[k] for k in ("rho", "mu", "radius")}
-    factory = functools.partial(floquet_runner._map_system, "sphere", {}, phys, ("sigma", "bpm"))
     for sigma, bpm in ((2e4, 50.0), (1e4, 412.0)):
-        systems = [factory((sigma, bpm, m)) for m in range(2, 7)]
+        systems = [hill_system(make_params("sphere", sphere_forced_params(
+            {**phys, "sigma": sigma, "bpm": bpm, "m": m}))) for m in range(2, 7)]
         row = {}
         for method in ("dense", "auto"):
             row[method] = best_time(lambda: [marginal_tau(s, k, tol=1e-8, tau_max=0.5,
