@@ -21,7 +21,8 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from . import api
-from ._validate import parse_int, parse_real, require_output_file, require_writable_directory
+from ._validate import (parse_int, parse_real, require_int_in_range, require_output_file,
+                        require_writable_directory)
 from ._version import __version__
 from .errors import ConvergenceError, ParameterError, SpectralShellError
 from .params.registry import (get_model, load_entry_points, models, models_with, param_fields,
@@ -290,10 +291,10 @@ def cmd_response(args) -> int:
 
 
 def _integer(name: str, text: str) -> int:
-    try:
-        return int(text)
-    except ValueError:
-        raise ParameterError(f"{name} = {text!r} is invalid: must be an integer") from None
+    """A count given on the command line (--workers, --max-points, --m, ...): read as every
+    integer flag is (:func:`~spectralshell._validate.parse_int`: '3', '3.0', '1e3'), then
+    checked to be a whole number >= 0; ranges are the callee's."""
+    return require_int_in_range(name, parse_int(name, text), 0)
 
 
 def cmd_lp(args) -> int:
