@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from spectralshell import cli
-from spectralshell.errors import StoreBusy, StoreDamaged
+from spectralshell.errors import ParameterError, StoreBusy, StoreDamaged
 from spectralshell.params.sweep_grid import sweep_spec
 from spectralshell.runner import open_sweep, run_sweep
 from spectralshell.runner.layout import chunk_key, chunks, region
@@ -160,6 +160,45 @@ def test_an_undamaged_store_reads_back_as_the_run(clean):
     for name in back.variables:
         assert np.array_equal(back[name].values, fresh[name].values), name
     assert back.attrs == json.loads(json.dumps(fresh.attrs))
+
+
+METADATA_DAMAGE = {
+    "group attributes garbage": lambda store: (store / ".zattrs").write_bytes(b"\x00{garbage"),
+    "consolidated metadata removed": lambda store: (store / ".zmetadata").unlink(),
+    "group marker removed": lambda store: (store / ".zgroup").unlink(),
+    "array metadata garbage": lambda store: (store / "tau_min" / ".zarray").write_text("[1, 2"),
+    "array metadata of another shape": lambda store: (store / "has_tau" / ".zarray").write_text(
+        (store / "has_tau" / ".zarray").read_text().replace("12", "13")),
+}
+
+
+@pytest.mark.parametrize("damage", list(METADATA_DAMAGE))
+def test_damaged_metadata_is_refused_then_rebuilt_by_a_rerun(damage, clean, tmp_path, capsys):
+    """The completion records say whose store it is: reading refuses it in one line, and a
+    rerun of the same scene rebuilds the metadata from the scene, keeps every chunk whose
+    values still match its record, and ends equal to a clean run."""
+    store = tmp_path / "map.zarr"
+    shutil.copytree(clean, store)
+    METADATA_DAMAGE[damage](store)
+    with pytest.raises(StoreDamaged, match="metadata cannot be read.*rerun its sweep"):
+        open_sweep(store)
+    assert cli.main(["plot", str(store), "--png", str(tmp_path / "m.png")]) == 2
+    assert "\n" not in capsys.readouterr().err.strip()
+    run = run_sweep(SCENE, executor="serial", out=store)
+    assert run.computed == 0 and run.damaged == 0
+    assert tree(store) == tree(clean)
+
+
+def test_metadata_is_not_rebuilt_over_another_sweeps_chunks(clean, tmp_path):
+    """Records of another scene: the store is not this sweep's, and stays untouched."""
+    store = tmp_path / "map.zarr"
+    shutil.copytree(clean, store)
+    (store / ".zattrs").write_text("{")
+    before = tree(store)
+    other = {**SCENE, "tau_min": {"tau_max": 3.0}}
+    with pytest.raises(ParameterError, match="not a readable spectralshell sweep"):
+        run_sweep(other, executor="serial", out=store)
+    assert tree(store) == before
 
 
 def _rewrite_netcdf(path: Path, change) -> None:

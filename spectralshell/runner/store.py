@@ -212,9 +212,10 @@ def read_zarr(path: Path, spec: SweepSpec | None = None) -> tuple[SweepSpec, Sto
     import zarr
 
     name = "sweep" if spec is None else "out"
-    try:
-        group = zarr.open_group(str(path), mode="r")
+    try:  # each array's own metadata, and the consolidated copy that other readers use
+        group = zarr.open_group(str(path), mode="r", use_consolidated=False)
         attrs = dict(group.attrs)
+        zarr.open_consolidated(str(path), mode="r")
     except Exception as exc:  # noqa: BLE001 - any unreadable metadata
         raise _unreadable(path, name, exc) from None
     if spec is None:
@@ -222,7 +223,10 @@ def read_zarr(path: Path, spec: SweepSpec | None = None) -> tuple[SweepSpec, Sto
     elif attrs.get("scene_hash") != spec.digest:
         raise _other_scene(path, attrs.get("scene_hash"), spec)
     wanted = stored_variables(spec)
-    found = {v: group[v] for v in wanted if v in group}
+    try:
+        found = {v: group[v] for v in wanted if v in group}
+    except Exception as exc:  # noqa: BLE001 - an array's metadata unreadable
+        raise _unreadable(path, name, exc) from None
     if len(found) < len(wanted) or any(a.shape != spec.shape or a.chunks != store_chunks(spec)
                                        for a in found.values()):
         raise ParameterError(f"{name} = {str(path)!r} is a damaged store (variables missing, or "
@@ -254,7 +258,12 @@ def load_existing(path: Path, spec: SweepSpec) -> StoredSweep | None:
     if not path.exists():
         return None
     if path.suffix == ".zarr":
-        return read_zarr(path, spec)[1]
+        try:
+            return read_zarr(path, spec)[1]
+        except ParameterError:
+            if not restore_metadata(path, spec):
+                raise
+            return read_zarr(path, spec)[1]
     with _open_netcdf(path, "out") as ds:
         found = ds.attrs.get("scene_hash")
         if found != spec.digest:
@@ -279,6 +288,57 @@ def _netcdf_arrays(ds: xr.Dataset, spec: SweepSpec) -> dict[str, np.ndarray] | N
     if any(not np.array_equal(ds[a.name].values, np.array(a.values)) for a in spec.axes):
         return None
     return arrays if ds.attrs.get("data_sha256") == dataset_digest(spec, arrays) else None
+
+
+#: Zarr (format 2) metadata files of a store and of each of its arrays.
+GROUP_METADATA = (".zgroup", ".zattrs", ".zmetadata")
+ARRAY_METADATA = (".zarray", ".zattrs")
+
+
+def holds_records_of(path: Path, spec: SweepSpec) -> bool:
+    """Whether the store at ``path`` has a completion record of ``spec``'s scene (the store
+    is this sweep's, whatever its metadata now says)."""
+    for text in read_records(path).values():
+        try:
+            if json.loads(text).get("scene_hash") == spec.digest:
+                return True
+        except (ValueError, AttributeError):
+            continue
+    return False
+
+
+def restore_metadata(path: Path, spec: SweepSpec) -> bool:
+    """Rewrite the metadata of a Zarr store of ``spec``'s scene (group and array metadata, and
+    the coordinates) from the scene, keeping its chunk files and completion records, which the
+    next read verifies: a store whose ``.zattrs``, ``.zmetadata`` or ``.zarray`` files were
+    damaged is repaired by a rerun. Returns False, touching nothing, when the store holds no
+    record of this scene (it is not this sweep's)."""
+    if not path.is_dir() or not holds_records_of(path, spec):
+        return False
+    fresh = path.parent / f".metadata-{uuid.uuid4().hex[:8]}-{path.name}"
+    try:
+        ZarrStore.create(fresh, spec)
+        for name in GROUP_METADATA:
+            _replace(fresh / name, path / name)
+        axes = {a.name for a in spec.axes}
+        for name in stored_variables(spec):
+            (path / name).mkdir(exist_ok=True)
+            for meta in ARRAY_METADATA:
+                _replace(fresh / name / meta, path / name / meta)
+        for name in axes:  # coordinates: small, and wholly the scene's
+            _remove(path / name)
+            shutil.copytree(fresh / name, path / name)
+    finally:
+        shutil.rmtree(fresh, ignore_errors=True)
+    return True
+
+
+def _replace(source: Path, target: Path) -> None:
+    """Copy the file ``source`` over ``target`` (whatever ``target`` became), or remove
+    ``target`` if there is no ``source``."""
+    _remove(target)
+    if source.exists():
+        shutil.copy2(source, target)
 
 
 class ZarrStore:
@@ -400,7 +460,14 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
     if not path.exists():
         raise ParameterError(f"sweep = {str(path)!r} is invalid: no such file or store")
     if path.suffix == ".zarr":
-        spec, stored = read_zarr(path)
+        try:
+            spec, stored = read_zarr(path)
+        except ParameterError as exc:
+            if read_records(path):  # a sweep's store, its metadata damaged
+                raise StoreDamaged(f"sweep = {str(path)!r} is damaged: its metadata cannot be "
+                                   f"read ({exc}); rerun its sweep with out={str(path)!r} to "
+                                   "rebuild it (finished chunks are kept)") from None
+            raise
         damage = stored.damage(spec)
         if damage:
             raise StoreDamaged(f"sweep = {str(path)!r} is damaged: {damage}; rerun its sweep "
