@@ -242,9 +242,9 @@ def test_a_damaged_netcdf_is_refused_then_recomputed_whole(damage, tmp_path, cap
 
 
 def _start(out: Path, executor: str = "serial", workers: int = 1,
-           watchdog: bool = False) -> subprocess.Popen:
+           watchdog: bool = False, scene: dict = SCENE) -> subprocess.Popen:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
-    return subprocess.Popen([sys.executable, "-c", SLOW_SWEEP, json.dumps(SCENE), str(out),
+    return subprocess.Popen([sys.executable, "-c", SLOW_SWEEP, json.dumps(scene), str(out),
                              executor, str(workers), "watchdog" if watchdog else ""], env=env,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
@@ -282,6 +282,50 @@ def _children(pid: int) -> list[int]:
         except OSError:
             pass
     return found
+
+
+def _descendants(pid: int) -> list[int]:
+    """Every process below ``pid`` (children, their children, ...)."""
+    found = _children(pid)
+    return found + [d for c in found for d in _descendants(c)]
+
+
+def _spawned(pid: int) -> list[int]:
+    """The processes below ``pid`` started by multiprocessing's 'spawn' (a cluster's workers)."""
+    out = []
+    for p in _descendants(pid):
+        try:
+            if b"spawn_main" in Path(f"/proc/{p}/cmdline").read_bytes():
+                out.append(p)
+        except OSError:
+            pass
+    return out
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_local_cluster_processes_end_with_a_killed_sweep(tmp_path):
+    """A LocalCluster (executor 'dask', scheduler 'local'): its worker processes, started by
+    'spawn', and every other process below the sweep end once the sweep is killed."""
+    pytest.importorskip("distributed")
+    # spawned workers do not see SLOW_SWEEP's sleep: a grid of ~1 min of work keeps them busy
+    long = {**SCENE, "grid": {"nu": [0.1], "kappa": {"start": 0.05, "stop": 3.0, "num": 100000}},
+            "sweep": {"chunk": 256}}
+    sweep = _start(tmp_path / "map.zarr", executor="dask", workers=2, scene=long)
+    below = []
+    try:
+        wait_for(lambda: len(_spawned(sweep.pid)) >= 2, "two cluster workers", seconds=90.0)
+        wait_for(lambda: (tmp_path / "map.zarr" / ".chunks").is_dir(), "a first chunk",
+                 seconds=90.0)
+        below = _descendants(sweep.pid)
+        sweep.send_signal(signal.SIGKILL)
+        sweep.wait()
+        wait_for(lambda: not any(_alive(p) for p in below), "the orphaned cluster to end",
+                 seconds=30.0)
+    finally:
+        sweep.kill()
+        for p in below:
+            if _alive(p):
+                os.kill(p, signal.SIGKILL)
 
 
 @pytest.mark.parametrize("start", ["fresh", "resume"])
