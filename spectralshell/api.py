@@ -45,7 +45,7 @@ def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: 
     at its limit; the values are those at the limit); provenance in attrs. Every executor gives
     the same numbers. See :mod:`spectralshell.runner`.
     """
-    from .runner import sweep as run  # lazy: xarray costs ~0.35 s to import
+    from .runner.sweep import sweep as run  # lazy: xarray costs ~0.35 s to import
 
     return run(scene, executor=executor, workers=workers, scheduler=scheduler, out=out,
                progress=progress)

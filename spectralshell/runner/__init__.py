@@ -5,15 +5,25 @@ solving a point (``runner.solve``); and the sweep runner -- plan a grid's chunks
 serial, process or Dask executors (one ``concurrent.futures.Executor`` interface), and keep
 labelled, resumable results (``xarray`` Datasets in Zarr or NetCDF stores).
 
-Public functions: :func:`sweep` (-> Dataset), :func:`run_sweep` (-> SweepRun with counts),
+Public functions: :func:`sweep.sweep` (-> Dataset), :func:`run_sweep` (-> SweepRun with counts),
 :func:`sweep_summary` (the CLI's JSON summary), :func:`open_sweep` (load a store) and
 :func:`map_points` (every marginal tau at arbitrary points, through any executor).
 """
 
-from .executors import CONNECT_TIMEOUT, EXECUTORS, SerialExecutor, open_pool
-from .solve import SweepError
-from .store import open_sweep
-from .sweep import SweepRun, map_points, run_sweep, sweep, sweep_summary
+import importlib
+from typing import Any
 
-__all__ = ["sweep", "run_sweep", "sweep_summary", "open_sweep", "map_points", "SweepRun",
-           "SweepError", "SerialExecutor", "open_pool", "EXECUTORS", "CONNECT_TIMEOUT"]
+#: Public names and the module that defines each, imported on first use (the sweep's modules
+#: bring xarray, ~0.3 s, which a single Floquet solve does not need).
+_PUBLIC = {"run_sweep": "sweep", "sweep_summary": "sweep", "map_points": "sweep",
+           "SweepRun": "sweep", "open_sweep": "store", "SweepError": "solve",
+           "SerialExecutor": "executors", "open_pool": "executors", "EXECUTORS": "executors",
+           "CONNECT_TIMEOUT": "executors"}
+
+__all__ = sorted(_PUBLIC)
+
+
+def __getattr__(name: str) -> Any:
+    if name in _PUBLIC:
+        return getattr(importlib.import_module(f".{_PUBLIC[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -34,7 +34,6 @@ from ..solvers.exponents import floquet_exponents
 from ..solvers.marginal import N_MAX
 from ..solvers.spatial_refinement import TOL_SPATIAL, spatial_error
 from .solve import solve_kinds, spatial_point, spatial_system
-from .sweep import map_points
 from ..solvers.tongues import find_tips
 
 
@@ -212,6 +211,8 @@ def _map(factory, points: list, kinds: tuple[str, ...], workers: int | None, pro
     # worker its first, dearest chunks took ~1.5 min), and the dispatch cost (~0.5 ms per task,
     # validation/bench_sweep.py) stays ~1 % of a chunk's compute even for the cheapest points
     # (Mathieu, ~0.5 ms each); each point is solved alone, so the numbers do not depend on it
+    from .sweep import map_points  # lazy: the sweep's modules import xarray
+
     per_worker = -(-len(points) // (CHUNKS_PER_WORKER * (workers or os.cpu_count() or 1)))
     chunk = max(MIN_CHUNK, per_worker)
     return map_points(factory, points, kinds, executor="serial" if serial else "processes",
