@@ -38,10 +38,12 @@ from spectralshell.solvers.marginal import dense_taus, preferred_form, solve_tru
 KAPPA, NU, KIND = 0.26, 0.1, "subharmonic"
 
 
-def monodromy_det(tau: float) -> float:
+def monodromy_det(tau: float, rtol: float = 1e-12) -> float:
+    """det(M(tau) + I) of the Mathieu monodromy matrix M (DOP853 at ``rtol``, atol 1e-14): zero
+    where a multiplier is -1, the subharmonic boundary."""
     def rhs(t, y):
         return [y[1], -NU * y[1] - KAPPA * (1 + 2 * tau * np.sin(t)) * y[0]]
-    cols = [solve_ivp(rhs, (0, 2 * np.pi), y0, method="DOP853", rtol=1e-12, atol=1e-14).y[:, -1]
+    cols = [solve_ivp(rhs, (0, 2 * np.pi), y0, method="DOP853", rtol=rtol, atol=1e-14).y[:, -1]
             for y0 in ([1.0, 0.0], [0.0, 1.0])]
     return float(np.linalg.det(np.column_stack(cols) + np.eye(2)))
 
