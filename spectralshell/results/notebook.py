@@ -97,8 +97,11 @@ def named(dims: tuple[str, ...], values: Any, name: str, unit: str = "1") -> Var
 
 def coordinate(model: str, name: str, values: Any) -> Variable:
     """The coordinate ``name`` over its own dimension, labelled as the sweep labels its axes
-    (:data:`~spectralshell.params.sweep_grid.LONG_NAMES`, :func:`units`)."""
-    return variable((name,), values, LONG_NAMES.get(name, name), units(model, name))
+    (:data:`~spectralshell.params.sweep_grid.LONG_NAMES`, :func:`units`); labels (strings,
+    such as ``kind``) have no units."""
+    values = np.asarray(values)
+    unit = "" if values.dtype.kind in "US" else units(model, name)
+    return variable((name,), values, LONG_NAMES.get(name, name), unit)
 
 
 def or_nan(value: float | None) -> float:

@@ -123,7 +123,7 @@ class Trajectory(Result):
                                            "error bound of growth rate and frequency", "1"),
                 "multiplier_real": variable(fit, q.real, "Re multiplier", "1"),
                 "multiplier_imag": variable(fit, q.imag, "Im multiplier", "1")}
-        coords = {"t": variable(("t",), self.times, "time t (dimensionless; forcing period 2 pi)", "1"),
+        coords = {"t": variable(("t",), self.times, "time t (forcing period 2 pi)", "1"),
                   **_mode_coords("mode", self.modes, ""),
                   **_mode_coords("toroidal_mode", self.toroidal_modes, "toroidal_")}
         return dataset(data, coords, result_attrs(self))
