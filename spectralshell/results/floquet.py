@@ -191,14 +191,17 @@ class ExponentsResult(Result):
         """The parameters and N, then each exponent gamma with its multiplier."""
         head = (f"{self.model}: {format_params(self.params)}  tau = {self.tau:g}   "
                 f"(N = {self.n_temporal}, error <= {self.error_estimate:.1e})")
-        return "\n".join([head, *(f"  gamma = {g.real:+.12f} {g.imag:+.12f}i   multiplier = "
-                                  f"{q.real:+.10f} {q.imag:+.10f}i"
-                                  for g, q in zip(self.gamma, self.multipliers))])
+        return "\n".join([head, *(f"  gamma = {g_re} {g_im}i   multiplier = {q_re} {q_im}i"
+                                  for g_re, g_im, q_re, q_im in self._cells())])
+
+    def _cells(self) -> list[tuple[str, str, str, str]]:
+        """Re and Im of each gamma and of its multiplier, as the summary prints them."""
+        return [(f"{g.real:+.12f}", f"{g.imag:+.12f}", f"{q.real:+.10f}", f"{q.imag:+.10f}")
+                for g, q in zip(self.gamma, self.multipliers)]
 
     def _html_table(self) -> tuple[list[str], list[list[Any]]]:
         return (["Re gamma", "Im gamma", "Re multiplier", "Im multiplier"],
-                [[f"{g.real:+.12f}", f"{g.imag:+.12f}", f"{q.real:+.10f}", f"{q.imag:+.10f}"]
-                 for g, q in zip(self.gamma, self.multipliers)])
+                [list(cells) for cells in self._cells()])
 
     def to_xarray(self) -> xr.Dataset:
         """Over ``exponent`` (0 = largest Re gamma): gamma_real, gamma_imag, multiplier_real,
@@ -264,14 +267,17 @@ class TonguesResult(Result):
         """The parameters and kappa range, then each finger tip with its errors."""
         head = (f"{self.model} Ince-Strutt diagram: {format_params(self.params)}, kappa in "
                 f"[{self.kappa.min():g}, {self.kappa.max():g}] ({self.kappa.size} points)")
-        return "\n".join([head, *(f"  {t.kind:<12} finger tip: kappa = {t.kappa:.12g} "
-                                  f"(+-{t.kappa_error:.0e})  tau = {t.tau:.12g} "
-                                  f"(+-{t.tau_error:.0e})" for t in self.tips)])
+        return "\n".join([head, *(f"  {kind:<12} finger tip: kappa = {kappa} (+-{dk})  "
+                                  f"tau = {tau} (+-{dt})"
+                                  for kind, kappa, dk, tau, dt in self._tip_cells())])
+
+    def _tip_cells(self) -> list[tuple[str, str, str, str, str]]:
+        """Kind, kappa, its error, tau and its error of each tip, as the summary prints them."""
+        return [(t.kind, f"{t.kappa:.12g}", f"{t.kappa_error:.0e}", f"{t.tau:.12g}",
+                 f"{t.tau_error:.0e}") for t in self.tips]
 
     def _html_table(self) -> tuple[list[str], list[list[Any]]]:
-        return (["finger tip", "kappa", "+-", "tau", "+-"],
-                [[t.kind, f"{t.kappa:.12g}", f"{t.kappa_error:.0e}", f"{t.tau:.12g}",
-                  f"{t.tau_error:.0e}"] for t in self.tips])
+        return ["finger tip", "kappa", "+-", "tau", "+-"], [list(c) for c in self._tip_cells()]
 
     def to_xarray(self) -> xr.Dataset:
         """Over (kappa, kind) the variables of :func:`marginal_variables` (tau_min NaN and
@@ -344,10 +350,9 @@ class StabilityResult(Result):
         """One line per degree m: stable or unstable (which kind), the marginal tau below tau."""
         lines = [f"{self.model} at tau = {self.tau:g}: {format_params(self.params)}"]
         for mode in self.modes:
-            state = f"UNSTABLE ({mode['kind']})" if mode["unstable"] else "stable"
-            below = "; ".join(f"{k[4:]} tau below: {', '.join(f'{t:.6g}' for t in v) or 'none'}"
+            below = "; ".join(f"{k[4:]} tau below: {_taus(v)}"
                               for k, v in mode.items() if k.startswith("tau_"))
-            lines.append(f"  m = {mode['m']:<3} {state:<24} {below}")
+            lines.append(f"  m = {mode['m']:<3} {_state(mode):<24} {below}")
         return "\n".join(lines)
 
     def kinds(self) -> list[str]:
@@ -357,9 +362,8 @@ class StabilityResult(Result):
     def _html_table(self) -> tuple[list[str], list[list[Any]]]:
         kinds = self.kinds()
         return (["m", "state", *(f"{kind} tau below" for kind in kinds)],
-                [[mode["m"], f"UNSTABLE ({mode['kind']})" if mode["unstable"] else "stable",
-                  *(", ".join(f"{t:.6g}" for t in mode[f"tau_{kind}"]) or "none"
-                    for kind in kinds)] for mode in self.modes])
+                [[mode["m"], _state(mode), *(_taus(mode[f"tau_{kind}"]) for kind in kinds)]
+                 for mode in self.modes])
 
     def to_xarray(self) -> xr.Dataset:
         """Over degree ``m``: unstable, unstable_kind ('' where stable); over (m, kind): tau_min
@@ -391,3 +395,13 @@ class StabilityResult(Result):
         ds = self.to_xarray()
         return table(ds, ("m",)).join(ds["tau_min"].drop_vars("tau").to_pandas()
                                       .add_prefix("tau_min_"))
+
+
+def _state(mode: dict[str, Any]) -> str:
+    """'stable' or 'UNSTABLE (kind)' of one degree of a :class:`StabilityResult`."""
+    return f"UNSTABLE ({mode['kind']})" if mode["unstable"] else "stable"
+
+
+def _taus(taus: list[float]) -> str:
+    """Marginal tau as a list '0.355, 1.2', or 'none'."""
+    return ", ".join(f"{t:.6g}" for t in taus) or "none"

@@ -91,14 +91,18 @@ class Trajectory(Result):
         p = self.params
         head = (f"{self.model}: kappa = {p['kappa']}  nu = {p['nu']:g}  tau = {p['tau']:g}   "
                 f"t_end = {p['t_end']:.6g}  {p['scheme']}  dt = {p['dt']:.4g}")
-        return "\n".join([head, *(f"  (m, k) = ({f.m}, {f.k}):  growth rate {f.growth_rate:+.10f}"
-                                  f"   frequency {f.frequency:.10f}   error <= "
-                                  f"{f.error_estimate:.1e}" for f in self.fits)])
+        return "\n".join([head, *(f"  (m, k) = ({m}, {k}):  growth rate {rate}   frequency "
+                                  f"{frequency}   error <= {error}"
+                                  for m, k, rate, frequency, error in self._fit_cells())])
+
+    def _fit_cells(self) -> list[tuple[int, int, str, str, str]]:
+        """m, k, growth rate, frequency and error of each fit, as the summary prints them."""
+        return [(f.m, f.k, f"{f.growth_rate:+.10f}", f"{f.frequency:.10f}",
+                 f"{f.error_estimate:.1e}") for f in self.fits]
 
     def _html_table(self) -> tuple[list[str], list[list[Any]]]:
         return (["m", "k", "growth rate", "frequency", "error <="],
-                [[f.m, f.k, f"{f.growth_rate:+.10f}", f"{f.frequency:.10f}",
-                  f"{f.error_estimate:.1e}"] for f in self.fits])
+                [list(cells) for cells in self._fit_cells()])
 
     def to_xarray(self) -> xr.Dataset:
         """Over (t, mode): radial and tangential, with coordinates m and k along ``mode``;
