@@ -20,3 +20,18 @@ def mathieu_monodromy(kappa: float, nu: float, tau: float, periods: int = 1) -> 
 @pytest.fixture
 def monodromy():
     return mathieu_monodromy
+
+
+@pytest.fixture(scope="session")
+def built():
+    """``built(name)``: the result of ``result_cases.CASES[name]``, built once per session."""
+    from result_cases import CASES  # on first use: spectralshell is not imported by conftest
+
+    cache = {}
+
+    def get(name):
+        if name not in cache:
+            cache[name] = CASES[name][0]()
+        return cache[name]
+
+    return get

@@ -110,6 +110,13 @@ LONG_NAMES = {"kappa": "stiffness kappa", "nu": "viscosity nu", "m": "degree m",
               "frequency": "forcing frequency f", "length": "membrane length",
               "lambda_c": "stiffness decay rate", "alpha": "stiffness grading alpha",
               "n_spatial": "spatial modes M", "spatial_mode": "spatial mode"}
+#: Long names of the Floquet variables of a sweep store and of a result's Dataset
+#: (:meth:`spectralshell.results.base.Result.to_xarray`).
+VARIABLE_LONG_NAMES = {"tau_min": "smallest marginal forcing amplitude tau <= tau_max",
+                       "has_tau": "a marginal tau <= tau_max exists",
+                       "error_estimate": "Floquet error estimate of tau_min",
+                       "n_temporal": "final temporal truncation N",
+                       "n_spatial": "number of spatial modes M of the values"}
 #: Table 5.1 defaults of a physical cochlea sweep, and the dimensionless parameter each sets.
 _COCHLEA_DEFAULTS = {"rho": None, "length": None, "mu": "nu", "sigma": "kappa", "lambda_c": "alpha"}
 

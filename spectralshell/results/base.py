@@ -5,12 +5,16 @@ from __future__ import annotations
 import dataclasses
 import json
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._validate import require_output_file
 from .._version import __version__
 from ..errors import ParameterError
+from .notebook import html_table, result_html
 from .records import RECORDS, decode, fields_of
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 #: Lines of a result's repr at most (the first lines of its summary).
 REPR_LINES = 20
@@ -37,11 +41,12 @@ def _subclass_named(cls: type, name: str) -> type | None:
 class Result:
     """Base of the result objects (frozen dataclasses, declared with ``repr=False``).
 
-    A subclass defines :meth:`to_dict` (its JSON form, printed by ``--json``) and
-    :meth:`summary` (the text the command line prints), and lists in ``record_types`` the
-    dataclasses its fields hold besides the record types of :mod:`spectralshell.results.records`.
-    :meth:`save` and :meth:`load` store every field in a JSON file, with the type name and the
-    package version.
+    A subclass defines :meth:`to_dict` (its JSON form, printed by ``--json``), :meth:`summary`
+    (the text the command line prints), :meth:`to_xarray` (a labelled Dataset) and
+    ``_html_table`` (the table of its notebook HTML, :meth:`_repr_html_`), and lists in
+    ``record_types`` the dataclasses its fields hold besides the record types of
+    :mod:`spectralshell.results.records`. :meth:`save` and :meth:`load` store every field in a
+    JSON file, with the type name and the package version.
     """
 
     record_types: tuple[type, ...] = ()
@@ -53,6 +58,24 @@ class Result:
     def summary(self) -> str:
         """The human text of the result (what the command line prints)."""
         raise NotImplementedError
+
+    def to_xarray(self) -> xr.Dataset:
+        """The result as an ``xarray.Dataset``: coordinates and variables with ``units`` and
+        ``long_name``, params, provenance and warnings as JSON strings in the attrs
+        (:mod:`spectralshell.results.notebook`); it round-trips through NetCDF."""
+        raise NotImplementedError
+
+    def _html_table(self) -> tuple[list[str], list[list[Any]]]:
+        """Headers and rows of the HTML table (:meth:`_repr_html_`): the key numbers."""
+        raise NotImplementedError
+
+    def _repr_html_(self) -> str:
+        """HTML for a notebook: the type, the first line of :meth:`summary`, a table of the key
+        numbers with their errors (at most :data:`~.notebook.HTML_ROWS` rows) and the
+        warnings."""
+        caption = self.summary().splitlines()[0]
+        return result_html(type(self).__name__, caption, html_table(*self._html_table()),
+                           getattr(self, "warnings", ()))
 
     def __repr__(self) -> str:
         lines = self.summary().splitlines()

@@ -8,14 +8,23 @@ import math
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._version import stamp
 from ..params.stiffness import amplitude_warnings
 from .base import Result, format_params
+from .notebook import (Variable, coordinate, dataset, named, or_nan, padded, result_attrs, table,
+                       variable)
 from .records import Exponents, MarginalTau, Tip
+
+if TYPE_CHECKING:
+    import pandas as pd
+    import xarray as xr
+
+#: The forcing amplitude tau as a scalar coordinate of a Dataset.
+TAU_LONG_NAME = "forcing amplitude tau"
 
 
 def provenance(options: dict[str, Any]) -> dict[str, Any]:
@@ -59,6 +68,32 @@ def resolution_warnings(res: Mapping[str, MarginalTau], tol: float) -> list[str]
             if m.tau_min is not None and m.error_estimate is not None and m.error_estimate > tol]
 
 
+def marginal_variables(cells: np.ndarray, dims: tuple[str, ...]) -> dict[str, Variable]:
+    """Dataset variables of the MarginalTau records ``cells`` (an object array over ``dims``):
+    tau_min and error_estimate (NaN where there is no tau), has_tau, n_temporal, complete_to,
+    method, and every marginal tau over a further dimension 'root' (NaN-padded)."""
+    flat = cells.ravel()
+
+    def of(get) -> np.ndarray:
+        return np.array([get(m) for m in flat]).reshape(cells.shape)
+
+    return {"tau_min": named(dims, of(lambda m: or_nan(m.tau_min)), "tau_min"),
+            "has_tau": named(dims, of(lambda m: m.tau_min is not None), "has_tau", ""),
+            "error_estimate": named(dims, of(lambda m: or_nan(m.error_estimate)),
+                                    "error_estimate"),
+            "n_temporal": named(dims, of(lambda m: m.n_temporal), "n_temporal", ""),
+            "complete_to": variable(dims, of(lambda m: m.complete_to), "tau holds every real "
+                                    "marginal tau up to this value (inf: all)", "1"),
+            "method": variable(dims, of(lambda m: m.method), "eigensolver at the final N"),
+            "tau": variable((*dims, "root"), padded((m.tau for m in flat), cells.shape),
+                            "marginal tau, ascending (NaN after the last)", "1")}
+
+
+def _or_none(value: float | None, spec: str, missing: str = "none") -> str:
+    """``value`` formatted with ``spec``, ``missing`` for None."""
+    return missing if value is None else format(value, spec)
+
+
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class FloquetResult(Result):
     """Marginal amplitudes of each requested Floquet kind (None for a kind not asked)."""
@@ -98,6 +133,29 @@ class FloquetResult(Result):
                          f"{m.error_estimate:.1e}   N = {m.n_temporal}   all tau{complete}: {taus}")
         return "\n".join(lines)
 
+    def marginals(self) -> list[MarginalTau]:
+        """The MarginalTau of each kind that was asked (harmonic first)."""
+        return [m for m in (self.harmonic, self.subharmonic) if m is not None]
+
+    def _html_table(self) -> tuple[list[str], list[list[Any]]]:
+        return (["kind", "tau_min", "error <=", "N", "complete to"],
+                [[m.kind, _or_none(m.tau_min, ".12g"), _or_none(m.error_estimate, ".1e", ""),
+                  m.n_temporal, f"{m.complete_to:.4g}"] for m in self.marginals()])
+
+    def to_xarray(self) -> xr.Dataset:
+        """Variables over ``kind`` (:func:`marginal_variables`): tau_min, has_tau,
+        error_estimate, n_temporal, complete_to, method, and tau(kind, root)."""
+        marginals = self.marginals()
+        cells = np.empty(len(marginals), dtype=object)
+        cells[:] = marginals
+        return dataset(marginal_variables(cells, ("kind",)),
+                       {"kind": coordinate(self.model, "kind", [m.kind for m in marginals])},
+                       result_attrs(self))
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per kind: the variables of :meth:`to_xarray` over ``kind``."""
+        return table(self.to_xarray(), ("kind",))
+
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class ExponentsResult(Result):
@@ -133,9 +191,38 @@ class ExponentsResult(Result):
         """The parameters and N, then each exponent gamma with its multiplier."""
         head = (f"{self.model}: {format_params(self.params)}  tau = {self.tau:g}   "
                 f"(N = {self.n_temporal}, error <= {self.error_estimate:.1e})")
-        return "\n".join([head, *(f"  gamma = {g.real:+.12f} {g.imag:+.12f}i   multiplier = "
-                                  f"{q.real:+.10f} {q.imag:+.10f}i"
-                                  for g, q in zip(self.gamma, self.multipliers))])
+        return "\n".join([head, *(f"  gamma = {g_re} {g_im}i   multiplier = {q_re} {q_im}i"
+                                  for g_re, g_im, q_re, q_im in self._cells())])
+
+    def _cells(self) -> list[tuple[str, str, str, str]]:
+        """Re and Im of each gamma and of its multiplier, as the summary prints them."""
+        return [(f"{g.real:+.12f}", f"{g.imag:+.12f}", f"{q.real:+.10f}", f"{q.imag:+.10f}")
+                for g, q in zip(self.gamma, self.multipliers)]
+
+    def _html_table(self) -> tuple[list[str], list[list[Any]]]:
+        return (["Re gamma", "Im gamma", "Re multiplier", "Im multiplier"],
+                [list(cells) for cells in self._cells()])
+
+    def to_xarray(self) -> xr.Dataset:
+        """Over ``exponent`` (0 = largest Re gamma): gamma_real, gamma_imag, multiplier_real,
+        multiplier_imag; scalars n_temporal and error_estimate; tau a scalar coordinate."""
+        dims = ("exponent",)
+        q = self.multipliers
+        data = {"gamma_real": variable(dims, self.gamma.real, "growth rate Re gamma", "1"),
+                "gamma_imag": variable(dims, self.gamma.imag, "Im gamma, in (-1/2, 1/2]", "1"),
+                "multiplier_real": variable(dims, q.real, "Re exp(2 pi gamma)", "1"),
+                "multiplier_imag": variable(dims, q.imag, "Im exp(2 pi gamma)", "1"),
+                "n_temporal": named((), self.n_temporal, "n_temporal", ""),
+                "error_estimate": variable((), self.error_estimate, "max |change| of the "
+                                           "exponents between N and the previous N", "1")}
+        coords = {"exponent": variable(dims, np.arange(self.gamma.size),
+                                       "exponent, by decreasing Re gamma"),
+                  "tau": variable((), self.tau, TAU_LONG_NAME, "1")}
+        return dataset(data, coords, result_attrs(self))
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per exponent: the variables of :meth:`to_xarray` over ``exponent``."""
+        return table(self.to_xarray(), ("exponent",))
 
     def headline(self) -> str:
         """One line: the largest growth rate Re gamma, stable or not (a scene's summary)."""
@@ -180,9 +267,41 @@ class TonguesResult(Result):
         """The parameters and kappa range, then each finger tip with its errors."""
         head = (f"{self.model} Ince-Strutt diagram: {format_params(self.params)}, kappa in "
                 f"[{self.kappa.min():g}, {self.kappa.max():g}] ({self.kappa.size} points)")
-        return "\n".join([head, *(f"  {t.kind:<12} finger tip: kappa = {t.kappa:.12g} "
-                                  f"(+-{t.kappa_error:.0e})  tau = {t.tau:.12g} "
-                                  f"(+-{t.tau_error:.0e})" for t in self.tips)])
+        return "\n".join([head, *(f"  {kind:<12} finger tip: kappa = {kappa} (+-{dk})  "
+                                  f"tau = {tau} (+-{dt})"
+                                  for kind, kappa, dk, tau, dt in self._tip_cells())])
+
+    def _tip_cells(self) -> list[tuple[str, str, str, str, str]]:
+        """Kind, kappa, its error, tau and its error of each tip, as the summary prints them."""
+        return [(t.kind, f"{t.kappa:.12g}", f"{t.kappa_error:.0e}", f"{t.tau:.12g}",
+                 f"{t.tau_error:.0e}") for t in self.tips]
+
+    def _html_table(self) -> tuple[list[str], list[list[Any]]]:
+        return ["finger tip", "kappa", "+-", "tau", "+-"], [list(c) for c in self._tip_cells()]
+
+    def to_xarray(self) -> xr.Dataset:
+        """Over (kappa, kind) the variables of :func:`marginal_variables` (tau_min NaN and
+        has_tau false where there is none); over ``tip`` the finger tips tip_kind, tip_kappa,
+        tip_kappa_error, tip_tau, tip_tau_error (left out when there are none)."""
+        cells = np.empty((self.kappa.size, len(self.kinds)), dtype=object)
+        cells[:] = [[r[kind] for kind in self.kinds] for r in self.rows]
+        data = marginal_variables(cells, ("kappa", "kind"))
+        tips = {"kind": "Floquet kind of the finger", "kappa": "stiffness kappa at the tip",
+                "kappa_error": "width of the final bracket of the tip's kappa",
+                "tau": "marginal tau at the tip", "tau_error": "Floquet error estimate of tau"}
+        for name, long_name in tips.items():
+            values = np.array([getattr(t, name) for t in self.tips],
+                              dtype=str if name == "kind" else float)
+            data[f"tip_{name}"] = variable(("tip",), values, long_name,
+                                           "" if name == "kind" else "1")
+        coords = {"kappa": coordinate(self.model, "kappa", self.kappa),
+                  "kind": coordinate(self.model, "kind", list(self.kinds))}
+        return dataset(data, coords, result_attrs(self))
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per (kappa, kind): tau_min (NaN where none), has_tau, error_estimate,
+        n_temporal, complete_to, method."""
+        return table(self.to_xarray(), ("kappa", "kind"))
 
     def write_csv(self, path: str | Path) -> None:
         """Rows kind,kappa,tau (one per marginal point)."""
@@ -231,8 +350,58 @@ class StabilityResult(Result):
         """One line per degree m: stable or unstable (which kind), the marginal tau below tau."""
         lines = [f"{self.model} at tau = {self.tau:g}: {format_params(self.params)}"]
         for mode in self.modes:
-            state = f"UNSTABLE ({mode['kind']})" if mode["unstable"] else "stable"
-            below = "; ".join(f"{k[4:]} tau below: {', '.join(f'{t:.6g}' for t in v) or 'none'}"
+            below = "; ".join(f"{k[4:]} tau below: {_taus(v)}"
                               for k, v in mode.items() if k.startswith("tau_"))
-            lines.append(f"  m = {mode['m']:<3} {state:<24} {below}")
+            lines.append(f"  m = {mode['m']:<3} {_state(mode):<24} {below}")
         return "\n".join(lines)
+
+    def kinds(self) -> list[str]:
+        """The Floquet kinds whose marginal tau the modes list."""
+        return [k[4:] for k in (self.modes[0] if self.modes else {}) if k.startswith("tau_")]
+
+    def _html_table(self) -> tuple[list[str], list[list[Any]]]:
+        kinds = self.kinds()
+        return (["m", "state", *(f"{kind} tau below" for kind in kinds)],
+                [[mode["m"], _state(mode), *(_taus(mode[f"tau_{kind}"]) for kind in kinds)]
+                 for mode in self.modes])
+
+    def to_xarray(self) -> xr.Dataset:
+        """Over degree ``m``: unstable, unstable_kind ('' where stable); over (m, kind): tau_min
+        (the smallest marginal tau below tau, NaN where none), has_tau, and every marginal
+        tau below tau over 'root' (NaN-padded); tau a scalar coordinate."""
+        kinds = self.kinds()
+        below = [[mode[f"tau_{kind}"] for kind in kinds] for mode in self.modes]
+        shape = (len(self.modes), len(kinds))
+        lowest = np.array([[min(v, default=np.nan) for v in row] for row in below],
+                          dtype=float).reshape(shape)
+        dims = ("m", "kind")
+        data = {"unstable": variable(("m",), [mode["unstable"] for mode in self.modes],
+                                     "unstable at tau"),
+                "unstable_kind": variable(("m",), [mode["kind"] or "" for mode in self.modes],
+                                          "kind with the lower threshold ('' if stable)"),
+                "tau_min": variable(dims, lowest, "smallest marginal tau below tau", "1"),
+                "has_tau": variable(dims, np.isfinite(lowest), "a marginal tau below tau exists"),
+                "tau_below": variable((*dims, "root"),
+                                      padded((v for row in below for v in row), shape),
+                                      "marginal tau below tau, ascending (NaN after the last)",
+                                      "1")}
+        coords = {"m": coordinate(self.model, "m", [mode["m"] for mode in self.modes]),
+                  "kind": coordinate(self.model, "kind", kinds),
+                  "tau": variable((), self.tau, TAU_LONG_NAME, "1")}
+        return dataset(data, coords, result_attrs(self))
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per degree m: unstable, unstable_kind and tau_min_<kind> of each kind."""
+        ds = self.to_xarray()
+        return table(ds, ("m",)).join(ds["tau_min"].drop_vars("tau").to_pandas()
+                                      .add_prefix("tau_min_"))
+
+
+def _state(mode: dict[str, Any]) -> str:
+    """'stable' or 'UNSTABLE (kind)' of one degree of a :class:`StabilityResult`."""
+    return f"UNSTABLE ({mode['kind']})" if mode["unstable"] else "stable"
+
+
+def _taus(taus: list[float]) -> str:
+    """Marginal tau as a list '0.355, 1.2', or 'none'."""
+    return ", ".join(f"{t:.6g}" for t in taus) or "none"

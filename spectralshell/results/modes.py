@@ -4,13 +4,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .base import Result, format_params
 from .floquet import provenance
+from .notebook import dataset, json_attr, result_attrs, table, variable
 from .records import ModeRoots
+
+if TYPE_CHECKING:
+    import pandas as pd
+    import xarray as xr
 
 ON_CUT = ("mode(s) {} lie on the branch cut to within their error (|Re beta| <= error): the sheet is "
           "not resolved at this precision; to working accuracy they decay as real exponentials "
@@ -115,9 +120,46 @@ class NaturalModesResult(Result):
         unit = self.params.get("units", "dimensionless, time unit 1/omega")
         lines = [f"{self.model} natural modes: {format_params(self.params)}   "
                  f"(X ~ exp(gamma t), {unit})"]
-        digits = self.gamma_digits or [None] * len(self.gamma)
-        for g, e, d in zip(self.gamma, self.error_estimate, digits):
-            value = (f"{d[0]} {'' if d[1].startswith('-') else '+'}{d[1]}i" if d
-                     else f"{g.real:+.12g} {g.imag:+.12g}i")
-            lines.append(f"  gamma = {value}   error <= {e:.1e}   ({mode_kind(g, e)})")
+        for value, e, kind in self._rows():
+            lines.append(f"  gamma = {value}   error <= {e:.1e}   ({kind})")
         return "\n".join(lines)
+
+    def _rows(self) -> list[tuple[str, float, str]]:
+        """Per mode: gamma as text (its decimal digits with a precision), error, mode_kind."""
+        digits = self.gamma_digits or [None] * len(self.gamma)
+        return [(f"{d[0]} {'' if d[1].startswith('-') else '+'}{d[1]}i" if d
+                 else f"{g.real:+.12g} {g.imag:+.12g}i", e, mode_kind(g, e))
+                for g, e, d in zip(self.gamma, self.error_estimate, digits)]
+
+    def _html_table(self) -> tuple[list[str], list[list[Any]]]:
+        return (["gamma", "error <=", "kind"],
+                [[value, f"{e:.1e}", kind] for value, e, kind in self._rows()])
+
+    def to_xarray(self) -> xr.Dataset:
+        """Over ``mode`` (0 = least damped): decay_rate (Re gamma), frequency (Im gamma),
+        error_estimate, principal_sheet, on_cut, mode_kind and, with a precision,
+        gamma_real_digits and gamma_imag_digits; units those of the params ('1' when
+        dimensionless); precision a JSON attr (null: double)."""
+        dims = ("mode",)
+        unit = self.params.get("units", "1")
+        data = {"decay_rate": variable(dims, self.decay_rate, "decay rate Re gamma", unit),
+                "frequency": variable(dims, self.frequency, "angular frequency Im gamma", unit),
+                "error_estimate": variable(dims, self.error_estimate,
+                                           "absolute error bound of gamma", unit),
+                "principal_sheet": variable(dims, self.principal_sheet,
+                                            "a resolved, genuine decaying mode"),
+                "on_cut": variable(dims, self.on_cut, "on the branch cut within its error"),
+                "mode_kind": variable(dims, [kind for *_, kind in self._rows()],
+                                      "overdamped or oscillatory")}
+        if self.gamma_digits is not None:
+            for index, part in enumerate(("real", "imag")):
+                data[f"gamma_{part}_digits"] = variable(
+                    dims, [d[index] for d in self.gamma_digits], f"{part} part of gamma, digits")
+        coords = {"mode": variable(dims, np.arange(self.gamma.size),
+                                   "mode, least damped first")}
+        attrs = {**result_attrs(self), "precision": json_attr(self.precision)}
+        return dataset(data, coords, attrs)
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per mode: the variables of :meth:`to_xarray`."""
+        return table(self.to_xarray(), ("mode",))

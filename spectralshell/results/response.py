@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .base import Result, format_params
+from .notebook import dataset, json_attr, or_nan, result_attrs, variable
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
@@ -78,3 +82,37 @@ class ResponseResult(Result):
         tau = "" if self.tau is None else f"  tau = {self.tau:.10g}"
         return (f"{self.model} {self.kind} response: {format_params(self.params)}{tau}\n"
                 f"  envelope peak x = {self.peak_x:.6g} +- {self.peak_error:.1e} (of pi){unit}")
+
+    def _html_table(self) -> tuple[list[str], list[list[Any]]]:
+        rows = [["envelope peak x (of pi)", f"{self.peak_x:.6g}", f"{self.peak_error:.1e}"]]
+        if self.wkb_peak_x is not None:
+            rows.append(["WKB peak x (of pi)", f"{self.wkb_peak_x:.6g}", ""])
+        if self.length is not None:
+            rows.append(["envelope peak (cm)", f"{self.to_cm(self.peak_x):.4g}",
+                         f"{self.to_cm(self.peak_error):.1e}"])
+        if self.tau is not None:
+            rows.append(["tau", f"{self.tau:.10g}", ""])
+        rows.append(["response frequency (of the forcing)", f"{self.response_frequency:g}", ""])
+        return ["", "value", "+-"], rows
+
+    def to_xarray(self) -> xr.Dataset:
+        """Over ``x`` (and x_cm, with a physical length): envelope and profile; scalars peak_x,
+        peak_error, wkb_peak_x, tau, length (NaN where there is none) and response_frequency;
+        kind and physical (JSON) in the attrs."""
+        dims = ("x",)
+        data = {"envelope": variable(dims, self.envelope, "max over time of |h(x, t)|, "
+                                     "normalised to maximum 1", "1"),
+                "profile": variable(dims, self.profile, "h(x, t_peak), same normalisation", "1"),
+                "peak_x": variable((), self.peak_x, "envelope peak x", "1"),
+                "peak_error": variable((), self.peak_error, "error estimate of peak_x", "1"),
+                "wkb_peak_x": variable((), or_nan(self.wkb_peak_x), "leading-order WKB peak x",
+                                       "1"),
+                "tau": variable((), or_nan(self.tau), "marginal forcing amplitude tau", "1"),
+                "length": variable((), or_nan(self.length), "membrane length L", "cm"),
+                "response_frequency": variable((), self.response_frequency, "angular frequency "
+                                               "of the response / forcing frequency", "1")}
+        coords = {"x": variable(dims, self.x, "position along the membrane x, 0 to pi", "1")}
+        if self.length is not None:
+            coords["x_cm"] = variable(dims, self.to_cm(self.x), "position x L / pi", "cm")
+        attrs = {**result_attrs(self), "kind": self.kind, "physical": json_attr(self.physical)}
+        return dataset(data, coords, attrs)

@@ -3,9 +3,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .floquet import FloquetResult
+from .notebook import json_attr, named, or_nan, variable
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
@@ -36,3 +40,16 @@ class SpatialFloquetResult(FloquetResult):
         if self.physical is not None:
             out["physical"] = dict(self.physical)
         return out
+
+    def to_xarray(self) -> xr.Dataset:
+        """The Dataset of :meth:`FloquetResult.to_xarray`, with n_spatial (a scalar),
+        spatial_change over ``kind`` (NaN where there is none), and n_spatial_previous and
+        physical as JSON attrs (null: none)."""
+        ds = super().to_xarray()
+        change = [or_nan(self.spatial_change.get(str(k))) for k in ds["kind"].values]
+        ds["n_spatial"] = named((), self.n_spatial, "n_spatial", "")
+        ds["spatial_change"] = variable(("kind",), change, "|tau_min(n_spatial) - "
+                                        "tau_min(n_spatial_previous)|", "1")
+        ds.attrs.update(n_spatial_previous=json_attr(self.n_spatial_previous),
+                        physical=json_attr(self.physical))
+        return ds

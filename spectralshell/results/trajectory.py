@@ -5,12 +5,16 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .base import Result
+from .notebook import Variable, dataset, result_attrs, variable
 from .records import RateFit
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -87,9 +91,46 @@ class Trajectory(Result):
         p = self.params
         head = (f"{self.model}: kappa = {p['kappa']}  nu = {p['nu']:g}  tau = {p['tau']:g}   "
                 f"t_end = {p['t_end']:.6g}  {p['scheme']}  dt = {p['dt']:.4g}")
-        return "\n".join([head, *(f"  (m, k) = ({f.m}, {f.k}):  growth rate {f.growth_rate:+.10f}"
-                                  f"   frequency {f.frequency:.10f}   error <= "
-                                  f"{f.error_estimate:.1e}" for f in self.fits)])
+        return "\n".join([head, *(f"  (m, k) = ({m}, {k}):  growth rate {rate}   frequency "
+                                  f"{frequency}   error <= {error}"
+                                  for m, k, rate, frequency, error in self._fit_cells())])
+
+    def _fit_cells(self) -> list[tuple[int, int, str, str, str]]:
+        """m, k, growth rate, frequency and error of each fit, as the summary prints them."""
+        return [(f.m, f.k, f"{f.growth_rate:+.10f}", f"{f.frequency:.10f}",
+                 f"{f.error_estimate:.1e}") for f in self.fits]
+
+    def _html_table(self) -> tuple[list[str], list[list[Any]]]:
+        return (["m", "k", "growth rate", "frequency", "error <="],
+                [list(cells) for cells in self._fit_cells()])
+
+    def to_xarray(self) -> xr.Dataset:
+        """Over (t, mode): radial and tangential, with coordinates m and k along ``mode``;
+        over (t, toroidal_mode): toroidal (left out when empty); over ``fit``: fit_m, fit_k,
+        growth_rate, frequency, error_estimate, multiplier_real and multiplier_imag."""
+        fit = ("fit",)
+        q = np.array([f.multiplier for f in self.fits], dtype=complex)
+
+        def of(name: str, dtype: type = float) -> np.ndarray:
+            return np.array([getattr(f, name) for f in self.fits], dtype=dtype)
+
+        data = {"radial": variable(("t", "mode"), self.radial, "radial coefficient X^Y", "1"),
+                "tangential": variable(("t", "mode"), self.tangential,
+                                       "spheroidal coefficient X^Psi", "1"),
+                "toroidal": variable(("t", "toroidal_mode"), self.toroidal,
+                                     "toroidal coefficient X^Phi", "1"),
+                "fit_m": variable(fit, of("m", int), "degree m of the fitted mode"),
+                "fit_k": variable(fit, of("k", int), "order k of the fitted mode"),
+                "growth_rate": variable(fit, of("growth_rate"), "fitted growth rate", "1"),
+                "frequency": variable(fit, of("frequency"), "fitted angular frequency", "1"),
+                "error_estimate": variable(fit, of("error_estimate"),
+                                           "error bound of growth rate and frequency", "1"),
+                "multiplier_real": variable(fit, q.real, "Re multiplier", "1"),
+                "multiplier_imag": variable(fit, q.imag, "Im multiplier", "1")}
+        coords = {"t": variable(("t",), self.times, "time t (forcing period 2 pi)", "1"),
+                  **_mode_coords("mode", self.modes, ""),
+                  **_mode_coords("toroidal_mode", self.toroidal_modes, "toroidal_")}
+        return dataset(data, coords, result_attrs(self))
 
     def write_npz(self, path: str | Path) -> None:
         """Arrays times, m, k, radial, tangential (and toroidal_*), fits, plus JSON metadata."""
@@ -108,3 +149,10 @@ class Trajectory(Result):
                                                    "warnings": list(self.warnings)}))}
         with open(path, "wb") as handle:
             np.savez_compressed(handle, **arrays)
+
+
+def _mode_coords(dim: str, modes: tuple[tuple[int, int], ...], prefix: str) -> dict[str, Variable]:
+    """Coordinates m and k (named with ``prefix``) of the modes (m, k) along ``dim``."""
+    return {f"{prefix}{name}": variable((dim,), np.array([mk[i] for mk in modes], dtype=int),
+                                        f"{'degree' if name == 'm' else 'order'} {name}")
+            for i, name in enumerate(("m", "k"))}

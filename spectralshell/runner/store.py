@@ -45,7 +45,7 @@ import xarray as xr
 from .._validate import require_writable_directory
 from .._version import stamp
 from ..errors import ParameterError, StoreDamaged
-from ..params.sweep_grid import LONG_NAMES, SweepSpec, sweep_spec
+from ..params.sweep_grid import LONG_NAMES, VARIABLE_LONG_NAMES, SweepSpec, sweep_spec
 from .integrity import (DECODE_ERRORS, census, dataset_digest, read_records, read_variable,
                         record_path, write_record)
 from .layout import Chunk, chunk_key, chunks, region, store_chunks
@@ -55,13 +55,13 @@ from .solve import SPATIAL_VARIABLES, VARIABLES, variables
 KNOWN_VARIABLES = {**VARIABLES, **SPATIAL_VARIABLES, "computed": np.bool_}
 SUFFIXES = (".zarr", ".nc")
 _VAR_ATTRS = {
-    "tau_min": {"long_name": "smallest marginal forcing amplitude tau <= tau_max", "units": "1",
+    "tau_min": {"long_name": VARIABLE_LONG_NAMES["tau_min"], "units": "1",
                 "note": "equals tau_max where has_tau is false"},
-    "has_tau": {"long_name": "a marginal tau <= tau_max exists"},
-    "error_estimate": {"long_name": "Floquet error estimate of tau_min", "units": "1",
+    "has_tau": {"long_name": VARIABLE_LONG_NAMES["has_tau"]},
+    "error_estimate": {"long_name": VARIABLE_LONG_NAMES["error_estimate"], "units": "1",
                        "note": "0 where has_tau is false"},
-    "n_temporal": {"long_name": "final temporal truncation N"},
-    "n_spatial": {"long_name": "number of spatial modes M of the values"},
+    "n_temporal": {"long_name": VARIABLE_LONG_NAMES["n_temporal"]},
+    "n_spatial": {"long_name": VARIABLE_LONG_NAMES["n_spatial"]},
     "spatial_converged": {"long_name": "tau_min converged to tol_spatial in M (false: M = 512 "
                                        "reached first; values at M = 512)"},
     "computed": {"long_name": "point solved (false only in an interrupted store)"},
