@@ -284,6 +284,22 @@ def _children(pid: int) -> list[int]:
     return found
 
 
+def _kill_and_expect_gone(sweep: subprocess.Popen, started, what: str, seconds: float) -> None:
+    """SIGKILL the sweep once ``started()`` has returned the processes it started, and wait for
+    them to end (any still alive when the test ends are killed)."""
+    below: list[int] = []
+    try:
+        below = started()
+        sweep.send_signal(signal.SIGKILL)
+        sweep.wait()
+        wait_for(lambda: not any(_alive(p) for p in below), what, seconds=seconds)
+    finally:
+        sweep.kill()
+        for p in below:
+            if _alive(p):
+                os.kill(p, signal.SIGKILL)
+
+
 def _descendants(pid: int) -> list[int]:
     """Every process below ``pid`` (children, their children, ...)."""
     found = _children(pid)
@@ -311,21 +327,13 @@ def test_local_cluster_processes_end_with_a_killed_sweep(tmp_path):
     long = {**SCENE, "grid": {"nu": [0.1], "kappa": {"start": 0.05, "stop": 3.0, "num": 100000}},
             "sweep": {"chunk": 256}}
     sweep = _start(tmp_path / "map.zarr", executor="dask", workers=2, scene=long)
-    below = []
-    try:
+    def cluster() -> list[int]:
         wait_for(lambda: len(_spawned(sweep.pid)) >= 2, "two cluster workers", seconds=90.0)
         wait_for(lambda: (tmp_path / "map.zarr" / ".chunks").is_dir(), "a first chunk",
                  seconds=90.0)
-        below = _descendants(sweep.pid)
-        sweep.send_signal(signal.SIGKILL)
-        sweep.wait()
-        wait_for(lambda: not any(_alive(p) for p in below), "the orphaned cluster to end",
-                 seconds=30.0)
-    finally:
-        sweep.kill()
-        for p in below:
-            if _alive(p):
-                os.kill(p, signal.SIGKILL)
+        return _descendants(sweep.pid)
+
+    _kill_and_expect_gone(sweep, cluster, "the orphaned cluster to end", seconds=30.0)
 
 
 @pytest.mark.parametrize("start", ["fresh", "resume"])
@@ -362,16 +370,8 @@ def test_a_second_writer_gets_one_line_and_a_killed_writer_frees_the_store(
 @pytest.mark.parametrize("watchdog", [False, True], ids=["kernel", "watchdog"])
 def test_pool_workers_end_with_a_killed_sweep(watchdog, tmp_path):
     sweep = _start(tmp_path / "map.zarr", executor="processes", workers=2, watchdog=watchdog)
-    workers = []
-    try:
+    def pool() -> list[int]:
         wait_for(lambda: len(_children(sweep.pid)) == 2, "two pool workers")
-        workers = _children(sweep.pid)
-        sweep.send_signal(signal.SIGKILL)
-        sweep.wait()
-        wait_for(lambda: not any(_alive(w) for w in workers), "the orphaned workers to end",
-                 seconds=10.0)
-    finally:
-        sweep.kill()
-        for w in workers:
-            if _alive(w):
-                os.kill(w, signal.SIGKILL)
+        return _children(sweep.pid)
+
+    _kill_and_expect_gone(sweep, pool, "the orphaned workers to end", seconds=10.0)
