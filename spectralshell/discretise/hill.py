@@ -130,23 +130,13 @@ def _rotation_kron(G: np.ndarray) -> np.ndarray:
     return out
 
 
-def _two_sided_blocks(system: HillSystem, kind: str, k: np.ndarray) -> np.ndarray:
-    """D(s_k) for the two-sided indices ``k``, evaluated on k >= 0 only: the index reflection
-    (harmonic k -> -k, subharmonic k -> -k-1) maps s_k to conj(s_k), and D(conj s) = conj D(s)
-    (the model contract, :mod:`spectralshell.models.base`), so the blocks k < 0 are conjugates."""
-    half = len(k) // 2  # k[half:] = 0..N; the reflection of k[:half] lies in it
-    upper = np.asarray(system.unforced(frequencies(kind, k[half:])), dtype=complex)
-    return np.concatenate([upper[::-1][:half].conj(), upper])
-
-
 def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real") -> HillMatrices:
     """Assemble the truncated Hill pencil of ``system`` for one Floquet ``kind``.
 
     Notes
     -----
     Implements thesis (2.6) with the reality conditions (2.7)/(2.8) for a general block model; the
-    module docstring derives each block. Cost: N + 1 evaluations of D(s) (the two-sided
-    form reflects the rest, :func:`_two_sided_blocks`) and O(K s^2) memory.
+    module docstring derives each block. Cost: K evaluations of D(s) and O(K s^2) memory.
     """
     check_kind(kind)
     if form not in FORMS:
@@ -157,8 +147,9 @@ def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real")
     G = np.asarray(system.forcing, dtype=float)
     self_coupling = None
     if form == "two-sided":
-        diag = _two_sided_blocks(system, kind, two_sided_indices(kind, n_temporal))
-        lower = np.full((len(diag) - 1, b, b), 1j * G)
+        k = two_sided_indices(kind, n_temporal)
+        diag = np.asarray(system.unforced(frequencies(kind, k)), dtype=complex)
+        lower = np.full((len(k) - 1, b, b), 1j * G)
         upper = -lower
     else:
         n = real_indices(n_temporal)
