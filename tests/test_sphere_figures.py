@@ -11,7 +11,7 @@ import spectralshell as ss
 from spectralshell.api import tau_map
 from spectralshell.cli import main
 from spectralshell.models.sphere import lambda0_squared
-from spectralshell.params.physical import TABLE_6_1
+from spectralshell.params.physical import CARDIAC, TABLE_6_1, sphere_forced_params
 from spectralshell.plots import tau_map as tau_plot
 from spectralshell.results.maps import map_dict, minimum_map, write_npz
 
@@ -45,6 +45,27 @@ def test_map_agrees_with_independent_point_solves():
             assert bool(res.has_tau[i, j]) == bool(found)
             if found:
                 assert abs(float(res.tau_min[i, j]) - min(found)) < 2e-8
+
+
+def test_fig_6_13_map_agrees_cell_by_cell_with_independent_solves():
+    """Oracle: a coarse Fig 6.13 map (cgs, 6 x 6 over the thesis's sigma and bpm ranges,
+    m = 2..6) equals independent floquet solves (tau_max = 1/2, tol 1e-8) for every cell,
+    degree and kind: the same has_tau, tau_min within tol."""
+    physical = {k: CARDIAC[k] for k in ("rho", "mu", "radius")}
+    sigma = CARDIAC["sigma_range"]
+    ds = tau_map("sphere", x=("sigma", f"{sigma[0]}:{sigma[1]}:6"), y=("bpm", "50:650:6"),
+                 m="2:6", physical=physical, workers=1)
+    for s in ds.sigma.values:
+        for b in ds.bpm.values:
+            for m in range(2, 7):
+                params = sphere_forced_params({**physical, "sigma": s, "bpm": b})
+                res = ss.floquet("sphere", m=m, tau_max=0.5, tol=1e-8, **params)
+                for kind, found in (("harmonic", res.harmonic), ("subharmonic",
+                                                                  res.subharmonic)):
+                    cell = ds.sel(sigma=s, bpm=b, m=m, kind=kind)
+                    assert bool(cell.has_tau) == (found.tau_min is not None)
+                    if found.tau_min is not None:
+                        assert abs(float(cell.tau_min) - found.tau_min) <= 1e-8
 
 
 def test_map_png_and_npz(tmp_path):
