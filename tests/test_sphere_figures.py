@@ -129,3 +129,26 @@ def test_fig_7_1_limits(tmp_path):
         first, last = modes[0][0], modes[-1][0]
         assert 0.95 * lam < first["gamma_im"] < lam and first["gamma_re"] < 0
         assert last["gamma_im"] < 1e-3 * abs(last["gamma_re"]) and -0.1 < last["gamma_re"] < 0
+
+
+def test_drawing_leaves_the_users_matplotlib_backend_alone(tmp_path):
+    """Plots are made without pyplot: importing them and writing a PNG neither selects a
+    backend nor imports pyplot (a notebook keeps its own)."""
+    code = f"""
+import sys
+import matplotlib
+matplotlib.use("svg")
+import spectralshell as ss
+from spectralshell.plots import ince_strutt, sweep_plot, tau_map, trajectory, cochlea
+res = ss.tongues("mathieu", kappa="0.1:1:5", nu=0.1, workers=1, tips=False)
+ince_strutt.save([res], r"{tmp_path / 'tongues.png'}")
+assert matplotlib.get_backend() == "svg", matplotlib.get_backend()
+assert "matplotlib.pyplot" not in sys.modules
+"""
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert (tmp_path / "tongues.png").stat().st_size > 5_000

@@ -7,9 +7,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from ._canvas import plt, save_figure
 import numpy as np
 
+from ._canvas import save_figure, subplots
 from ..results.response import ResponseResult
 
 KIND_STYLE = {"tone": "-", "harmonic": "-", "subharmonic": "--"}
@@ -43,7 +43,7 @@ def draw_response(ax, res: ResponseResult, *, label: str | None = None, envelope
 
 def save_responses(panels: Sequence[tuple[str, Sequence[ResponseResult]]], path: str | Path) -> Path:
     """One panel per (title, results), responses overlaid (Fig 5.8)."""
-    fig, axes = plt.subplots(len(panels), 1, figsize=(8.0, 2.8 * len(panels)), squeeze=False)
+    fig, axes = subplots(len(panels), 1, figsize=(8.0, 2.8 * len(panels)), squeeze=False)
     for ax, (title, results) in zip(axes[:, 0], panels):
         for res in results:
             draw_response(ax, res)
@@ -56,7 +56,7 @@ def save_peaks(series: Sequence[tuple[str, str, np.ndarray, np.ndarray, np.ndarr
                wkb: tuple[np.ndarray, np.ndarray], path: str | Path) -> Path:
     """Envelope peak (cm) against response frequency (rad/s, log axis), Fig 5.9: ``series`` of
     (label, marker, frequency, peak, error); ``wkb`` = (frequency, peak) of the WKB line."""
-    fig, ax = plt.subplots(figsize=(7.0, 4.5))
+    fig, ax = subplots(figsize=(7.0, 4.5))
     for label, marker, f, peak, err in series:
         ax.errorbar(f, peak, yerr=err, fmt=marker, mfc="none", label=label)
     ax.semilogx(*wkb, "k-", linewidth=1, label="WKB, slope −7/(4 λ_c) per e-fold")
@@ -72,7 +72,7 @@ def save_det_contours(panels: Sequence[tuple[str, np.ndarray, np.ndarray, np.nda
     """Zero contours of Re det T (thick, blue) and Im det T (thin, red) over the s = gamma/sqrt(kappa)
     plane, with the computed modes marked (Fig 5.7). ``panels``: (title, re grid, im grid,
     det values, modes)."""
-    fig, axes = plt.subplots(1, len(panels), figsize=(6.0 * len(panels), 4.6), squeeze=False)
+    fig, axes = subplots(1, len(panels), figsize=(6.0 * len(panels), 4.6), squeeze=False)
     for ax, (title, re, im, det, modes) in zip(axes[0], panels):
         ax.contour(re, im, det.real, levels=[0.0], colors="tab:blue", linewidths=1.8)
         ax.contour(re, im, det.imag, levels=[0.0], colors="tab:red", linewidths=0.7)
@@ -113,7 +113,7 @@ def save_tau_against_omega(panels: Sequence[tuple[str, dict[str, tuple[np.ndarra
     """Ince-Strutt diagrams against the forcing frequency (Figs 5.12, 5.14): per panel
     (title, {kind: (omega points, tau points)}), harmonic '+', subharmonic 'o', tau = 1/2 line."""
     rows = -(-len(panels) // columns)
-    fig, axes = plt.subplots(rows, columns, figsize=(6.0 * columns, 3.6 * rows), squeeze=False)
+    fig, axes = subplots(rows, columns, figsize=(6.0 * columns, 3.6 * rows), squeeze=False)
     for ax, (title, points) in zip(axes.flat, panels):
         _fingers(ax, title, points, tau_max=tau_max, x_range=omega_range,
                  xlabel="forcing frequency ω (rad/s)")
@@ -126,7 +126,7 @@ def save_convergence(series: Sequence[tuple[str, np.ndarray, dict[str, np.ndarra
                      path: str | Path) -> Path:
     """Error estimates |tau(2n) - tau(n)| against the truncation n (Figs 5.5, 5.6): per panel
     (x label, n values, {kind: errors}), log-log."""
-    fig, axes = plt.subplots(1, len(series), figsize=(5.5 * len(series), 4.0), squeeze=False)
+    fig, axes = subplots(1, len(series), figsize=(5.5 * len(series), 4.0), squeeze=False)
     for ax, (xlabel, n, errors) in zip(axes[0], series):
         for kind, err in errors.items():
             ax.loglog(n, np.maximum(err, 1e-17), TAU_STYLE[kind]["marker"] + "-",
@@ -147,7 +147,7 @@ def save_tau_against_wavenumber(panels: Sequence[tuple[str, dict[str, tuple[np.n
     {kind: (k points, tau points)}, finger tips [(kind, k, tau)], {integer k: tau_min <= 1/2}),
     harmonic '+', subharmonic 'o', the tips as filled markers, the tau = 1/2 line, and at each
     integer (physical) wavenumber unstable below it a vertical green segment from tau_min to 1/2."""
-    fig, axes = plt.subplots(1, len(panels), figsize=(6.0 * len(panels), 4.2), squeeze=False)
+    fig, axes = subplots(1, len(panels), figsize=(6.0 * len(panels), 4.2), squeeze=False)
     for ax, (title, points, tips, unstable) in zip(axes[0], panels):
         for kind, k, tau in tips:
             ax.plot(k, tau, marker=TAU_STYLE[kind]["marker"], color="k", markersize=7, linestyle="none")
@@ -168,7 +168,7 @@ def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, 
     did not converge grey hatched (counted in the panel title)."""
     from . import sweep_plot
 
-    fig, axes = plt.subplots(len(panels), 1, figsize=(7.6, 3.9 * len(panels) + 1.4), squeeze=False)
+    fig, axes = subplots(len(panels), 1, figsize=(7.6, 3.9 * len(panels) + 1.4), squeeze=False)
     mesh, tau_max = None, 0.5
     for ax, (title, ds) in zip(axes[:, 0], panels):
         tau_max = float(ds.attrs.get("tau_max", tau_max))
@@ -192,5 +192,4 @@ def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, 
         fig.text(0.02, 0.01, textwrap.fill(caption, 150), fontsize=6.5, va="bottom", ha="left")
     path = Path(path)
     fig.savefig(path, dpi=120)
-    plt.close(fig)
     return path

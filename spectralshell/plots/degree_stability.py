@@ -5,8 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from ._canvas import plt, save_figure
-
+from ._canvas import save_figure, subplots
 from ..results.floquet import StabilityResult
 from .ince_strutt import STYLE
 
@@ -14,7 +13,7 @@ from .ince_strutt import STYLE
 def save(panels: Sequence[tuple[str, dict[int, object], StabilityResult]], path: str | Path, *,
          tau_max: float = 1.0, x_label: str = "m, spherical-harmonic degree") -> Path:
     """One panel per (title, {m: FloquetResult}, StabilityResult at the reference tau)."""
-    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4.6), squeeze=False)
+    fig, axes = subplots(1, len(panels), figsize=(4.2 * len(panels), 4.6), squeeze=False)
     for ax, (title, by_degree, stab) in zip(axes[0], panels):
         for kind in ("harmonic", "subharmonic"):
             xs, ys = [], []

@@ -5,8 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from ._canvas import plt, save_figure
-
+from ._canvas import save_figure, subplots
 from ..results.floquet import TonguesResult
 
 STYLE = {"harmonic": dict(marker="+", color="tab:blue", label="harmonic (γ = 0)"),
@@ -45,7 +44,7 @@ def save(results: Sequence[TonguesResult], path: str | Path, *, tau_max: float =
     """Write one PNG with a panel per result (row-major, ``columns`` per row; default one row)."""
     columns = columns or len(results)
     rows = -(-len(results) // columns)
-    fig, axes = plt.subplots(rows, columns, figsize=(6.4 * columns, 4.6 * rows), squeeze=False)
+    fig, axes = subplots(rows, columns, figsize=(6.4 * columns, 4.6 * rows), squeeze=False)
     for ax, res in zip(axes.flat, results):
         draw(ax, res, tau_max=tau_max, **draw_options)
     return save_figure(fig, path, dpi=120)

@@ -5,17 +5,17 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from ._canvas import plt, save_figure
 import numpy as np
 
+from ._canvas import colours, save_figure, subplots
 from ..results.modes import NaturalModesResult
 
 
 def save(zeta: np.ndarray, by_degree: Mapping[int, Sequence[NaturalModesResult]],
          inviscid: Mapping[int, float], path: str | Path) -> Path:
     """``by_degree[m][i]`` holds the modes at ``zeta[i]`` (kappa = 1, so gamma is gamma/sqrt(kappa))."""
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.0, 7.5), sharex=True)
-    for (m, results), colour in zip(by_degree.items(), plt.rcParams["axes.prop_cycle"].by_key()["color"]):
+    fig, (top, bottom) = subplots(2, 1, figsize=(7.0, 7.5), sharex=True)
+    for (m, results), colour in zip(by_degree.items(), colours()):
         gamma = np.array([r.gamma[0] for r in results])  # the least-damped mode
         top.semilogx(zeta, gamma.real, color=colour, label=f"m = {m}")
         bottom.semilogx(zeta, gamma.imag, color=colour, label=f"m = {m}")

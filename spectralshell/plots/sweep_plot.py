@@ -15,11 +15,11 @@ from __future__ import annotations
 import itertools
 from pathlib import Path
 
-from ._canvas import plt, save_figure
 import numpy as np
 import xarray as xr
 from scipy import ndimage
 
+from ._canvas import colours, save_figure, subplots
 from ..errors import ParameterError
 from ..results.maps import category_label, minimum_map
 
@@ -80,20 +80,20 @@ def _scale(ax, ds: xr.Dataset, name: str, which: str) -> None:
 
 
 def _line(ds: xr.Dataset, axis: str, cats: list[str]):
-    fig, ax = plt.subplots(figsize=(7.0, 4.5))
+    fig, ax = subplots(figsize=(7.0, 4.5))
     tau = ds["tau_min"].transpose(axis, *cats).values
     ok = _valid(ds.transpose(axis, *cats))
     x = ds[axis].values
     order = np.argsort(x)
     styles = {"harmonic": "-", "subharmonic": "--"}
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    cycle = colours()
     non_kind = [d for d in cats if d != "kind"]
     for index in itertools.product(*(range(ds.sizes[d]) for d in cats)):
         y = np.where(ok[(slice(None),) + index], tau[(slice(None),) + index], np.nan)
         kind = str(ds["kind"].values[index[cats.index("kind")]]) if "kind" in cats else ""
         group = tuple(i for d, i in zip(cats, index) if d != "kind")
-        colour = colours[(np.ravel_multi_index(group, [ds.sizes[d] for d in non_kind])
-                          if group else 0) % len(colours)]
+        colour = cycle[(np.ravel_multi_index(group, [ds.sizes[d] for d in non_kind])
+                        if group else 0) % len(cycle)]
         label = category_label(ds, cats, index) or None
         ax.plot(x[order], y[order], styles.get(kind, "-"), color=colour, label=label, lw=1.4)
     tau_max = float(ds.attrs.get("tau_max", np.nanmax(tau)))
@@ -192,7 +192,7 @@ def hatch_note(ds, count: int, cells: int) -> str:
 
 def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int):
     tau_max = float(ds.attrs.get("tau_max", ds["tau_min"].max()))
-    fig, ax = plt.subplots(figsize=(7.5, 5.5))
+    fig, ax = subplots(figsize=(7.5, 5.5))
     mesh, hatched = draw_map(ax, ds, xname, yname, min_cells=min_cells)
     fig.colorbar(mesh, ax=ax, label=colour_label(tau_max))
     over = ", ".join(f"{d} = {', '.join(str(v) for v in ds[d].values)}" for d in cats

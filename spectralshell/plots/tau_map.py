@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING
 
 from matplotlib.patches import Rectangle
 
+from ._canvas import save_figure, subplots
 from ..errors import ParameterError
-from ._canvas import plt, save_figure
 from .sweep_plot import colour_label, draw_map, picture_axes
 
 if TYPE_CHECKING:
@@ -32,7 +32,7 @@ def save(ds: xr.Dataset, path: str | Path, *,
                              "two real axes with several values each")
     x, y = real
     tau_max = float(ds.attrs["tau_max"])
-    fig, ax = plt.subplots(figsize=(7.5, 5.8))
+    fig, ax = subplots(figsize=(7.5, 5.8))
     mesh, _ = draw_map(ax, ds, x, y, min_cells=min_cells, headroom=HEADROOM)
     bar = fig.colorbar(mesh, ax=ax, label=colour_label(tau_max))
     bar.ax.set_ylim(0.0, tau_max)

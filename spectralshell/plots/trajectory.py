@@ -6,9 +6,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from ._canvas import plt, save_figure
+import matplotlib
+
 import numpy as np
 
+from ._canvas import colours, figure, save_figure, subplots
 from ..results.trajectory import Trajectory
 
 FLOOR = 1e-14   # lower limit of the log panel (relative amplitude)
@@ -17,12 +19,12 @@ FLOOR = 1e-14   # lower limit of the log panel (relative amplitude)
 def save_amplitudes(traj: Trajectory, path: str | Path) -> Path:
     """Top: each radial coefficient X^Y_{m,k}(t) rescaled to start at 1 (as the thesis's radial
     projections); bottom: |X^Y| on a log scale with the fitted envelope exp(growth_rate t)."""
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.5, 6.5), sharex=True)
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    fig, (top, bottom) = subplots(2, 1, figsize=(7.5, 6.5), sharex=True)
+    cycle = colours()
     fits = {(f.m, f.k): f for f in traj.fits}
     t = traj.times
     lowest = 1.0
-    for j, ((m, k), colour) in enumerate(zip(traj.modes, colours * 10)):
+    for j, ((m, k), colour) in enumerate(zip(traj.modes, cycle * 10)):
         x = traj.radial[:, j]
         x0 = x[0] if x[0] != 0 else np.max(np.abs(x)) or 1.0
         label = f"(m, k) = ({m}, {k})"
@@ -55,7 +57,7 @@ def save_shape(theta: np.ndarray, phi: np.ndarray, displacements: Sequence[np.nd
     (factor a per panel) to a largest displacement ``size``, coloured by the displacement
     (as thesis Fig 6.7 colours the distance from the origin)."""
     n = len(times)
-    fig = plt.figure(figsize=(3.2 * n, 3.6))
+    fig = figure(figsize=(3.2 * n, 3.6))
     th = np.concatenate([[0.0], theta, [np.pi]])
     ph = np.concatenate([phi, [2 * np.pi]])
     TH, PH = np.meshgrid(th, ph, indexing="ij")
@@ -68,8 +70,8 @@ def save_shape(theta: np.ndarray, phi: np.ndarray, displacements: Sequence[np.nd
         R = 1.0 + a * X
         ax = fig.add_subplot(1, n, i + 1, projection="3d")
         x, y, z = R * np.sin(TH) * np.cos(PH), R * np.sin(TH) * np.sin(PH), R * np.cos(TH)
-        colours = plt.cm.coolwarm(0.5 + 0.5 * X / (peak or 1.0))
-        ax.plot_surface(x, y, z, facecolors=colours, rstride=1, cstride=1, linewidth=0,
+        shade = matplotlib.colormaps["coolwarm"](0.5 + 0.5 * X / (peak or 1.0))
+        ax.plot_surface(x, y, z, facecolors=shade, rstride=1, cstride=1, linewidth=0,
                         antialiased=False, shade=False)
         ax.set_box_aspect((1, 1, 1))
         ax.set_axis_off()

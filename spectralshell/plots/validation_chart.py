@@ -6,12 +6,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-import matplotlib
 import matplotlib.ticker
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from ._canvas import subplots
+
 
 FLOOR = 1e-17  # errors of exactly 0 are drawn here (log axis)
 
@@ -29,7 +28,7 @@ def save_errors(rows: Sequence[tuple[str, float, float, bool]], path: str | Path
         else:
             ratios.append(FLOOR if ok else 1e3)
     height = max(3.0, 0.22 * len(rows) + 1.2)
-    fig, ax = plt.subplots(figsize=(8.0, height))
+    fig, ax = subplots(figsize=(8.0, height))
     y = np.arange(len(rows))
     colours = ["tab:green" if r[3] else "tab:red" for r in rows]
     ax.barh(y, np.array(ratios) - FLOOR, left=FLOOR, color=colours, height=0.6, alpha=0.5)
@@ -46,7 +45,6 @@ def save_errors(rows: Sequence[tuple[str, float, float, bool]], path: str | Path
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=110)
-    plt.close(fig)
     return path
 
 
@@ -57,7 +55,7 @@ def save_growth(series: Sequence[dict], path: str | Path) -> Path:
     log time against log parameter, drawn as a dashed line over the fitted range).
     """
     parameters = list(dict.fromkeys(s["parameter"] for s in series))
-    fig, axes = plt.subplots(1, len(parameters), figsize=(4.6 * len(parameters), 4.0), squeeze=False)
+    fig, axes = subplots(1, len(parameters), figsize=(4.6 * len(parameters), 4.0), squeeze=False)
     for ax, parameter in zip(axes[0], parameters):
         for s in (s for s in series if s["parameter"] == parameter):
             x, t = np.asarray(s["values"], float), np.asarray(s["seconds"], float)
@@ -75,5 +73,4 @@ def save_growth(series: Sequence[dict], path: str | Path) -> Path:
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=110)
-    plt.close(fig)
     return path
