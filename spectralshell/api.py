@@ -13,6 +13,7 @@ from pathlib import Path
 from collections.abc import Mapping
 from typing import Any
 
+from .params.registry import parameters_doc
 from .runner.floquet import exponents, floquet, run_scene, stability, tau_map, tongues
 from .runner.lp import lp_coefficient, lp_summary
 from .runner.modes import natural_modes
@@ -21,6 +22,17 @@ from .runner.response import response
 __all__ = ["floquet", "tongues", "tau_map", "exponents", "stability", "run_scene",
            "natural_modes", "response", "lp_coefficient", "lp_summary", "sweep", "sweep_summary",
            "open_sweep", "simulate"]
+
+
+def _list_model_parameters(*functions) -> None:
+    """Append the models' parameters, with meaning, units and defaults, to the docstrings of
+    the entry points that take them as ``**params`` (the models registered at import)."""
+    text = "\n\n    " + parameters_doc().replace("\n", "\n    ")
+    for function in functions:
+        function.__doc__ = (function.__doc__ or "").rstrip() + text
+
+
+_list_model_parameters(floquet, tongues, tau_map, exponents, stability, natural_modes, response)
 
 
 def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: int | None = None,

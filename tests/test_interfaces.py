@@ -251,3 +251,15 @@ def test_modes_text_labels_a_practically_real_mode():
     assert mode_kind(g, 1e-12) == "overdamped"  # real to within a larger error
     assert mode_kind(2.19j, 1e-15) == "oscillatory"
     assert mode_kind(-1.09 + 1.58j, 1e-14) == "oscillatory"
+
+
+def test_help_lists_each_models_parameters_with_meaning_and_default():
+    """``help(ss.floquet)`` and the other entry points taking ``**params`` list, per model,
+    each parameter's meaning and default (from the parameter metadata)."""
+    for function in (ss.floquet, ss.tongues, ss.tau_map, ss.exponents, ss.stability,
+                     ss.natural_modes, ss.response):
+        doc = function.__doc__
+        for model in ("mathieu", "sphere", "fibre", "cochlea"):
+            assert f"\n        {model}: " in doc, (function.__name__, model)
+        assert "nu : damping nu (dimensionless, >= 0); default 0.0" in doc
+        assert "m : spherical-harmonic degree m >= 2; required" in doc

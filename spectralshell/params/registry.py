@@ -179,6 +179,21 @@ def param_fields(model: str) -> tuple[dataclasses.Field, ...]:
     return dataclasses.fields(get_model(model).params)
 
 
+def parameters_doc() -> str:
+    """The registered models' parameters as text: per model its summary, then each parameter
+    with its meaning, units and default ('required' where it has none), from the field
+    metadata (appended to the API's docstrings, so that ``help(ss.floquet)`` lists them)."""
+    lines = ["Model parameters (``**params``), per model:"]
+    for name, spec in _MODELS.items():
+        lines.append(f"    {name}: {spec.summary}")
+        for f in dataclasses.fields(spec.params):
+            units = f.metadata.get("units")
+            unit = "" if not units else " [dimensionless]" if units == "1" else f" [{units}]"
+            given = "required" if f.default is dataclasses.MISSING else f"default {f.default!r}"
+            lines.append(f"        {f.name} : {f.metadata.get('help', f.name)}{unit}; {given}")
+    return "\n".join(lines)
+
+
 def param_names(model: str) -> tuple[str, ...]:
     """Names of the parameters of ``model``."""
     return tuple(f.name for f in param_fields(model))
