@@ -129,12 +129,18 @@ def _solver(args: argparse.Namespace) -> dict[str, Any]:
     return out
 
 
-def _check_output(name: str, path: str | Path | None, suffix: str) -> None:
+#: Figure files the CLI writes, the format chosen by the suffix.
+FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
+#: The --png flags' help: what a figure file may be.
+FIGURE_FILE = "a *.png, *.svg or *.pdf file (format from the suffix; an existing file is replaced)"
+
+
+def _check_output(name: str, path: str | Path | None, suffix: str | tuple[str, ...]) -> None:
     """Refuse output file ``name`` = ``path`` unless it can be written: a new or existing
-    (replaced) regular file ending in ``suffix`` in a writable directory
+    (replaced) regular file ending in ``suffix`` (or one of them) in a writable directory
     (:func:`spectralshell._validate.require_output_file`)."""
     if path is not None:
-        require_output_file(name, path, (suffix,))
+        require_output_file(name, path, (suffix,) if isinstance(suffix, str) else suffix)
 
 
 def _make_dir(out: str | Path) -> Path:
@@ -222,8 +228,8 @@ def _write_tongues(res, *, png=None, csv=None, npz=None) -> list[str]:
 
 
 def cmd_tongues(args) -> int:
-    for flag in ("png", "csv", "npz"):
-        _check_output(f"--{flag}", getattr(args, flag), f".{flag}")
+    for flag, suffix in (("png", FIGURE_SUFFIXES), ("csv", ".csv"), ("npz", ".npz")):
+        _check_output(f"--{flag}", getattr(args, flag), suffix)
     if args.kappa is None:
         raise ParameterError("--kappa is required: a range START:STOP:NUM, e.g. 0:3:301")
     res = api.tongues(args.model, kappa=args.kappa, kind=args.kind, tips=not args.no_tips,
@@ -276,7 +282,7 @@ def cmd_modes(args) -> int:
 
 
 def cmd_response(args) -> int:
-    _check_output("--png", args.png, ".png")
+    _check_output("--png", args.png, FIGURE_SUFFIXES)
     res = api.response(args.model, kind=args.kind, **_solver(args), **_physical(args),
                        **_given(args, "max_seconds", parse_real), **_params(args, args.model))
     _warn(res.warnings)
@@ -433,7 +439,7 @@ def cmd_sweep(args) -> int:
 
 
 def cmd_plot(args) -> int:
-    _check_output("--png", args.png, ".png")
+    _check_output("--png", args.png, FIGURE_SUFFIXES)
     from .plots import sweep_plot
 
     ds = api.open_sweep(args.store)
@@ -473,8 +479,10 @@ def _is_text(value: str) -> bool:
 
 
 def _shape_png(png: str) -> str:
-    """The membrane-shape PNG written next to the amplitude PNG ``png`` of a simulation."""
-    return str(Path(png).with_name(Path(png).stem + "_shape.png"))
+    """The membrane-shape figure written next to the amplitude figure ``png`` of a simulation
+    (NAME_shape with the same suffix)."""
+    path = Path(png)
+    return str(path.with_name(f"{path.stem}_shape{path.suffix}"))
 
 
 def _write_simulation(traj, png: str | None, npz: str | None) -> list[str]:
@@ -513,7 +521,8 @@ def cmd_simulate(args) -> int:
         stem = Path(args.target).stem
         png, npz = png or str(out / f"{stem}.png"), npz or str(out / f"{stem}.npz")
         json_path = out / f"{stem}.json"
-    for name, path, suffix in (("--png", png, ".png"), ("--png", png and _shape_png(png), ".png"),
+    for name, path, suffix in (("--png", png, FIGURE_SUFFIXES),
+                               ("--png", png and _shape_png(png), FIGURE_SUFFIXES),
                                ("--npz", npz, ".npz"), ("output", json_path, ".json")):
         _check_output(name, path, suffix)
     traj = api.simulate(scene, progress=sys.stderr.isatty() and not args.json)
@@ -566,7 +575,7 @@ def _tongues_options(p: argparse.ArgumentParser, model: str) -> None:
     _solver_flags(p)
     p.add_argument("--kappa", help="range START:STOP:NUM, e.g. 0:3:301")
     _tau_max_flag(p)
-    p.add_argument("--png", help="write the diagram to a *.png file (an existing file is replaced)")
+    p.add_argument("--png", help=f"write the diagram to {FIGURE_FILE}")
     p.add_argument("--csv", help="write points kind,kappa,tau to a *.csv file (an existing file is "
                                  "replaced)")
     p.add_argument("--npz", help="write arrays to a *.npz file (an existing file is replaced)")
@@ -606,8 +615,7 @@ def _response_options(p: argparse.ArgumentParser, model: str) -> None:
         _physical_flags(p, dict(spec.physical.units), spec.physical.note)
     _solver_flags(p)
     _max_seconds_flag(p)
-    p.add_argument("--png", help="write the envelope and profile to a *.png file (an existing file "
-                                 "is replaced)")
+    p.add_argument("--png", help=f"write the envelope and profile to {FIGURE_FILE}")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -696,8 +704,8 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument(f"--{name}", dest=name.replace("-", "_"), metavar="X", help=text)
     p.add_argument("--scheme", default="SBDF3", help="IMEX scheme (SBDF1-4, CNAB2, MCNAB2, "
                    "RK111, RK222, RK443; default SBDF3)")
-    p.add_argument("--png", help="write mode amplitudes against time to a *.png file (and "
-                   "NAME_shape.png: the membrane shape) (an existing file is replaced)")
+    p.add_argument("--png", help=f"write mode amplitudes against time to {FIGURE_FILE}, and the "
+                   "membrane shape to NAME_shape with the same suffix")
     p.add_argument("--npz", help="write the trajectory to a *.npz file (an existing file is "
                                  "replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
@@ -705,7 +713,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("plot", help="draw a stored sweep (.zarr or .nc) as PNG")
     p.add_argument("store", help="a sweep written by `spectralshell sweep --out`")
-    p.add_argument("--png", required=True, help="output *.png file (an existing file is replaced)")
+    p.add_argument("--png", required=True, help=f"write the picture to {FIGURE_FILE}")
     p.set_defaults(func=cmd_plot)
     return parser
 

@@ -263,3 +263,18 @@ def test_help_lists_each_models_parameters_with_meaning_and_default():
             assert f"\n        {model}: " in doc, (function.__name__, model)
         assert "nu : damping nu (dimensionless, >= 0); default 0.0" in doc
         assert "m : spherical-harmonic degree m >= 2; required" in doc
+
+
+@pytest.mark.parametrize("suffix,magic", [(".png", b"\x89PNG"), (".svg", b"<?xml"),
+                                          (".pdf", b"%PDF")])
+def test_figures_are_written_in_the_format_of_their_suffix(suffix, magic, tmp_path, capsys):
+    out = tmp_path / f"tongues{suffix}"
+    assert main(["tongues", "mathieu", "--kappa", "0.1:1:5", "--nu", "0.1", "--png",
+                 str(out)]) == 0
+    assert out.read_bytes().startswith(magic)
+    base = tmp_path / f"modes{suffix}"
+    assert main(["simulate", "sphere", "--m", "2", "--kappa", "0.06", "--nu", "0.002",
+                 "--t-end", "1", "--png", str(base)]) == 0
+    shape = tmp_path / f"modes_shape{suffix}"
+    assert base.read_bytes().startswith(magic) and shape.read_bytes().startswith(magic)
+    capsys.readouterr()
