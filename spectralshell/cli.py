@@ -26,7 +26,7 @@ from ._validate import (parse_int, parse_real, require_int_in_range, require_out
 from ._version import __version__
 from .errors import ConvergenceError, ParameterError, SpectralShellError
 from .params.registry import (get_model, load_entry_points, models, models_with, param_fields,
-                              param_names)
+                              param_help, param_names)
 from .params.scene import default_scene, load_scene, plan
 from .params.sweep_grid import is_sweep_scene, sweep_spec
 from .results.base import format_params
@@ -50,11 +50,7 @@ def _model_flags(p: argparse.ArgumentParser, model: str, *, skip: Sequence[str] 
         if f.name in skip:
             continue
         default = "" if f.default in (dataclasses.MISSING, None) else f" (default {f.default})"
-        meaning = f.metadata.get("help", f.name)
-        units = f.metadata.get("units")
-        if units and "dimensionless" not in meaning and units not in meaning:
-            meaning += " [dimensionless]" if units == "1" else f" [{units}]"
-        group.add_argument(_flag(f.name), dest=f.name, metavar="X", help=meaning + default)
+        group.add_argument(_flag(f.name), dest=f.name, metavar="X", help=param_help(f) + default)
 
 
 def _physical_flags(p: argparse.ArgumentParser, units: dict[str, str], note: str) -> None:
@@ -634,8 +630,7 @@ def build_parser() -> argparse.ArgumentParser:
                  cmd_stability, [m for m in every if "m" in param_names(m)], _stability_options,
                  skip=("m",))
     _computation(sub, "modes", "natural modes gamma (decay rate, frequency) at tau = 0",
-                 cmd_modes, sorted({*models_with("modal_system"), *models_with("mode_family")},
-                                   key=every.index), _modes_options)
+                 cmd_modes, models_with("modal_system", "mode_family"), _modes_options)
     _computation(sub, "response", "BM displacement envelope for a pure tone (thesis 5.5)",
                  cmd_response, models_with("response"), _response_options)
 
@@ -733,10 +728,14 @@ def _option_flags(parser: argparse.ArgumentParser) -> dict[str, str]:
 _KEYWORD = re.compile(r"(?<![\w.-])([a-z][a-z0-9_]*)=(?!=)")
 
 
-def _as_flags(message: str, flags: dict[str, str]) -> str:
-    """A library message in the CLI's words: each API keyword ``name=`` that is an option here
-    becomes its flag (``tau_max=0.5`` -> ``--tau-max 0.5``, ``tol=,`` -> ``--tol,``); messages
-    name API parameters (issue 24), the CLI names its flags."""
+def _as_flags(message: str, parser: argparse.ArgumentParser | None) -> str:
+    """A library message in the CLI's words: each API keyword ``name=`` that is an option of
+    ``parser`` (None: no parser was built; the message is kept) becomes its flag
+    (``tau_max=0.5`` -> ``--tau-max 0.5``, ``tol=,`` -> ``--tol,``); messages name API
+    parameters (issue 24), the CLI names its flags. The option map is made only here, when
+    an error is reported."""
+    flags = {} if parser is None else _option_flags(parser)
+
     def flag(match: re.Match) -> str:
         name = match.group(1)
         if name not in flags:
@@ -749,18 +748,17 @@ def _as_flags(message: str, flags: dict[str, str]) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``spectralshell`` and ``python -m spectralshell``."""
-    flags: dict[str, str] = {}
+    parser = None
     try:
         load_entry_points()
         parser = build_parser()
-        flags = _option_flags(parser)
         args = parser.parse_args(argv)
         return args.func(args)
     except ConvergenceError as exc:
-        print(f"spectralshell: not converged: {_as_flags(str(exc), flags)}", file=sys.stderr)
+        print(f"spectralshell: not converged: {_as_flags(str(exc), parser)}", file=sys.stderr)
         return 1
     except (ParameterError, SpectralShellError) as exc:
-        print(f"spectralshell: error: {_as_flags(str(exc), flags)}", file=sys.stderr)
+        print(f"spectralshell: error: {_as_flags(str(exc), parser)}", file=sys.stderr)
         return 2
     except MemoryError:
         print("spectralshell: out of memory: reduce the problem size (grid points, truncation, "

@@ -153,10 +153,10 @@ def get_model(name: str) -> Model:
     return _MODELS[check_model(name)]
 
 
-def models_with(capability: str) -> tuple[str, ...]:
-    """Names of the models offering ``capability`` (an attribute of :class:`Model` that is set:
-    not None, not False, not empty)."""
-    return tuple(n for n, m in _MODELS.items() if getattr(m, capability))
+def models_with(*capabilities: str) -> tuple[str, ...]:
+    """Names of the models offering any of ``capabilities`` (attributes of :class:`Model` that
+    are set: not None, not False, not empty), in registration order."""
+    return tuple(n for n, m in _MODELS.items() if any(getattr(m, c) for c in capabilities))
 
 
 def check_model(model: str) -> str:
@@ -164,12 +164,12 @@ def check_model(model: str) -> str:
     return require_choice("model", model, tuple(_MODELS))
 
 
-def require_capability(model: str, capability: str, what: str) -> Model:
-    """The model ``model`` if it offers ``capability``, else ParameterError naming the models
-    that do (``what``: the computation, for the message)."""
+def require_capability(model: str, what: str, *capabilities: str) -> Model:
+    """The model ``model`` if it offers any of ``capabilities``, else ParameterError naming the
+    models that do (``what``: the computation, for the message)."""
     spec = get_model(model)
-    if not getattr(spec, capability):
-        able = ", ".join(repr(n) for n in models_with(capability)) or "none"
+    if not any(getattr(spec, c) for c in capabilities):
+        able = ", ".join(repr(n) for n in models_with(*capabilities)) or "none"
         raise ParameterError(f"model = {model!r} is invalid for {what}: must be one of {able}")
     return spec
 
@@ -177,6 +177,16 @@ def require_capability(model: str, capability: str, what: str) -> Model:
 def param_fields(model: str) -> tuple[dataclasses.Field, ...]:
     """The dataclass fields of the parameters of ``model`` (name, type, default, metadata)."""
     return dataclasses.fields(get_model(model).params)
+
+
+def param_help(f: dataclasses.Field) -> str:
+    """A parameter's meaning (metadata 'help') with its units (metadata 'units': '[units]',
+    '[dimensionless]' for '1') unless the meaning already states them."""
+    meaning = f.metadata.get("help", f.name)
+    units = f.metadata.get("units")
+    if units and "dimensionless" not in meaning and units not in meaning:
+        meaning += " [dimensionless]" if units == "1" else f" [{units}]"
+    return meaning
 
 
 def parameters_doc() -> str:
@@ -187,10 +197,8 @@ def parameters_doc() -> str:
     for name, spec in _MODELS.items():
         lines.append(f"    {name}: {spec.summary}")
         for f in dataclasses.fields(spec.params):
-            units = f.metadata.get("units")
-            unit = "" if not units else " [dimensionless]" if units == "1" else f" [{units}]"
             given = "required" if f.default is dataclasses.MISSING else f"default {f.default!r}"
-            lines.append(f"        {f.name} : {f.metadata.get('help', f.name)}{unit}; {given}")
+            lines.append(f"        {f.name} : {param_help(f)}; {given}")
     return "\n".join(lines)
 
 

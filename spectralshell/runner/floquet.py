@@ -288,9 +288,7 @@ def _map_axis(model: str, label: str, axis: object, physical: bool,
                              f"{', '.join(names)}{hint}")
     grid = axis[1]
     if not isinstance(grid, (str, Mapping)):  # values: plain floats for the scene
-        values = np.atleast_1d(np.asarray(grid, dtype=object))
-        check_points(axis[0], values.size, max_points)
-        grid = [require_real(axis[0], v) for v in values]
+        grid = _grid(axis[0], grid, max_points).tolist()
     return str(axis[0]), grid
 
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from .._validate import require_int_in_range, require_nonnegative
 from ..errors import ParameterError
-from ..params.registry import Model, check_model, get_model, make_params, models_with
+from ..params.registry import Model, make_params, require_capability
 from ..results.floquet import provenance
 from ..results.modes import NaturalModesResult
 from ..solvers.continued_modes import METHOD as CONTINUATION, continued_modes
@@ -49,12 +49,7 @@ def natural_modes(model: str, *, count: int | None = None, precision: int | None
     modes continued in zeta with a winding-number completeness check
     (:mod:`spectralshell.solvers.continued_modes`).
     """
-    spec = get_model(check_model(model))
-    if spec.modal_system is None and spec.mode_family is None:
-        able = ", ".join(repr(n) for n in (*models_with("modal_system"),
-                                             *models_with("mode_family")))
-        raise ParameterError(f"model = {model!r} is invalid for natural modes: must be one of "
-                             f"{able}")
+    spec = require_capability(model, "natural modes", "modal_system", "mode_family")
     params, scale, extras = _scaled_inputs(spec, dict(params), zeta, physical)
     p = make_params(model, params)
     options: dict[str, Any] = {"count": count, "precision": precision}
