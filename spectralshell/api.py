@@ -51,7 +51,7 @@ def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: 
 
     Notes
     -----
-    Variables tau_min (= tau_max where has_tau is false: NaN-free), has_tau, error_estimate,
+    Variables tau_min (NaN where has_tau is false: no instability), has_tau, error_estimate,
     n_temporal, computed over the grid axes (units in attrs); for models with spatial modes
     (cochlea) also n_spatial and spatial_converged (False: the refinement in n_spatial stopped
     at its limit; the values are those at the limit); provenance in attrs. Every executor gives

@@ -170,7 +170,7 @@ def _atomic_write(path: str | Path, writer: Callable[[Path], Any]) -> None:
 
 
 def _emit_json(obj: dict) -> None:
-    sys.stdout.write(json.dumps(obj) + "\n")
+    sys.stdout.write(json.dumps(obj, allow_nan=False) + "\n")
 
 
 def _report(as_json: bool, data: dict, text: Callable[[], str], written: Sequence[str] = ()) -> int:

@@ -14,7 +14,8 @@ from spectralshell import cli
 from spectralshell.errors import BackendUnavailable, ConvergenceError, ParameterError
 from spectralshell.params.sweep_grid import DEFAULT_CHUNK, sweep_spec
 from spectralshell.runner import SweepError, executors, map_points, open_sweep, run_sweep, solve
-from spectralshell.runner.layout import chunks
+from spectralshell.results.maps import map_dict, minimum_map, write_npz
+from spectralshell.runner.layout import chunks, region
 
 CHUNK = 6
 SCENE = {"model": "mathieu", "ask": ["tau_min"],
@@ -27,7 +28,7 @@ def assert_same(a, b, atol=1e-14):
     """Equal datasets: integer/bool variables exactly, reals to ``atol``; same coordinates."""
     assert list(a.data_vars) == list(b.data_vars)
     for name in a.coords:
-        assert np.array_equal(a[name].values, b[name].values), name
+        np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=name)
     for name in a.data_vars:
         x, y = a[name].values, b[name].values
         if x.dtype.kind == "f":
@@ -41,7 +42,7 @@ def serial():
     return run_sweep(SCENE, executor="serial")
 
 
-def test_dataset_is_labelled_nan_free_and_complete(serial):
+def test_dataset_is_labelled_and_complete_nan_where_no_instability(serial):
     ds = serial.dataset
     assert ds["tau_min"].dims == ("nu", "kappa", "kind")
     assert ds["kappa"].attrs["units"] == "1" and ds["kind"].values.tolist() == ["harmonic", "subharmonic"]
@@ -49,10 +50,11 @@ def test_dataset_is_labelled_nan_free_and_complete(serial):
     assert json.loads(ds.attrs["solver_options"])["tau_max"] == 2.0
     assert json.loads(ds.attrs["libraries"])["numpy"] == np.__version__
     assert bool(ds["computed"].all()) and bool(ds["has_tau"].any()) and not bool(ds["has_tau"].all())
-    for name in ("tau_min", "error_estimate"):
-        assert np.isfinite(ds[name].values).all()
     none = ~ds["has_tau"].values
-    assert (ds["tau_min"].values[none] == 2.0).all() and (ds["error_estimate"].values[none] == 0).all()
+    assert np.isfinite(ds["tau_min"].values[~none]).all()
+    assert np.isnan(ds["tau_min"].values[none]).all()
+    assert np.isfinite(ds["error_estimate"].values).all()
+    assert (ds["error_estimate"].values[none] == 0).all()
     assert serial.summary() == {"points": 96, "computed": 96, "skipped": 0, "damaged": 0, "out": None,
                                 "seconds": serial.summary()["seconds"]}
 
@@ -88,8 +90,10 @@ def test_interrupt_then_resume_equals_fresh_and_rerun_computes_nothing(serial, t
     assert int(partial["computed"].sum()) == stop_after * POINTS_PER_CHUNK
     done = partial["computed"].values
     for name in ("tau_min", "has_tau", "n_temporal"):
-        assert np.array_equal(partial[name].values[done], serial.dataset[name].values[done]), name
-    assert np.isfinite(partial["tau_min"].values).all() and not partial["has_tau"].values[~done].any()
+        np.testing.assert_array_equal(partial[name].values[done],
+                                      serial.dataset[name].values[done], err_msg=name)
+    assert np.isnan(partial["tau_min"].values[~done]).all()
+    assert not partial["has_tau"].values[~done].any()
 
     seen = []
     resumed = run_sweep(SCENE, executor="processes", workers=2, out=out,
@@ -123,7 +127,7 @@ def test_netcdf_written_at_the_end_and_reread(serial, tmp_path):
     back = open_sweep(out)
     assert back.attrs["scene_hash"] == serial.dataset.attrs["scene_hash"]
     for name in serial.dataset.data_vars:
-        assert np.array_equal(back[name].values, serial.dataset[name].values), name
+        np.testing.assert_array_equal(back[name].values, serial.dataset[name].values, err_msg=name)
     assert run_sweep(SCENE, executor="serial", out=out).computed == 0
 
 
@@ -178,7 +182,7 @@ def test_continuation_equals_independent_solves():
     np.testing.assert_allclose(b.tau_min.values, a.tau_min.values, rtol=0, atol=1e-10)
     same_pair = a.n_temporal.values == b.n_temporal.values  # same truncations: bitwise equal
     assert same_pair.any()
-    assert np.array_equal(a.tau_min.values[same_pair], b.tau_min.values[same_pair])
+    np.testing.assert_array_equal(a.tau_min.values[same_pair], b.tau_min.values[same_pair])
 
 
 @pytest.mark.parametrize("model,params", [
@@ -436,3 +440,86 @@ def test_ctrl_c_during_a_store_write_waits_for_the_chunk(tmp_path):
     written = open_sweep(tmp_path / "w.zarr")
     assert bool(written["computed"].values[where].all())  # the chunk was completed first
     assert np.all(written["tau_min"].values[where] == 0.25)
+
+
+def test_minimum_map_is_nan_where_no_kind_is_unstable_and_json_has_null(serial, tmp_path):
+    """A cell without a marginal tau <= tau_max of either kind (the Floquet API finds none
+    there) holds NaN and has_tau False in the map and its NPZ, null in its JSON; the others
+    hold the smaller tau_min of the two kinds."""
+    mm = minimum_map(serial.dataset, "kappa", "nu")
+    tau, has = mm["tau_min"].values, mm["has_tau"].values
+    assert has.any() and not has.all()
+    assert np.isnan(tau[~has]).all() and np.isfinite(tau[has]).all()
+    j, i = np.argwhere(~has)[0]
+    nu, kappa = float(mm["nu"][j]), float(mm["kappa"][i])
+    ref = ss.floquet("mathieu", kappa=kappa, nu=nu, tau_max=2.0)
+    assert ref.harmonic.tau_min is None and ref.subharmonic.tau_min is None
+    j, i = np.argwhere(has)[0]
+    ref = ss.floquet("mathieu", kappa=float(mm["kappa"][i]), nu=float(mm["nu"][j]), tau_max=2.0)
+    best = min(t for t in (ref.harmonic.tau_min, ref.subharmonic.tau_min) if t is not None)
+    assert abs(tau[j, i] - best) <= 1e-10
+
+    data = json.loads(json.dumps(map_dict(mm), allow_nan=False))
+    assert [[v is None for v in row] for row in data["tau_min"]] == (~has).tolist()
+    with np.load(write_npz(mm, tmp_path / "map.npz")) as npz:
+        np.testing.assert_array_equal(npz["tau_min"], tau)
+        np.testing.assert_array_equal(npz["has_tau"], has)
+
+
+def _as_written_before_nan(store: Path, spec) -> None:
+    """Rewrite a Zarr store as the version before NaN wrote it: tau_max in tau_min where
+    has_tau is false (finished chunks, with their completion records, and the fill values)."""
+    import zarr
+
+    from spectralshell.runner.integrity import read_records, record_path, write_record
+    from spectralshell.runner.store import stored_variables
+
+    group = zarr.open_group(str(store), mode="r+")
+    has = group["has_tau"][...]
+    group["tau_min"][...] = np.where(has, group["tau_min"][...], spec.options.tau_max)
+    keys = set(read_records(store))
+    for chunk in chunks(spec):
+        if record_path(store, spec, chunk).stem in keys:
+            where = region(spec, chunk)
+            write_record(store, spec, chunk, {n: np.asarray(group[n][where], dtype=t)
+                                              for n, t in stored_variables(spec).items()})
+
+
+def test_a_store_of_the_tau_max_convention_reads_as_nan_and_resumes(serial, tmp_path):
+    """A store written before (tau_max where there is no tau) verifies, reads with NaN there,
+    and a rerun completes it to the fresh sweep."""
+    out = tmp_path / "old.zarr"
+    spec = sweep_spec(SCENE)
+
+    def stop(n, _):
+        if n == 3:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(SCENE, executor="serial", out=out, on_chunk=stop)
+    _as_written_before_nan(out, spec)
+    old = open_sweep(out)
+    done = old["computed"].values
+    assert int(done.sum()) == 3 * POINTS_PER_CHUNK and (~old["has_tau"].values[done]).any()
+    np.testing.assert_array_equal(old["tau_min"].values[done], serial.dataset["tau_min"].values[done])
+    assert np.isnan(old["tau_min"].values[~old["has_tau"].values]).all()
+    resumed = run_sweep(SCENE, executor="serial", out=out)
+    assert (resumed.computed, resumed.damaged) == (96 - 3 * POINTS_PER_CHUNK, 0)
+    assert_same(resumed.dataset, serial.dataset)
+    assert_same(open_sweep(out), serial.dataset)
+
+
+def test_a_netcdf_of_the_tau_max_convention_reads_as_nan(serial, tmp_path):
+    """A NetCDF sweep written before NaN (tau_max where there is no tau, its digest of those
+    values) verifies and reads with NaN there; a rerun computes nothing."""
+    from spectralshell.runner.integrity import dataset_digest
+    from spectralshell.runner.store import stored_variables, to_dataset
+
+    spec, out = sweep_spec(SCENE), tmp_path / "old.nc"
+    arrays = {n: serial.dataset[n].values.copy() for n in stored_variables(spec)}
+    arrays["tau_min"] = np.where(arrays["has_tau"], arrays["tau_min"], spec.options.tau_max)
+    ds = to_dataset(spec, arrays)
+    ds.attrs["data_sha256"] = dataset_digest(spec, arrays)
+    ds.to_netcdf(out)
+    assert_same(open_sweep(out), serial.dataset)
+    assert run_sweep(SCENE, executor="serial", out=out).computed == 0

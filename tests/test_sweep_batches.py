@@ -101,4 +101,4 @@ def test_batched_processes_equal_serial(monkeypatch):
     assert max(made) > 1 and sum(made) == N_CHUNKS == len(chunks(sweep_spec(SCENE)))
     assert run.chunks == N_CHUNKS
     for name in serial.data_vars:
-        assert np.array_equal(run.dataset[name].values, serial[name].values), name
+        np.testing.assert_array_equal(run.dataset[name].values, serial[name].values, err_msg=name)

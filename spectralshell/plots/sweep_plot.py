@@ -152,7 +152,7 @@ def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
     ds = ds.sortby([xname, yname])
     mm = minimum_map(ds, xname, yname)
     found = mm["has_tau"].values
-    tau_max = float(ds.attrs.get("tau_max", mm["tau_min"].values.max(initial=0.0)))
+    tau_max = float(ds.attrs.get("tau_max", np.nanmax(mm["tau_min"].values, initial=0.0)))
     xe, ye = _edges(ds[xname]), _edges(ds[yname])
     shown = np.ma.masked_where(~found, mm["tau_min"].values)
     mesh = ax.pcolormesh(xe, ye, shown, cmap=cmap, vmin=0.0, vmax=headroom * tau_max,

@@ -21,7 +21,7 @@ from ..results.maps import map_dict, minimum_map, write_npz
 
 
 def _write_json(path: Path, data) -> Path:
-    path.write_text(json.dumps(data))
+    path.write_text(json.dumps(data, allow_nan=False))
     return path
 
 
@@ -442,7 +442,8 @@ def _cochlea_tau_maps(out: Path, *, progress: bool, workers: int | None,
                           "solved: 1024, or 512 where only the reach test failed and M = 512 "
                           "does not reach the resonance, so that M = 1024 could not settle it)",
                "other_kind": "over_kinds = 'minimum': the kind not attaining a cell's minimum "
-                             "is resolved only below it (has_tau false, tau_min = that cap)",
+                             "is resolved only below it (has_tau false, tau_min NaN, where it has "
+                             "none there)",
                "point_seconds": "in-worker time of each point's two kind solves (s), this run",
                "panels": data}
     return [png, _write_json(out / "fig-5.18.json", summary), *paths]

@@ -40,8 +40,8 @@ def minimum_map(ds: xr.Dataset, x: str, y: str) -> xr.Dataset:
     """The smallest tau_min over the categories of the sweep ``ds`` at each (y, x) cell.
 
     Only computed points with a marginal tau <= tau_max count; ties go to the first category in
-    the sweep's order (lower m, then harmonic). Variables, each (y, x): ``tau_min`` (tau_max
-    where none: NaN-free), ``has_tau``, ``error_estimate`` (0 where none), ``label``
+    the sweep's order (lower m, then harmonic). Variables, each (y, x): ``tau_min`` (NaN
+    where none), ``has_tau``, ``error_estimate`` (0 where none), ``label``
     (:func:`category_label`, '' where none) and, per category dim d, ``d`` the value attaining
     the minimum (0 or '' where none). Coordinates x and y and the attrs are the sweep's.
     """
@@ -57,11 +57,10 @@ def minimum_map(ds: xr.Dataset, x: str, y: str) -> xr.Dataset:
     best = flat.argmin(axis=-1)
     value = np.take_along_axis(flat, best[..., None], axis=-1)[..., 0]
     found = np.isfinite(value)
-    tau_max = float(ds.attrs.get("tau_max", np.max(tau, initial=0.0)))
     error = np.take_along_axis(err.reshape(*shape, -1), best[..., None], axis=-1)[..., 0]
     combos = list(itertools.product(*(range(ds.sizes[d]) for d in cats)))
     names = np.array([category_label(ds, cats, c) for c in combos] or [""])
-    data = {"tau_min": ((y, x), np.where(found, value, tau_max)),
+    data = {"tau_min": ((y, x), np.where(found, value, np.nan)),
             "has_tau": ((y, x), found),
             "error_estimate": ((y, x), np.where(found, error, 0.0)),
             "label": ((y, x), np.where(found, names[best], ""))}
@@ -92,8 +91,9 @@ def map_dict(mm: xr.Dataset) -> dict[str, Any]:
 
 
 def write_npz(mm: xr.Dataset, path: str | Path) -> Path:
-    """A :func:`minimum_map` as NPZ: every variable and both axes as arrays, the rest of
-    :func:`map_dict` (units, provenance) as JSON in ``metadata``."""
+    """A :func:`minimum_map` as NPZ: every variable and both axes as arrays (``tau_min`` NaN
+    where ``has_tau`` is false), the rest of :func:`map_dict` (units, provenance) as JSON in
+    ``metadata``."""
     y, x = mm["tau_min"].dims
     arrays = {str(n): mm[n].values for n in (x, y, *mm.data_vars)}
     meta = {k: v for k, v in map_dict(mm).items() if k in ("x_name", "y_name", "units", "attrs")}

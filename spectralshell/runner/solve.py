@@ -59,6 +59,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 import time
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
@@ -94,8 +95,8 @@ class SweepError(SpectralShellError, RuntimeError):
 
 @dataclass(frozen=True)
 class KindSolution:
-    """tau_min of one kind at one point, NaN-free: ``has_tau`` False means no marginal
-    tau <= tau_max, and then tau_min = tau_max and error_estimate = 0.
+    """tau_min of one kind at one point: ``has_tau`` False means no marginal tau <= tau_max,
+    and then tau_min is NaN and error_estimate 0.
 
     n_previous, n_temporal : the truncation pair of the convergence test.
     continued : accepted from the neighbour's truncation pair.
@@ -118,10 +119,10 @@ def variables(spec: SweepSpec) -> dict[str, type]:
     return {**VARIABLES, **SPATIAL_VARIABLES} if spec.spatial else dict(VARIABLES)
 
 
-def from_marginal(m: MarginalTau, tau_max: float) -> KindSolution:
+def from_marginal(m: MarginalTau) -> KindSolution:
     """KindSolution of a full ``marginal_tau`` result."""
     if m.tau_min is None:
-        return KindSolution(has_tau=False, tau_min=float(tau_max), error_estimate=0.0,
+        return KindSolution(has_tau=False, tau_min=math.nan, error_estimate=0.0,
                             n_temporal=m.n_temporal, n_previous=m.n_previous)
     return KindSolution(has_tau=True, tau_min=float(m.tau_min),
                         error_estimate=float(m.error_estimate), n_temporal=m.n_temporal,
@@ -158,7 +159,7 @@ def solve_full(system: HillSystem, kind: str, options: SolverOptions,
     """Independent solve of one kind (:func:`solve_kinds`; ``tau_hint``, a neighbour's
     tau_min, is the solver's ``hint``: only speed depends on it)."""
     found = solve_kinds(system, (kind,), options.marginal_kwargs(), {kind: tau_hint})[kind]
-    return from_marginal(found, options.tau_max)
+    return from_marginal(found)
 
 
 def continuation_start(system: HillSystem, hint: tuple[int, int] | None) -> int | None:
@@ -247,8 +248,8 @@ def solve_spatial_minimum(spec: SweepSpec, params: dict, hint: int | None, leade
     """Every kind at one point, M refined for the smallest tau_min over the kinds
     (:func:`~spectralshell.solvers.spatial_refinement.refine_minimum`, up to M = MINIMUM_LIMIT):
     the kind attaining it in full, each other kind only below it -- where it has nothing there,
-    has_tau is False and tau_min is that cap (not tau_max). ``leader``: the neighbour's minimising
-    kind, tried first; ``hint``: the neighbour's coarser M; ``tau_hints``: its tau_min per kind
+    has_tau is False (tau_min NaN), as where there is none <= tau_max. ``leader``: the
+    neighbour's minimising kind, tried first; ``hint``: the neighbour's coarser M; ``tau_hints``: its tau_min per kind
     (the solver's hint)."""
     start = spatial_start(hint)
     kinds = spec.kinds if leader is None else (leader, *(k for k in spec.kinds if k != leader))
@@ -261,10 +262,10 @@ def solve_spatial_minimum(spec: SweepSpec, params: dict, hint: int | None, leade
 
 def _spatial_solutions(found, kinds: tuple[str, ...], start: int) -> dict[str, KindSolution]:
     """KindSolution of each kind of a refinement in M started at ``start``; a kind without a
-    tau below its cap (tau_max, or the minimum for a capped kind) gets tau_min = that cap."""
+    tau below its cap (tau_max, or the minimum for a capped kind) gets has_tau False."""
     out = {}
     for k in kinds:
-        sol = from_marginal(spatial_error(found.taus[k], found.change[k]), found.caps[k])
+        sol = from_marginal(spatial_error(found.taus[k], found.change[k]))
         out[k] = dataclasses.replace(sol, continued=start > SPATIAL_START,
                                      n_spatial=found.n_spatial,
                                      n_spatial_previous=found.n_spatial_previous,

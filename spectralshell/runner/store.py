@@ -1,9 +1,10 @@
 """Sweep results as a labelled ``xarray.Dataset``, and their stores: Zarr (written chunk by
 chunk, resumable) and NetCDF (written at the end).
 
-Variables (dimensions: the grid axes, 'kind' included), NaN-free:
+Variables (dimensions: the grid axes, 'kind' included):
 
-* ``tau_min``: smallest marginal tau <= tau_max; equals tau_max where ``has_tau`` is false;
+* ``tau_min``: smallest marginal tau <= tau_max; NaN where ``has_tau`` is false (no
+  instability there, or the point not computed);
 * ``has_tau``: a marginal tau <= tau_max exists;
 * ``error_estimate``: the solver's error estimate of tau_min (0 where there is none);
 * ``n_temporal``: the final temporal truncation N;
@@ -23,6 +24,10 @@ its completion record (:mod:`.integrity`): reading a store back (:func:`open_swe
 rerun), a chunk counts as finished only if its record matches the values read, so that
 missing, unreadable or foreign chunk files are found, never served. Only one process writes a
 store at a time (:mod:`.lock`).
+
+Stores written before tau_min was NaN where there is none hold tau_max there; they verify as
+written (the records digest the stored bytes), and reading them (:func:`open_sweep`, a rerun)
+gives NaN there (:func:`without_tau_as_nan`), so old and new chunks of a resumed store agree.
 """
 
 from __future__ import annotations
@@ -56,7 +61,7 @@ KNOWN_VARIABLES = {**VARIABLES, **SPATIAL_VARIABLES, "computed": np.bool_}
 SUFFIXES = (".zarr", ".nc")
 _VAR_ATTRS = {
     "tau_min": {"long_name": VARIABLE_LONG_NAMES["tau_min"], "units": "1",
-                "note": "equals tau_max where has_tau is false"},
+                "note": "NaN where has_tau is false"},
     "has_tau": {"long_name": VARIABLE_LONG_NAMES["has_tau"]},
     "error_estimate": {"long_name": VARIABLE_LONG_NAMES["error_estimate"], "units": "1",
                        "note": "0 where has_tau is false"},
@@ -74,10 +79,16 @@ def stored_variables(spec: SweepSpec) -> dict[str, type]:
 
 
 def empty_arrays(spec: SweepSpec) -> dict[str, np.ndarray]:
-    """Result arrays before any point is solved (tau_min = tau_max, everything else 0/false)."""
+    """Result arrays before any point is solved (tau_min NaN, everything else 0/false)."""
     out = {name: np.zeros(spec.shape, dtype=dtype) for name, dtype in stored_variables(spec).items()}
-    out["tau_min"][...] = spec.options.tau_max
+    out["tau_min"][...] = np.nan
     return out
+
+
+def without_tau_as_nan(arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """``arrays`` with tau_min NaN wherever has_tau is false (where a store written by an
+    earlier version holds tau_max)."""
+    return {**arrays, "tau_min": np.where(arrays["has_tau"], arrays["tau_min"], np.nan)}
 
 
 def provenance(spec: SweepSpec) -> dict[str, Any]:
@@ -242,7 +253,8 @@ def read_zarr(path: Path, spec: SweepSpec | None = None) -> tuple[SweepSpec, Sto
         if chunk.index in state.finished:
             done[region(spec, chunk)] = True
     empty = empty_arrays(spec)
-    arrays = {v: np.where(done, values, empty[v]) for v, values in arrays.items()}
+    arrays = without_tau_as_nan({v: np.where(done, values, empty[v])
+                                 for v, values in arrays.items()})
     coordinates = tuple(a.name for a in spec.axes if not _coordinate_intact(group, a))
     return spec, StoredSweep(arrays, attrs, state.damaged, coordinates)
 
@@ -287,7 +299,9 @@ def _netcdf_arrays(ds: xr.Dataset, spec: SweepSpec) -> dict[str, np.ndarray] | N
         return None
     if any(not np.array_equal(ds[a.name].values, np.array(a.values)) for a in spec.axes):
         return None
-    return arrays if ds.attrs.get("data_sha256") == dataset_digest(spec, arrays) else None
+    if ds.attrs.get("data_sha256") != dataset_digest(spec, arrays):
+        return None
+    return without_tau_as_nan(arrays)
 
 
 #: Zarr (format 2) metadata files of a store and of each of its arrays.
@@ -476,10 +490,14 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
     with _open_netcdf(path, "sweep") as ds:
         if "scene_hash" not in ds.attrs or "tau_min" not in ds:
             raise ParameterError(f"sweep = {str(path)!r} is invalid: not a spectralshell sweep")
-        if _netcdf_arrays(ds, _stored_spec(path, dict(ds.attrs))) is None:
+        arrays = _netcdf_arrays(ds, _stored_spec(path, dict(ds.attrs)))
+        if arrays is None:
             raise StoreDamaged(f"sweep = {str(path)!r} is damaged: its variables, dimensions, "
                                "coordinates or values differ from what was written (data_sha256);"
                                f" rerun its sweep with out={str(path)!r} to recompute it")
         order = [v for v in KNOWN_VARIABLES if v in ds]
         order += [v for v in ds.data_vars if v not in KNOWN_VARIABLES]
-        return ds[order].load()
+        out = ds[order].load()
+        out["tau_min"] = out["tau_min"].copy(data=arrays["tau_min"])
+        out["tau_min"].attrs.update(_VAR_ATTRS["tau_min"])
+        return out
