@@ -38,7 +38,8 @@ def test_cochlea_scene_axes_units_and_defaults():
     fixed = sweep_spec(scene({"omega": [1000.0]}, {"n_spatial": 16}))
     assert not fixed.refines_spatial and fixed.spatial and fixed.options.tol_spatial is None
     # a scene without spatial modes keeps its canonical options (and so its old hash)
-    mathieu = sweep_spec({"model": "mathieu", "grid": {"kappa": [0.2, 0.3]}})
+    mathieu = sweep_spec({"model": "mathieu", "params": {"nu": 0.0},
+                          "grid": {"kappa": [0.2, 0.3]}})
     assert set(mathieu.canonical()["options"]) == {"tol", "n_temporal", "tau_max", "continuation"}
 
 

@@ -245,6 +245,6 @@ def test_params_are_frozen_and_cleaned():
     p = FibreParams(m=3.0, kappa=0.02, nu=0)
     assert (p.m, p.kappa, p.nu, p.forcing) == (3, 0.02, 0.0, "both") and isinstance(p.m, int)
     with pytest.raises(ParameterError, match="kappa = '0.02' is invalid"):
-        FibreParams(m=3, kappa="0.02")  # text is not a number (the CLI reads its text first)
+        FibreParams(m=3, kappa="0.02", nu=0.0)  # text is not a number (the CLI reads its text first)
     with pytest.raises(AttributeError):
         p.m = 4  # type: ignore[misc]

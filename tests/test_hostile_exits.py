@@ -30,11 +30,11 @@ REFUSED_TEXT = ["1e308", "-1e308", "1e-308", "1e-300", "5e-324", "nan", "inf", "
 #: (command line with X where the value goes) over every command's real flags.
 NUMERIC_FLAGS = [
     ["floquet", "mathieu", "--kappa", "0.25", "--nu=X"],
-    ["floquet", "mathieu", "--kappa=X"],
+    ["floquet", "mathieu", "--nu", "0", "--kappa=X"],
     ["floquet", "mathieu", "--kappa", "0.25", "--tau-max=X"],
     ["floquet", "mathieu", "--kappa", "0.25", "--tol=X"],
     ["floquet", "sphere", "--m", "2", "--kappa", "0.02", "--nu=X"],
-    ["floquet", "fibre", "--m", "2", "--kappa=X"],
+    ["floquet", "fibre", "--m", "2", "--nu", "0", "--kappa=X"],
     ["floquet", "cochlea", "--omega=X"],
     ["floquet", "cochlea", "--omega", "1000", "--sigma=X"],
     ["floquet", "cochlea", "--omega", "1000", "--length=X"],
@@ -192,8 +192,8 @@ def test_non_utf8_scene_names_file_and_offset(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("scene, key", [
-    ({"model": "mathieu", "params": {"kappa": "0.25"}}, "kappa = '0.25'"),
-    ({"model": "sphere", "params": {"m": "2", "kappa": 0.02}}, "m = '2'"),
+    ({"model": "mathieu", "params": {"kappa": "0.25", "nu": 0}}, "kappa = '0.25'"),
+    ({"model": "sphere", "params": {"m": "2", "kappa": 0.02, "nu": 0}}, "m = '2'"),
     ({"model": "mathieu", "params": {"kappa": 1}, "ask": "floquet"}, "ask = 'floquet'"),
     ({"model": "mathieu", "params": {"kappa": 1}, "ask": ["tongues"],
       "tongues": {"kappa": {"start": 0, "stop": 1, "num": "6"}}}, "num = '6'"),
@@ -220,7 +220,7 @@ def test_sweep_scene_strings_are_type_errors(scene, key):
 
 def test_scene_text_still_parses_numbers_in_range_strings():
     """'start:stop:num' is text by design: its parts are read as numbers."""
-    assert plan({"model": "mathieu", "params": {"kappa": 1.0}, "ask": ["tongues"],
+    assert plan({"model": "mathieu", "params": {"kappa": 1.0, "nu": 0.0}, "ask": ["tongues"],
                  "tongues": {"kappa": "0:1:3"}}).tasks[0].options["kappa"].size == 3
     assert load_scene('model = "mathieu"\n')["model"] == "mathieu"
 

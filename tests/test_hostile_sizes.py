@@ -313,7 +313,8 @@ def test_sweep_on_a_garbage_peer_fails_in_one_line(monkeypatch, tmp_path):
     try:
         with pytest.raises(ParameterError, match="is not a Dask scheduler: the peer answered with "
                                                  "a first message of 18446744073709551615 bytes"):
-            run_sweep({"model": "mathieu", "grid": {"kappa": [0.1, 0.2]}}, executor="dask",
+            run_sweep({"model": "mathieu", "params": {"nu": 0.0}, "grid": {"kappa": [0.1, 0.2]}},
+                      executor="dask",
                       scheduler=address, out=tmp_path / "x.zarr")
     finally:
         stop.set()

@@ -352,7 +352,7 @@ def test_a_second_writer_gets_one_line_and_a_killed_writer_frees_the_store(
                                             rf"{writer.pid} on .*, since .*\): wait"):
             run_sweep(SCENE, executor="serial", out=out)
         scene = tmp_path / "s.toml"
-        scene.write_text('model = "mathieu"\n[grid]\nkappa = [0.5]\n')  # refused before reading
+        scene.write_text('model = "mathieu"\n[params]\nnu = 0\n[grid]\nkappa = [0.5]\n')  # refused before reading
         assert cli.main(["sweep", str(scene), "--out", str(out), "--executor", "serial"]) == 2
         err = capsys.readouterr().err.strip()
         assert "\n" not in err and "being written by another process" in err

@@ -103,7 +103,8 @@ def test_api_errors_name_parameter_value_and_range():
 def test_negative_stiffness_is_computed_but_flagged(capsys):
     res = ss.exponents("mathieu", kappa=1.0, nu=0.1, tau=0.7)
     assert res.gamma.size == 2 and any("stiffness" in w and "negative" in w for w in res.warnings)
-    code, out, err = run_cli(capsys, "exponents", "mathieu", "--kappa", "1", "--tau", "0.7")
+    code, out, err = run_cli(capsys, "exponents", "mathieu", "--kappa", "1", "--nu", "0.1",
+                             "--tau", "0.7")
     assert code == 0 and "negative" in err
 
 
@@ -263,7 +264,7 @@ def test_help_lists_each_models_parameters_with_meaning_and_default():
         doc = function.__doc__
         for model in ("mathieu", "sphere", "fibre", "cochlea"):
             assert f"\n        {model}: " in doc, (function.__name__, model)
-        assert "nu : damping nu (dimensionless, >= 0); default 0.0" in doc
+        assert "nu : damping nu (dimensionless, >= 0; 0 = undamped); required" in doc
         assert "m : spherical-harmonic degree m >= 2; required" in doc
 
 
@@ -280,3 +281,21 @@ def test_figures_are_written_in_the_format_of_their_suffix(suffix, magic, tmp_pa
     shape = tmp_path / f"modes_shape{suffix}"
     assert base.read_bytes().startswith(magic) and shape.read_bytes().startswith(magic)
     capsys.readouterr()
+
+
+@pytest.mark.parametrize("model, given", [("mathieu", {"kappa": 0.3}),
+                                          ("sphere", {"m": 2, "kappa": 0.02}),
+                                          ("fibre", {"m": 2, "kappa": 0.02}),
+                                          ("cochlea", {"kappa": 1.0, "alpha": 0.0})])
+def test_missing_nu_is_refused_alike_for_every_model(model, given, capsys):
+    """No model silently makes a missing viscosity 0 (inviscid): the API and the CLI refuse it,
+    naming nu and its range; nu = 0 given explicitly is the inviscid model."""
+    with pytest.raises(ss.ParameterError, match=r"^nu is missing: model '\w+' has no default "
+                                                r"for it \(.*nu \(dimensionless, >= 0"):
+        ss.floquet(model, kind="subharmonic", **given)
+    flags = [x for k, v in given.items() for x in (f"--{k}", str(v))]
+    code, out, err = run_cli(capsys, "floquet", model, *flags)
+    assert code == 2 and out == "" and err.count("\n") == 1 and "nu is missing" in err
+    res = ss.floquet(model, kind="subharmonic", nu=0.0, tau_max=0.5, n_temporal=4,
+                     **({"spatial_mode": 1} if model == "cochlea" else {}), **given)
+    assert res.params["nu"] == 0.0

@@ -32,7 +32,7 @@ def test_harmonic_only_scene_assembles_no_subharmonic_system(monkeypatch):
 
 
 def test_tasks_not_asked_are_not_planned():
-    p = plan({"model": "mathieu", "ask": ["exponents"], "params": {"kappa": 1.0},
+    p = plan({"model": "mathieu", "ask": ["exponents"], "params": {"kappa": 1.0, "nu": 0.0},
               "exponents": {"tau": 0.2}, "tongues": {"kappa": "0:1:3"}})
     assert [t.name for t in p.tasks] == ["exponents"]
 
@@ -43,7 +43,7 @@ def test_default_scene_is_valid_and_shipped():
 
 
 @pytest.mark.parametrize("scene,fragment", [
-    ({"model": "mathieu", "params": {"kappa": "soft"}}, "kappa = 'soft' is invalid"),
+    ({"model": "mathieu", "params": {"kappa": "soft", "nu": 0}}, "kappa = 'soft' is invalid"),
     ({"model": "mathieu", "params": {"kappa": 1}, "ask": ["everything"]}, "ask = 'everything'"),
     ({"model": "mathieu", "params": {"kappa": 1}, "floquet": {"tol": "x"}}, "floquet.tol"),
     ({"model": "mathieu", "params": {"kappa": 1}, "colour": "red"}, "scene key 'colour'"),

@@ -49,7 +49,8 @@ def test_inviscid_limit_rate():
     """Viscous tau_min tends to the inviscid Mathieu value (kappa -> lambda0^2, (6.23)) as
     nu -> 0, with the Stokes-layer rate |difference| ~ nu^(1/2)."""
     m, kappa = 3, 0.02
-    inviscid = ss.floquet("mathieu", kind="subharmonic", kappa=lambda0_squared(m, kappa)).subharmonic
+    inviscid = ss.floquet("mathieu", kind="subharmonic", kappa=lambda0_squared(m, kappa),
+                          nu=0.0).subharmonic
     assert ss.floquet("sphere", kind="subharmonic", m=m, kappa=kappa, nu=0.0).subharmonic.tau_min \
         == inviscid.tau_min
     nus = np.array([1e-6, 1e-7, 1e-8, 1e-9])

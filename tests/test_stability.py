@@ -18,7 +18,8 @@ def test_parity_rule_agrees_with_floquet_exponents_inviscid(kappa, tau):
     harmonic iff Im gamma = 0, subharmonic iff Im gamma = 1/2."""
     res = ss.stability("sphere", tau=tau, m="2:6", kappa=kappa, nu=0.0)
     for mode in res.modes:
-        gamma = ss.exponents("mathieu", kappa=lambda0_squared(mode["m"], kappa), tau=tau).gamma
+        gamma = ss.exponents("mathieu", kappa=lambda0_squared(mode["m"], kappa), nu=0.0,
+                             tau=tau).gamma
         lead = gamma[np.argmax(gamma.real)]
         unstable = lead.real > 1e-9
         assert mode["unstable"] == unstable, (mode, gamma)

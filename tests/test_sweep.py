@@ -111,7 +111,7 @@ def test_interrupt_then_resume_equals_fresh_and_rerun_computes_nothing(serial, t
 
 def test_different_scene_is_refused_and_store_untouched(tmp_path):
     out = tmp_path / "map.zarr"
-    small = {**SCENE, "grid": {"kappa": {"start": 0.2, "stop": 0.3, "num": 3}}}
+    small = {**SCENE, "params": {"nu": 0.1}, "grid": {"kappa": {"start": 0.2, "stop": 0.3, "num": 3}}}
     run_sweep(small, executor="serial", out=out)
     before = open_sweep(out)
     other = {**small, "tau_min": {"tau_max": 1.0}}
@@ -214,7 +214,7 @@ def test_the_solver_walks_the_schedule_continuation_reads(model, params):
     ({"grid": {"kappa": {"start": 0.1, "stop": 1.0, "num": 4, "spacing": "cubic"}}}, "spacing"),
     ({"params": {"kappa": 0.3}, "grid": {"kappa": [0.1, 0.2]}}, "kappa is both fixed in \\[params\\]"),
     ({"grid": {"kappa": [0.1], "kind": ["harmonic", "odd"]}}, "grid kind = 'odd' is invalid"),
-    ({"grid": {"kappa": [-0.1, 0.2]}}, "kappa = -0.1 is invalid"),
+    ({"params": {"nu": 0.0}, "grid": {"kappa": [-0.1, 0.2]}}, "kappa = -0.1 is invalid"),
     ({"grid": {}}, "at least one swept parameter"),
     ({"tau_min": {"tol": 0}}, "tau_min.tol = 0 is invalid"),
     ({"tau_min": {"kind": "both"}}, "tau_min.kind is unknown"),

@@ -37,7 +37,7 @@ class FibreParams:
 
     m: int = field(metadata={"help": "angular wavenumber m >= 2", "range": M_RANGE})
     kappa: float = field(metadata={"help": "stiffness kappa (dimensionless, > 0)"})
-    nu: float = field(default=0.0, metadata={"help": "viscosity nu (dimensionless, >= 0; 0 = inviscid)"})
+    nu: float = field(metadata={"help": "viscosity nu (dimensionless, >= 0; 0 = inviscid)"})
     forcing: str = field(default="both", metadata={"help": "both, pressure or tangential"})
 
     def __post_init__(self) -> None:

@@ -16,7 +16,7 @@ class MathieuParams:
     """
 
     kappa: float = field(metadata={"help": "stiffness kappa (dimensionless, >= 0)"})
-    nu: float = field(default=0.0, metadata={"help": "damping nu (dimensionless, >= 0)"})
+    nu: float = field(metadata={"help": "damping nu (dimensionless, >= 0; 0 = undamped)"})
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "kappa", require_nonnegative("kappa", self.kappa))

@@ -238,9 +238,10 @@ def make_params(model: str, values: dict[str, Any]):
                              f"expected {', '.join(names)}")
     required = [f.name for f in dataclasses.fields(cls)
                 if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
-    missing = [n for n in required if n not in values]
+    missing = [f for f in dataclasses.fields(cls) if f.name in required and f.name not in values]
     if missing:
-        raise ParameterError(f"{missing[0]} is missing: model {model!r} needs {', '.join(required)}")
+        raise ParameterError(f"{missing[0].name} is missing: model {model!r} has no default for "
+                             f"it ({param_help(missing[0])}); it needs {', '.join(required)}")
     return cls(**values)
 
 

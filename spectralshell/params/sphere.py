@@ -27,7 +27,7 @@ class SphereParams:
     m: int = field(metadata={"help": "spherical-harmonic degree m >= 2",
                                     "range": M_RANGE})
     kappa: float = field(metadata={"help": "stiffness kappa (dimensionless, > 0)"})
-    nu: float = field(default=0.0, metadata={"help": "viscosity nu (dimensionless, >= 0; 0 = inviscid)"})
+    nu: float = field(metadata={"help": "viscosity nu (dimensionless, >= 0; 0 = inviscid)"})
     component: str = field(default="poloidal", metadata={"help": "poloidal or toroidal"})
 
     def __post_init__(self) -> None:
