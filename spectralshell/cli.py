@@ -14,6 +14,7 @@ import dataclasses
 import json
 import os
 import re
+import shlex
 import sys
 import tempfile
 from collections.abc import Callable, Sequence
@@ -24,7 +25,7 @@ from . import api
 from ._validate import (parse_int, parse_real, require_int_in_range, require_output_file,
                         require_writable_directory)
 from ._version import __version__
-from .errors import ConvergenceError, ParameterError, SpectralShellError
+from .errors import ConvergenceError, ParameterError, SpectralShellError, SweepInterrupted
 from .params.registry import (get_model, load_entry_points, models, models_with, param_fields,
                               param_help, param_names)
 from .params.scene import default_scene, load_scene, plan
@@ -33,6 +34,15 @@ from .results.base import format_params
 
 
 class _Parser(argparse.ArgumentParser):
+    """The CLI's parsers: errors in one line (status 2); every command and sub-command takes
+    the global flag --quiet (anywhere on the line)."""
+
+    def __init__(self, *args: Any, **kwargs: Any):
+        super().__init__(*args, **kwargs)
+        self.add_argument("-q", "--quiet", action="store_true", default=argparse.SUPPRESS,
+                          help="no progress on stderr (by default long work shows a bar with "
+                               "ETA on a terminal, a line every few seconds when piped)")
+
     def error(self, message: str) -> NoReturn:  # one line, status 2
         raise ParameterError(message)
 
@@ -184,6 +194,12 @@ def _report(as_json: bool, data: dict, text: Callable[[], str], written: Sequenc
     return 0
 
 
+def _progress(args: argparse.Namespace) -> bool:
+    """Whether long work reports its progress on stderr (a bar on a terminal, a line every
+    few seconds when piped): not with --quiet, nor with --json (a program reads the output)."""
+    return not (getattr(args, "quiet", False) or getattr(args, "json", False))
+
+
 def _warn(warnings: Sequence[str]) -> None:
     for w in warnings:
         print(f"warning: {w}", file=sys.stderr)
@@ -203,7 +219,7 @@ def cmd_floquet(args) -> int:
         if hasattr(args, name):
             extra.update(_given(args, name, parse_real))
     res = api.floquet(args.model, kind=args.kind, **_solver(args), **extra, **_tau_max(args),
-                      progress=sys.stderr.isatty() and not args.json, **_params(args, args.model))
+                      progress=_progress(args), **_params(args, args.model))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), res.summary)
 
@@ -229,7 +245,7 @@ def cmd_tongues(args) -> int:
     if args.kappa is None:
         raise ParameterError("--kappa is required: a range START:STOP:NUM, e.g. 0:3:301")
     res = api.tongues(args.model, kappa=args.kappa, kind=args.kind, tips=not args.no_tips,
-                      workers=args.workers, progress=sys.stderr.isatty() and not args.json,
+                      workers=args.workers, progress=_progress(args),
                       **_solver(args), **_tau_max(args), **_given(args, "max_points", _integer),
                       **_params(args, args.model, skip=("kappa",)))
     _warn(res.warnings)
@@ -331,7 +347,9 @@ def cmd_figure(args) -> int:
                              "(or 'list')")
     out = Path(args.out)
     _make_dir(out)
-    for path in make_figure(args.name, out, progress=sys.stderr.isatty(), workers=args.workers):
+    if _progress(args):
+        print(f"{args.name}: computing {FIGURES[args.name][0]}", file=sys.stderr)
+    for path in make_figure(args.name, out, progress=_progress(args), workers=args.workers):
         print(f"wrote {path}")
     return 0
 
@@ -345,7 +363,9 @@ def cmd_validate(args) -> int:
         raise ParameterError(f"workers = {workers} is invalid: must be an integer >= 1")
     out = _make_dir(args.out)
 
-    def show(outcome) -> None:
+    def show(outcome) -> None:  # every case as it ends; with --quiet, the failures only
+        if outcome.passed and not _progress(args):
+            return
         print(f"{'pass' if outcome.passed else 'FAIL'}  {outcome.case.name}  ({outcome.seconds:.1f} s)"
               + (f"  {outcome.message}" if outcome.message else ""), file=sys.stderr)
 
@@ -368,14 +388,14 @@ def _summary(results: dict[str, Any]) -> str:
     return "\n".join(parts)
 
 
-def _run(scene, out_dir: str | None, as_json: bool, name: str) -> int:
+def _run(scene, out_dir: str | None, as_json: bool, name: str, progress: bool) -> int:
     the_plan = plan(scene)
     out = Path(out_dir or the_plan.output_dir)
     _make_dir(out)
     png, json_path = out / "ince_strutt.png", out / f"{name}.json"
     _check_output("output", png, ".png")
     _check_output("output", json_path, ".json")
-    results = api.run_scene(the_plan, progress=sys.stderr.isatty() and not as_json)
+    results = api.run_scene(the_plan, progress=progress)
     for r in results.values():
         _warn(r.warnings)
     data = {k: r.to_dict() for k, r in results.items()}
@@ -388,10 +408,11 @@ def _run(scene, out_dir: str | None, as_json: bool, name: str) -> int:
 
 
 def cmd_demo(args) -> int:
-    return _run(default_scene(), args.out, args.json, "demo")
+    return _run(default_scene(), args.out, args.json, "demo", _progress(args))
 
 
-def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str) -> int:
+def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str,
+               progress: bool) -> int:
     """A scene with a [grid]: the sweep runner writes NAME.zarr (resumable) and NAME.png."""
     output = scene.get("output", {})
     out = Path(out_dir or (output.get("dir") if isinstance(output, dict) else None)
@@ -401,7 +422,7 @@ def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str) -> in
     store, png = out / f"{name}.zarr", out / f"{name}.png"
     _check_output("output", png, ".png")
     summary = api.sweep_summary({k: v for k, v in scene.items() if k != "output"},
-                                out=str(store), progress=sys.stderr.isatty() and not as_json)
+                                out=str(store), progress=progress)
     from .plots import sweep_plot
 
     _atomic_write(png, lambda p: sweep_plot.save(api.open_sweep(store), p))
@@ -412,8 +433,8 @@ def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str) -> in
 def cmd_run(args) -> int:
     scene = load_scene(args.scene)
     if is_sweep_scene(scene):
-        return _run_sweep(scene, args.out, args.json, Path(args.scene).stem)
-    return _run(scene, args.out, args.json, Path(args.scene).stem)
+        return _run_sweep(scene, args.out, args.json, Path(args.scene).stem, _progress(args))
+    return _run(scene, args.out, args.json, Path(args.scene).stem, _progress(args))
 
 
 def _sweep_text(summary: dict) -> str:
@@ -430,7 +451,7 @@ def cmd_sweep(args) -> int:
         if args.max_points else args.scene
     summary = api.sweep_summary(scene, executor=executor, workers=args.workers,
                                 scheduler=args.scheduler, out=args.out,
-                                progress=sys.stderr.isatty() and not args.json)
+                                progress=_progress(args))
     return _report(args.json, summary, lambda: _sweep_text(summary))
 
 
@@ -521,7 +542,7 @@ def cmd_simulate(args) -> int:
                                ("--png", png and _shape_png(png), FIGURE_SUFFIXES),
                                ("--npz", npz, ".npz"), ("output", json_path, ".json")):
         _check_output(name, path, suffix)
-    traj = api.simulate(scene, progress=sys.stderr.isatty() and not args.json)
+    traj = api.simulate(scene, progress=_progress(args))
     _warn(traj.warnings)
     written = _write_simulation(traj, png, npz)
     if json_path is not None:
@@ -772,6 +793,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"spectralshell: cannot complete: {exc.strerror or exc}"
               + (f": {exc.filename!r}" if exc.filename else ""), file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print("spectralshell: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        print(f"spectralshell: interrupted{_kept(exc, argv)}", file=sys.stderr)
         return 130
+
+
+def _kept(exc: KeyboardInterrupt, argv: Sequence[str] | None) -> str:
+    """What an interrupted sweep kept, and the command that resumes it ('' for another
+    Ctrl-C)."""
+    if not isinstance(exc, SweepInterrupted):
+        return ""
+    if exc.out is None:
+        return f": {exc}"
+    command = shlex.join(["spectralshell", *(sys.argv[1:] if argv is None else argv)])
+    return f": {exc}; resume with: {command}"

@@ -29,3 +29,18 @@ class StoreDamaged(ParameterError):
 class StoreBusy(ParameterError):
     """A sweep store is being written by another process; the message names it (pid, host,
     since when)."""
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a sweep: ``kept`` grid points (of ``points``) are in the store ``out``
+    (None: the sweep was in memory only, nothing is kept); rerunning the same sweep with the
+    same ``out`` resumes from there."""
+
+    def __init__(self, kept: int, points: int, out: str | None):
+        super().__init__(kept, points, out)
+        self.kept, self.points, self.out = kept, points, out
+
+    def __str__(self) -> str:
+        if self.out is None:
+            return f"nothing kept: the sweep of {self.points} points had no store (out)"
+        return f"{self.kept} of {self.points} points are stored in {self.out}"

@@ -2,6 +2,8 @@
 
 import json
 import os
+import re
+import shlex
 import sys
 import time
 from pathlib import Path
@@ -11,7 +13,8 @@ import pytest
 
 import spectralshell as ss
 from spectralshell import cli
-from spectralshell.errors import BackendUnavailable, ConvergenceError, ParameterError
+from spectralshell.errors import (BackendUnavailable, ConvergenceError, ParameterError,
+                                  SweepInterrupted)
 from spectralshell.params.sweep_grid import DEFAULT_CHUNK, sweep_spec
 from spectralshell.runner import SweepError, executors, map_points, open_sweep, run_sweep, solve
 from spectralshell.results.maps import map_dict, minimum_map, write_npz
@@ -523,3 +526,51 @@ def test_a_netcdf_of_the_tau_max_convention_reads_as_nan(serial, tmp_path):
     ds.to_netcdf(out)
     assert_same(open_sweep(out), serial.dataset)
     assert run_sweep(SCENE, executor="serial", out=out).computed == 0
+
+
+def test_ctrl_c_in_the_cli_says_what_is_kept_and_the_command_that_resumes(monkeypatch, tmp_path,
+                                                                        capsys):
+    """A KeyboardInterrupt in the middle of a CLI sweep: exit status 130, one line counting the
+    points stored (as the store says) and the exact command; running that command finishes the
+    sweep, computing only the rest, to the numbers of a fresh sweep."""
+    scene = tmp_path / "s.toml"
+    scene.write_text('model = "mathieu"\nask = ["tau_min"]\n[params]\nnu = 0.1\n[grid]\n'
+                     'kappa = {start = 0.1, stop = 1.2, num = 12}\n[tau_min]\ntau_max = 2.0\n'
+                     '[sweep]\nchunk = 3\n')
+    out = tmp_path / "m.zarr"
+    real, calls = solve.solve_kind, []
+
+    def interrupted(*args):
+        calls.append(1)
+        if len(calls) == 15:  # in the third chunk (3 points x 2 kinds per chunk)
+            raise KeyboardInterrupt
+        return real(*args)
+
+    monkeypatch.setattr(solve, "solve_kind", interrupted)
+    argv = ["sweep", str(scene), "--out", str(out), "--executor", "serial"]
+    assert cli.main(argv) == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    found = re.fullmatch(r"spectralshell: interrupted: (\d+) of 24 points are stored in (.+); "
+                         r"resume with: (.+)", err[0])
+    assert found, err
+    kept = int(found.group(1))
+    assert kept == 12 == int(open_sweep(out)["computed"].sum()) and found.group(2) == str(out)
+    command = shlex.split(found.group(3))
+    assert command == ["spectralshell", *argv]
+
+    monkeypatch.setattr(solve, "solve_kind", real)
+    assert cli.main(command[1:] + ["--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert (summary["computed"], summary["skipped"]) == (24 - kept, kept)
+    assert_same(open_sweep(out), run_sweep(str(scene), executor="serial").dataset)
+
+
+def test_ctrl_c_in_a_sweep_without_store_keeps_nothing(monkeypatch):
+    def interrupted(*args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(solve, "solve_kind", interrupted)
+    with pytest.raises(SweepInterrupted, match="nothing kept") as caught:
+        run_sweep(SCENE, executor="serial")
+    assert isinstance(caught.value, KeyboardInterrupt) and caught.value.kept == 0

@@ -14,6 +14,7 @@ import numpy as np
 from ..runner.floquet import floquet, stability, tau_map as solve_tau_map, tongues
 from ..runner.modes import natural_modes as solve_natural_modes
 from ..runner.response import response
+from ..runner.progress import tracked
 from ..params.physical import CARDIAC, TABLE_6_1, PhysicalSphere, bpm_to_rad_per_s
 from ..models.sphere import lambda0_squared
 from ..plots import degree_stability, ince_strutt, natural_modes, tau_map
@@ -45,7 +46,8 @@ def _table_6_1_degrees(out: Path, *, progress: bool, workers: int | None) -> lis
     panels, data = [], []
     for case, phys in TABLE_6_1.items():
         dimless = phys.forced()
-        by_degree = {m: floquet("sphere", m=m, **dimless) for m in range(2, 9)}
+        by_degree = {m: floquet("sphere", m=m, **dimless)
+                     for m in tracked(range(2, 9), f"fig-6.6 case {case}", "m", progress)}
         stab = stability("sphere", tau=0.45, m="2:8", **dimless)
         title = f"case {case}: ν = {dimless['nu']:g}, κ = {dimless['kappa']:g}"
         panels.append((title, by_degree, stab))
@@ -87,7 +89,9 @@ def _cardiac_map(out: Path, *, progress: bool, workers: int | None, size: int = 
 def _natural_modes_against_zeta(out: Path, *, progress: bool, workers: int | None) -> list[Path]:
     """Fig 7.1: least-damped mode (decay rate, frequency) of m = 2, 3, 4 for zeta in [1e-3, 10]."""
     zeta = np.logspace(-3, 1, 161)
-    by_degree = {m: [solve_natural_modes("sphere", m=m, zeta=z) for z in zeta] for m in (2, 3, 4)}
+    by_degree = {m: [solve_natural_modes("sphere", m=m, zeta=z)
+                     for z in tracked(zeta, f"fig-7.1 m = {m}", "ζ", progress)]
+                 for m in (2, 3, 4)}
     inviscid = {m: float(np.sqrt(lambda0_squared(m, 1.0))) for m in by_degree}
     png = natural_modes.save(zeta, by_degree, inviscid, out / "fig-7.1.png")
     data = {"zeta": zeta.tolist(), "modes": {m: [r.to_dict()["modes"] for r in rs]
@@ -123,7 +127,8 @@ def _fibre_against_m(name: str, cases: list[dict], out: Path, *, progress: bool,
     lo, hi = FIBRE_DEGREES
     panels, data = [], []
     for case in cases:
-        by_degree = {m: floquet("fibre", m=m, tau_max=1.0, **case) for m in range(lo, hi + 1)}
+        by_degree = {m: floquet("fibre", m=m, tau_max=1.0, **case)
+                     for m in tracked(range(lo, hi + 1), name, "m", progress)}
         stab = stability("fibre", tau=FIBRE_TAU, m=f"{lo}:{hi}", **case)
         title = f"fibre: ν = {case['nu']:g}, κ = {case['kappa']:g} (abscissa: wavenumber m)"
         panels.append((title, by_degree, stab))
@@ -162,13 +167,13 @@ def _cochlea_det_contours(out: Path, **_) -> list[Path]:
 COCHLEA_RESPONSE_MODES = 64
 
 
-def _cochlea_profiles(out: Path, **_) -> list[Path]:
+def _cochlea_profiles(out: Path, *, progress: bool, **_) -> list[Path]:
     """Fig 5.8: normalised BM envelope and profile of the harmonic (solid) and subharmonic
     (dashed) solutions at tau_min, omega = 400, 800, 1200, 1600 rad/s (M = 64)."""
     from ..plots import cochlea as cochlea_plots
 
     panels, data = [], []
-    for omega in (400.0, 800.0, 1200.0, 1600.0):
+    for omega in tracked((400.0, 800.0, 1200.0, 1600.0), "fig-5.8", "ω", progress):
         res = [response("cochlea", omega=omega, kind=k, n_spatial=COCHLEA_RESPONSE_MODES)
                for k in ("harmonic", "subharmonic")]
         panels.append((f"ω = {omega:g} rad/s", res))
@@ -177,7 +182,7 @@ def _cochlea_profiles(out: Path, **_) -> list[Path]:
     return [png, _write_json(out / "fig-5.8.json", data)]
 
 
-def _cochlea_peaks(out: Path, **_) -> list[Path]:
+def _cochlea_peaks(out: Path, *, progress: bool, **_) -> list[Path]:
     """Fig 5.9: envelope peak against response frequency for the harmonic (+, at omega) and
     subharmonic (o, at omega/2) solutions at tau_min and the passive tone, with the WKB line."""
     from ..models.cochlea import wkb_peak
@@ -188,7 +193,7 @@ def _cochlea_peaks(out: Path, **_) -> list[Path]:
     series, data = [], {}
     for kind, marker, factor in (("harmonic", "+", 1.0), ("subharmonic", "o", 0.5), ("tone", "x", 1.0)):
         res = [response("cochlea", omega=om, kind=kind, n_spatial=COCHLEA_RESPONSE_MODES)
-               for om in omegas]
+               for om in tracked(omegas, f"fig-5.9 {kind}", "ω", progress)]
         peak = np.array([r.to_cm(r.peak_x) for r in res])
         err = np.array([r.to_cm(r.peak_error) for r in res])
         series.append((kind, marker, factor * omegas, peak, err))
@@ -210,14 +215,15 @@ def _tau_points(results: list, omegas: np.ndarray) -> dict[str, tuple[np.ndarray
     return points
 
 
-def _cochlea_uniform(out: Path, **_) -> list[Path]:
+def _cochlea_uniform(out: Path, *, progress: bool, **_) -> list[Path]:
     """Fig 5.12: marginal tau against omega for the single modes k = 1..6, alpha = 0 (Table 5.1)."""
     from ..plots import cochlea as cochlea_plots
 
     omegas = np.linspace(200.0, 2000.0, 181)
     panels, data = [], {}
     for k in range(1, 7):
-        res = [floquet("cochlea", omega=w, alpha=0.0, spatial_mode=k, tau_max=1.0) for w in omegas]
+        res = [floquet("cochlea", omega=w, alpha=0.0, spatial_mode=k, tau_max=1.0)
+               for w in tracked(omegas, f"fig-5.12 k = {k}", "ω", progress)]
         panels.append((f"k = {k}, α = 0", _tau_points(res, omegas)))
         data[k] = [r.to_dict() for r in res]
     png = cochlea_plots.save_tau_against_omega(panels, out / "fig-5.12.png", columns=2,
@@ -273,7 +279,7 @@ def _cochlea_wavenumber(out: Path, *, progress: bool, **_) -> list[Path]:
     return [png, _write_json(out / "fig-5.11.json", data)]
 
 
-def _cochlea_graded(out: Path, **_) -> list[Path]:
+def _cochlea_graded(out: Path, *, progress: bool, **_) -> list[Path]:
     """Fig 5.14: marginal tau against omega, alpha = 1.56, M = 5, 10 and 64 (the thesis: 250), N
     converged to 1e-10; each point's error estimate includes |tau(M) - tau(M/2)|."""
     from ..plots import cochlea as cochlea_plots
@@ -281,7 +287,8 @@ def _cochlea_graded(out: Path, **_) -> list[Path]:
     omegas = np.linspace(400.0, 1600.0, 61)
     panels, data = [], {}
     for M in (5, 10, 64):
-        res = [floquet("cochlea", omega=w, n_spatial=M, tau_max=1.0) for w in omegas]
+        res = [floquet("cochlea", omega=w, n_spatial=M, tau_max=1.0)
+               for w in tracked(omegas, f"fig-5.14 M = {M}", "ω", progress)]
         panels.append((f"α = 1.56, M = {M}", _tau_points(res, omegas)))
         data[M] = [r.to_dict() for r in res]
     png = cochlea_plots.save_tau_against_omega(panels, out / "fig-5.14.png",

@@ -6,7 +6,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import os
-import sys
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -34,6 +33,7 @@ from ..solvers.exponents import floquet_exponents
 from ..solvers.marginal import N_MAX
 from ..solvers.spatial_refinement import TOL_SPATIAL, spatial_error
 from .solve import solve_kinds, spatial_point, spatial_system
+from .progress import progress_bar
 from ..solvers.tongues import find_tips
 
 
@@ -175,11 +175,9 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
         p, fine = first, solve_kinds(hill_system(first), kinds, options)
         m_fine, m_coarse, change = 1, None, {k: 0.0 for k in kinds}
     else:
-        from tqdm import tqdm  # lazy: keeps `import spectralshell` light
-
         estimate = priced_spatial(model, factory, kinds, options, n_given, max_seconds)
-        with tqdm(total=estimate.levels, desc=f"{model} ({estimate.describe()})", unit="M",
-                  disable=not progress, file=sys.stderr, leave=False) as bar:
+        with progress_bar(estimate.levels, f"{model} ({estimate.describe()})", "M", progress,
+                          leave=False) as bar:
             found = spatial_point(_counted(factory, bar), kinds, options, n_given, tol_spatial)
         p = first if n_given is not None else make_params(
             model, {**params, "n_spatial": found.n_spatial})

@@ -24,13 +24,11 @@ and fits every mode reaching ``EXCITED`` times the largest amplitude.
 
 from __future__ import annotations
 
-import sys
 import time
 from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
 
 from .._version import stamp
 from ..discretise.sphere_stepping import scene_blocks, shape_coefficients
@@ -40,6 +38,7 @@ from ..results.trajectory import ModeFit, Trajectory
 from ..solvers.imex import scheme as get_scheme
 from ..solvers.rate_fit import fit_rate
 from ..solvers.stepper import MAX_STEPS, Run, integrate
+from .progress import progress_bar
 
 DT_FACTOR = 0.02
 SAMPLES_PER_PERIOD = 32
@@ -102,8 +101,7 @@ def _runs(systems: list, initials: list, scheme: str, step: float, steps: int, e
     ``every`` is even, every other one otherwise)."""
     coarse_every = every // 2 if every % 2 == 0 else every
     total = len(systems) * (steps + steps // 2)
-    with tqdm(total=total, desc="simulate", unit="step", disable=not progress,
-              file=sys.stderr) as bar:
+    with progress_bar(total, "simulate", "step", progress) as bar:
         fine = [integrate(s, y0, scheme=scheme, dt=step, t_end=steps * step, every=every,
                           observe=s.displacement, progress=bar.update)
                 for s, y0 in zip(systems, initials)]

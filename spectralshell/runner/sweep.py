@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures.process import BrokenProcessPool
@@ -13,15 +12,18 @@ from pathlib import Path
 from typing import Any
 
 import xarray as xr
-from tqdm import tqdm
 
+from ..errors import SweepInterrupted
 from ..params.sweep_grid import SweepSpec, sweep_spec
 from .engine import run_tasks
 from .executors import check_executor, open_pool
-from .layout import Chunk, chunks, region
+from .integrity import read_records
+from .layout import Chunk, block_shape, chunk_key, chunks, region
 from .lock import writer_lock
+from .progress import progress_bar
 from .solve import ChunkResult, SweepError, solve_chunks, solve_points
-from .store import ZarrStore, check_out, empty_arrays, load_existing, to_dataset, write_netcdf
+from .store import (StoredSweep, ZarrStore, check_out, empty_arrays, load_existing, to_dataset,
+                    write_netcdf)
 
 IN_FLIGHT_PER_SLOT = 2  # tasks submitted per executor slot: keeps every worker busy
 #: Compute seconds aimed at per task once chunk costs are measured: a Dask task costs ~10 ms of
@@ -121,6 +123,21 @@ def _crash() -> SweepError:
                       "kept in the store; rerun the same command to resume")
 
 
+def _interrupted(spec: SweepSpec, path: Path | None,
+                 stored: StoredSweep | None) -> SweepInterrupted:
+    """What a Ctrl-C leaves: the points in the store (a Zarr store keeps every chunk with a
+    completion record, a NetCDF file only what it held before this run)."""
+    if path is None:
+        kept = 0
+    elif path.suffix == ".zarr":
+        records = read_records(path)
+        kept = sum(math.prod(block_shape(spec, c)) for c in chunks(spec)
+                   if chunk_key(spec, c) in records)
+    else:
+        kept = 0 if stored is None else int(stored.arrays["computed"].sum())
+    return SweepInterrupted(kept, spec.size, None if path is None else str(path))
+
+
 def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
               scheduler: str | None = None, out: str | Path | None = None,
               progress: bool = False,
@@ -145,6 +162,7 @@ def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
     BackendUnavailable : executor 'dask' without the extra.
     ConvergenceError, SweepError : a point failed (named with its parameters) or a worker died;
         chunks finished before are kept in the store.
+    SweepInterrupted : Ctrl-C (a KeyboardInterrupt); it counts the points kept in the store.
     """
     t0 = time.perf_counter()
     spec = _spec(scene)
@@ -172,8 +190,7 @@ def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | No
     used = "none (nothing to compute)"
     store = None
     if todo:
-        bar = tqdm(total=n_todo, desc="sweep", unit="pt", disable=not progress, file=sys.stderr,
-                   dynamic_ncols=True)
+        bar = progress_bar(n_todo, "sweep", "pt", progress)
 
         def record(chunk: Chunk, result: ChunkResult) -> None:
             where = region(spec, chunk)
@@ -198,6 +215,8 @@ def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | No
                 used = pool.description
                 bar.set_description(f"sweep [{pool.name}]")
                 dispatch(pool, spec, todo, record)
+        except KeyboardInterrupt:
+            raise _interrupted(spec, path, stored) from None
         except BrokenProcessPool:
             raise _crash() from None
         except Exception as exc:
@@ -261,7 +280,7 @@ def map_points(factory, points: Sequence, kinds: tuple[str, ...], *, executor: s
              for _, block in _point_chunks(points, chunk)]
     starts = {id(t): i * chunk for i, t in enumerate(tasks)}
     rows: list = [None] * len(points)
-    bar = tqdm(total=len(points), desc=desc, unit="pt", disable=not progress, file=sys.stderr)
+    bar = progress_bar(len(points), desc, "pt", progress)
 
     def record(task: tuple, result: list) -> None:
         start = starts[id(task)]
