@@ -91,3 +91,13 @@ def test_a_figure_says_what_it_computes_and_reports_progress(tmp_path, monkeypat
     assert cli.main(["figure", "fig-6.6", "--out", str(tmp_path), "--workers", "1",
                      "--quiet"]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_a_piped_spatial_refinement_reports_the_m_it_solves(monkeypatch, capsys):
+    """floquet cochlea refines M with a bar; piped, its lines name the M being solved."""
+    monkeypatch.setattr(progress, "PIPE_SECONDS", 0.0)
+    assert cli.main(["floquet", "cochlea", "--omega", "1000", "--kind", "subharmonic",
+                     "--n-temporal", "6", "--tau-max", "0.5"]) == 0
+    lines = [x for x in capsys.readouterr().err.splitlines() if x.startswith("cochlea")]
+    shape = re.compile(r"cochlea .*: \d+/\d+ M \(\d+%\), .* elapsed.*\(M = \d+\)")
+    assert lines and all(shape.fullmatch(x) for x in lines), lines

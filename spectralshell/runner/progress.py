@@ -33,7 +33,7 @@ class LineProgress:
 
     def __init__(self, total: int | None, desc: str, unit: str):
         self.total, self.desc, self.unit = total, desc, unit
-        self.n = 0
+        self.n, self.postfix = 0, ""
         self._start = self._last = time.monotonic()
 
     def update(self, count: int = 1) -> None:
@@ -51,11 +51,16 @@ class LineProgress:
         share = f" ({100 * self.n / self.total:.0f}%)" if self.total else ""
         eta = (f", ETA {_duration((self.total - self.n) / rate)}"
                if self.total and rate > 0 else "")
+        postfix = f" ({self.postfix})" if self.postfix else ""
         return (f"{self.desc}: {done} {self.unit}{share}, {rate:.3g} {self.unit}/s, "
-                f"{_duration(elapsed)} elapsed{eta}")
+                f"{_duration(elapsed)} elapsed{eta}{postfix}")
 
     def set_description(self, desc: str) -> None:
         self.desc = desc
+
+    def set_postfix_str(self, text: str) -> None:
+        """Text shown at the end of the next lines (e.g. 'M = 64')."""
+        self.postfix = text
 
     def close(self) -> None:
         """Nothing to clear: the lines stay in the log."""
