@@ -21,9 +21,10 @@ REPR_LINES = 20
 
 
 def format_params(params: dict[str, Any]) -> str:
-    """Parameters as one line, 'kappa = 0.3  nu = 0.1' (floats with %g)."""
+    """Parameters as one line, 'kappa = 0.3  nu = 0.1' (floats with %g); those that are None
+    (an option not used, e.g. spatial_mode) are left out."""
     return "  ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
-                     for k, v in params.items())
+                     for k, v in params.items() if v is not None)
 
 
 def _one_line(exc: Exception) -> str:

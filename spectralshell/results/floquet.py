@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -56,16 +56,27 @@ def certification_warnings(res: Mapping[str, MarginalTau]) -> list[str]:
             for kind, m in res.items() if m.tau_min is not None and m.complete_to < m.tau_min]
 
 
-def resolution_warnings(res: Mapping[str, MarginalTau], tol: float) -> list[str]:
-    """A flag for each kind whose converged tau_min has an error estimate above ``tol``: the
-    truncation has converged (|change| < tol) but rounding limits the value, e.g. tau = 0 as a
-    multiple eigenvalue at a finger tip on the axis, which double precision splits by
-    ~sqrt(eps) (see :func:`spectralshell.solvers.marginal.qz_taus`); no larger N helps."""
+#: Why a converged tau_min has an error estimate above tol: the truncation has converged
+#: (|change| < tol) but rounding limits the value, e.g. tau = 0 as a multiple eigenvalue at a
+#: finger tip on the axis, which double precision splits by ~sqrt(eps) (see
+#: :func:`spectralshell.solvers.marginal.qz_taus`); no larger N helps.
+ROUNDING = ("rounding limits it (a multiple eigenvalue at tau = 0, or eps x tau_min), not the "
+            "truncation")
+
+
+def above_tol(m: MarginalTau, tol: float | None) -> bool:
+    """Whether the kind ``m`` has a tau_min whose error estimate exceeds ``tol``."""
+    return (tol is not None and m.tau_min is not None and m.error_estimate is not None
+            and m.error_estimate > tol)
+
+
+def resolution_warnings(res: Mapping[str, MarginalTau], tol: float,
+                        reason: Callable[[str, MarginalTau], str] = lambda kind, m: ROUNDING
+                        ) -> list[str]:
+    """A flag for each kind whose tau_min has an error estimate above ``tol``, saying why
+    (``reason(kind, m)``; by default :data:`ROUNDING`, that of a converged truncation)."""
     return [f"{kind} tau_min = {m.tau_min:.6g} is resolved only to {m.error_estimate:.1e}, above "
-            f"tol = {tol:g}: rounding limits it (a multiple eigenvalue at tau = 0, or eps x "
-            "tau_min), not the truncation"
-            for kind, m in res.items()
-            if m.tau_min is not None and m.error_estimate is not None and m.error_estimate > tol]
+            f"tol = {tol:g}: {reason(kind, m)}" for kind, m in res.items() if above_tol(m, tol)]
 
 
 def marginal_variables(cells: np.ndarray, dims: tuple[str, ...]) -> dict[str, Variable]:
@@ -131,7 +142,18 @@ class FloquetResult(Result):
             taus = ", ".join(f"{t:.10g}" for t in m.tau[:6]) + (" ..." if m.tau.size > 6 else "")
             lines.append(f"  {kind:<12} tau_min = {m.tau_min:.12g}   error <= "
                          f"{m.error_estimate:.1e}   N = {m.n_temporal}   all tau{complete}: {taus}")
+            tol = self.provenance.get("options", {}).get("tol")
+            if above_tol(m, tol):
+                lines.append(f"  {'':<12} error above tol = {tol:g}: {self.error_reason(kind, m)}")
         return "\n".join(lines)
+
+    def error_reason(self, kind: str, m: MarginalTau) -> str:
+        """Why the error estimate of ``kind`` (its MarginalTau ``m``) is above tol: a fixed
+        truncation N, or else rounding (:data:`ROUNDING`)."""
+        fixed = self.provenance.get("options", {}).get("n_temporal")
+        if fixed is not None:
+            return f"N is fixed (n_temporal = {fixed}), so it is not raised until tol is met"
+        return ROUNDING
 
     def marginals(self) -> list[MarginalTau]:
         """The MarginalTau of each kind that was asked (harmonic first)."""

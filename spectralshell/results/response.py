@@ -75,18 +75,21 @@ class ResponseResult(Result):
         return out
 
     def summary(self) -> str:
-        """The parameters (and tau), then the envelope peak with its error (and in cm)."""
-        unit = "" if self.length is None else (
-            f" = {self.to_cm(self.peak_x):.4g} cm "
-            f"(WKB {self.to_cm(self.wkb_peak_x or float('nan')):.4g} cm)")
+        """The parameters (and tau), then the envelope peak with its error: at x (the
+        dimensionless position, 0 to π along the membrane), as a share of the length, in cm."""
+        cm = "" if self.length is None else (
+            f" = {self.to_cm(self.peak_x):.4g} ± {self.to_cm(self.peak_error):.1g} cm"
+            + ("" if self.wkb_peak_x is None else f" (WKB {self.to_cm(self.wkb_peak_x):.4g} cm)"))
         tau = "" if self.tau is None else f"  tau = {self.tau:.10g}"
         return (f"{self.model} {self.kind} response: {format_params(self.params)}{tau}\n"
-                f"  envelope peak x = {self.peak_x:.6g} +- {self.peak_error:.1e} (of pi){unit}")
+                f"  envelope peak at x = {self.peak_x:.6g} ± {self.peak_error:.1e} "
+                f"({100 * self.peak_x / np.pi:.3g} % of the way from the base, x = 0, to the "
+                f"apex, x = π){cm}")
 
     def _html_table(self) -> tuple[list[str], list[list[Any]]]:
-        rows = [["envelope peak x (of pi)", f"{self.peak_x:.6g}", f"{self.peak_error:.1e}"]]
+        rows = [["envelope peak x (0 to π)", f"{self.peak_x:.6g}", f"{self.peak_error:.1e}"]]
         if self.wkb_peak_x is not None:
-            rows.append(["WKB peak x (of pi)", f"{self.wkb_peak_x:.6g}", ""])
+            rows.append(["WKB peak x (0 to π)", f"{self.wkb_peak_x:.6g}", ""])
         if self.length is not None:
             rows.append(["envelope peak (cm)", f"{self.to_cm(self.peak_x):.4g}",
                          f"{self.to_cm(self.peak_error):.1e}"])

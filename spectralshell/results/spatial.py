@@ -6,6 +6,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from .floquet import FloquetResult
+from .records import MarginalTau
 from .notebook import json_attr, named, or_nan, variable
 
 if TYPE_CHECKING:
@@ -40,6 +41,25 @@ class SpatialFloquetResult(FloquetResult):
         if self.physical is not None:
             out["physical"] = dict(self.physical)
         return out
+
+    def error_reason(self, kind: str, m: MarginalTau) -> str:
+        """Why the error estimate of ``kind`` is above tol: the change of tau_min between the
+        last two numbers M of spatial modes, where that is the larger part of the estimate
+        (the refinement in M stops at tol_spatial, or M is fixed); a tau_min found at one M
+        only; otherwise that of :meth:`FloquetResult.error_reason`."""
+        if self.n_spatial_previous is None:
+            return super().error_reason(kind, m)
+        change = self.spatial_change.get(kind)
+        pair = f"M = {self.n_spatial_previous} and M = {self.n_spatial} spatial modes"
+        if change is None:
+            return (f"there is a tau_min at only one of {pair}, so the estimate is tau_min "
+                    "itself")
+        if change < m.error_estimate:
+            return super().error_reason(kind, m)
+        tol_spatial = self.provenance.get("options", {}).get("tol_spatial")
+        stop = ("n_spatial is fixed" if tol_spatial is None else
+                f"M is refined only until this change is <= tol_spatial = {tol_spatial:g}")
+        return f"the spatial truncation: tau_min changes by {change:.1e} between {pair} ({stop})"
 
     def to_xarray(self) -> xr.Dataset:
         """The Dataset of :meth:`FloquetResult.to_xarray`, with n_spatial (a scalar),

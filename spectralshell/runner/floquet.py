@@ -187,11 +187,13 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
     warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
     auto = n_given is None and first.spatial_mode is None
     opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
-    return SpatialFloquetResult(model=model, params=dataclasses.asdict(p),
-                                harmonic=res.get("harmonic"), subharmonic=res.get("subharmonic"),
-                                provenance=provenance(opts), warnings=tuple(warnings),
-                                n_spatial=m_fine, n_spatial_previous=m_coarse,
-                                spatial_change=change, physical=physical)
+    result = SpatialFloquetResult(model=model, params=dataclasses.asdict(p),
+                                  harmonic=res.get("harmonic"), subharmonic=res.get("subharmonic"),
+                                  provenance=provenance(opts), warnings=tuple(warnings),
+                                  n_spatial=m_fine, n_spatial_previous=m_coarse,
+                                  spatial_change=change, physical=physical)
+    notes = resolution_warnings(res, options["tol"], result.error_reason)
+    return dataclasses.replace(result, warnings=result.warnings + tuple(notes))
 
 
 PARALLEL_MIN_POINTS = 400  # below this a process pool costs more than it saves
