@@ -20,12 +20,30 @@ Public API::
                  "initial": {"shape": "2:0"}, "simulate": {"t_end": 200}})  # time stepping
 """
 
+import importlib
+from typing import Any
+
 from ._version import __version__
-from .api import (exponents, floquet, lp_coefficient, natural_modes, open_sweep, response, run_scene,
-                  simulate, stability, sweep, tau_map, tongues)
-from .models import models
 from .errors import BackendUnavailable, ConvergenceError, ParameterError, SpectralShellError
+from .models import models  # registers the built-in models (light: no scipy)
+
+#: The public functions, defined in :mod:`spectralshell.api` and imported on first use
+#: (PEP 562), so that ``import spectralshell`` -- and every command-line start, ``--version``
+#: included -- does not pay for scipy and the solvers until a computation needs them.
+_LAZY = dict.fromkeys(("exponents", "floquet", "lp_coefficient", "natural_modes", "open_sweep",
+                       "response", "run_scene", "simulate", "stability", "sweep", "tau_map",
+                       "tongues"), ".api")
 
 __all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "natural_modes", "tau_map",
-           "run_scene", "sweep", "open_sweep", "lp_coefficient", "simulate", "response", "models", "SpectralShellError",
-           "ParameterError", "ConvergenceError", "BackendUnavailable"]
+           "run_scene", "sweep", "open_sweep", "lp_coefficient", "simulate", "response", "models",
+           "SpectralShellError", "ParameterError", "ConvergenceError", "BackendUnavailable"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name], __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

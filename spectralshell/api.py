@@ -9,15 +9,13 @@ coefficients in ``runner.lp``); this module holds no numerics.
 
 from __future__ import annotations
 
+import importlib
 from pathlib import Path
 from collections.abc import Mapping
 from typing import Any
 
 from .params.registry import parameters_doc
 from .runner.floquet import exponents, floquet, run_scene, stability, tau_map, tongues
-from .runner.lp import lp_coefficient, lp_summary
-from .runner.modes import natural_modes
-from .runner.response import response
 
 __all__ = ["floquet", "tongues", "tau_map", "exponents", "stability", "run_scene",
            "natural_modes", "response", "lp_coefficient", "lp_summary", "sweep", "sweep_summary",
@@ -32,7 +30,23 @@ def _list_model_parameters(*functions) -> None:
         function.__doc__ = (function.__doc__ or "").rstrip() + text
 
 
-_list_model_parameters(floquet, tongues, tau_map, exponents, stability, natural_modes, response)
+_list_model_parameters(floquet, tongues, tau_map, exponents, stability)
+
+#: Entry points whose modules a Floquet solve does not need (natural modes bring the continued
+#: eigensolvers, lp the nonlinear orbits): imported on first use (PEP 562), which keeps the
+#: command line's start short; those taking ``**params`` get the parameter list then.
+_LAZY = {"natural_modes": ".runner.modes", "response": ".runner.response",
+         "lp_coefficient": ".runner.lp", "lp_summary": ".runner.lp"}
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    function = getattr(importlib.import_module(_LAZY[name], __package__), name)
+    if name in ("natural_modes", "response"):
+        _list_model_parameters(function)
+    globals()[name] = function  # documented once; later lookups find it directly
+    return function
 
 
 def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: int | None = None,

@@ -21,7 +21,6 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
-from . import api
 from ._validate import (parse_int, parse_real, require_int_in_range, require_output_file,
                         require_writable_directory)
 from ._version import __version__
@@ -31,6 +30,14 @@ from .params.registry import (get_model, load_entry_points, models, models_with,
 from .params.scene import default_scene, load_scene, plan
 from .params.sweep_grid import is_sweep_scene, sweep_spec
 from .results.base import format_params
+
+
+def _api():
+    """:mod:`spectralshell.api`, imported when a command computes (it brings scipy and the
+    solvers; ``--version`` and ``--help`` do without)."""
+    from . import api
+
+    return api
 
 
 class _Parser(argparse.ArgumentParser):
@@ -218,7 +225,7 @@ def cmd_floquet(args) -> int:
     for name in ("tol_spatial", "max_seconds"):
         if hasattr(args, name):
             extra.update(_given(args, name, parse_real))
-    res = api.floquet(args.model, kind=args.kind, **_solver(args), **extra, **_tau_max(args),
+    res = _api().floquet(args.model, kind=args.kind, **_solver(args), **extra, **_tau_max(args),
                       progress=_progress(args), **_params(args, args.model))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), res.summary)
@@ -244,7 +251,7 @@ def cmd_tongues(args) -> int:
         _check_output(f"--{flag}", getattr(args, flag), suffix)
     if args.kappa is None:
         raise ParameterError("--kappa is required: a range START:STOP:NUM, e.g. 0:3:301")
-    res = api.tongues(args.model, kappa=args.kappa, kind=args.kind, tips=not args.no_tips,
+    res = _api().tongues(args.model, kappa=args.kappa, kind=args.kind, tips=not args.no_tips,
                       workers=args.workers, progress=_progress(args),
                       **_solver(args), **_tau_max(args), **_given(args, "max_points", _integer),
                       **_params(args, args.model, skip=("kappa",)))
@@ -256,7 +263,7 @@ def cmd_tongues(args) -> int:
 def cmd_exponents(args) -> int:
     if args.tau is None:
         raise ParameterError("--tau is required: the forcing amplitude")
-    res = api.exponents(args.model, tau=parse_real("tau", args.tau), **_solver(args),
+    res = _api().exponents(args.model, tau=parse_real("tau", args.tau), **_solver(args),
                         **_params(args, args.model))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), res.summary)
@@ -265,7 +272,7 @@ def cmd_exponents(args) -> int:
 def cmd_stability(args) -> int:
     if args.tau is None or args.m is None:
         raise ParameterError("--tau and --m are required, e.g. --tau 0.45 --m 2:6")
-    res = api.stability(args.model, tau=parse_real("tau", args.tau), m=args.m, kind=args.kind,
+    res = _api().stability(args.model, tau=parse_real("tau", args.tau), m=args.m, kind=args.kind,
                         **_solver(args), **_params(args, args.model, skip=("m",)))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), res.summary)
@@ -286,7 +293,7 @@ def cmd_modes(args) -> int:
         except ValueError:
             raise ParameterError(f"precision = {args.precision!r} is invalid: must be an integer "
                                  "number of digits") from None
-    res = api.natural_modes(args.model, count=count, precision=precision,
+    res = _api().natural_modes(args.model, count=count, precision=precision,
                             zeta=None if args.zeta is None else parse_real("zeta", args.zeta),
                             physical=physical or None, **_params(args, args.model))
     _warn(res.warnings)
@@ -295,7 +302,7 @@ def cmd_modes(args) -> int:
 
 def cmd_response(args) -> int:
     _check_output("--png", args.png, FIGURE_SUFFIXES)
-    res = api.response(args.model, kind=args.kind, **_solver(args), **_physical(args),
+    res = _api().response(args.model, kind=args.kind, **_solver(args), **_physical(args),
                        **_given(args, "max_seconds", parse_real), **_params(args, args.model))
     _warn(res.warnings)
     written = []
@@ -318,7 +325,7 @@ def _integer(name: str, text: str) -> int:
 def cmd_lp(args) -> int:
     if args.m is None:
         raise ParameterError("--m is required, e.g. --m 2")
-    data = api.lp_summary(_integer("m", args.m), _integer("k", args.k), volume=args.volume,
+    data = _api().lp_summary(_integer("m", args.m), _integer("k", args.k), volume=args.volume,
                           check=args.check)
 
     def text() -> str:
@@ -395,7 +402,7 @@ def _run(scene, out_dir: str | None, as_json: bool, name: str, progress: bool) -
     png, json_path = out / "ince_strutt.png", out / f"{name}.json"
     _check_output("output", png, ".png")
     _check_output("output", json_path, ".json")
-    results = api.run_scene(the_plan, progress=progress)
+    results = _api().run_scene(the_plan, progress=progress)
     for r in results.values():
         _warn(r.warnings)
     data = {k: r.to_dict() for k, r in results.items()}
@@ -421,11 +428,11 @@ def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str,
     _make_dir(out)
     store, png = out / f"{name}.zarr", out / f"{name}.png"
     _check_output("output", png, ".png")
-    summary = api.sweep_summary({k: v for k, v in scene.items() if k != "output"},
+    summary = _api().sweep_summary({k: v for k, v in scene.items() if k != "output"},
                                 out=str(store), progress=progress)
     from .plots import sweep_plot
 
-    _atomic_write(png, lambda p: sweep_plot.save(api.open_sweep(store), p))
+    _atomic_write(png, lambda p: sweep_plot.save(_api().open_sweep(store), p))
     return _report(as_json, {**summary, "png": str(png)}, lambda: _sweep_text(summary),
                    [str(png)])
 
@@ -449,7 +456,7 @@ def cmd_sweep(args) -> int:
     executor = args.executor or ("dask" if args.scheduler else "processes")
     scene = sweep_spec(args.scene, **_given(args, "max_points", _integer)) \
         if args.max_points else args.scene
-    summary = api.sweep_summary(scene, executor=executor, workers=args.workers,
+    summary = _api().sweep_summary(scene, executor=executor, workers=args.workers,
                                 scheduler=args.scheduler, out=args.out,
                                 progress=_progress(args))
     return _report(args.json, summary, lambda: _sweep_text(summary))
@@ -459,7 +466,7 @@ def cmd_plot(args) -> int:
     _check_output("--png", args.png, FIGURE_SUFFIXES)
     from .plots import sweep_plot
 
-    ds = api.open_sweep(args.store)
+    ds = _api().open_sweep(args.store)
     _atomic_write(args.png, lambda p: sweep_plot.save(ds, p))
     print(f"wrote {args.png}")
     return 0
@@ -542,7 +549,7 @@ def cmd_simulate(args) -> int:
                                ("--png", png and _shape_png(png), FIGURE_SUFFIXES),
                                ("--npz", npz, ".npz"), ("output", json_path, ".json")):
         _check_output(name, path, suffix)
-    traj = api.simulate(scene, progress=_progress(args))
+    traj = _api().simulate(scene, progress=_progress(args))
     _warn(traj.warnings)
     written = _write_simulation(traj, png, npz)
     if json_path is not None:
@@ -769,6 +776,9 @@ def _as_flags(message: str, parser: argparse.ArgumentParser | None) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``spectralshell`` and ``python -m spectralshell``."""
+    if (sys.argv[1:] if argv is None else list(argv)) == ["--version"]:
+        print(f"spectralshell {__version__}")  # before the parser, which loads every model
+        return 0
     parser = None
     try:
         load_entry_points()

@@ -43,7 +43,6 @@ from collections.abc import Iterator
 
 import mpmath
 import numpy as np
-import scipy.special as sc
 
 from .._validate import require_positive
 from ..errors import ParameterError
@@ -198,6 +197,8 @@ def _q_second_sheet(m: int, w: complex, q_w: complex, upper: bool) -> complex:
     The upper sign holds for Im beta >= 0."""
     e = -1j * math.pi if upper else 1j * math.pi
     sign = -1.0 if m % 2 else 1.0
+    import scipy.special as sc  # lazy: ~0.2 s to import, needed only on this branch
+
     i_scaled, k_scaled = complex(sc.ive(m, w)), complex(sc.kve(m, w))
     rho = 0j
     if i_scaled != 0 and cmath.isfinite(k_scaled) and k_scaled != 0:

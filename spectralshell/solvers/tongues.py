@@ -12,7 +12,6 @@ from collections.abc import Callable
 
 import numpy as np
 import scipy.linalg as sla
-from scipy.optimize import brentq
 
 from ..discretise.hill import assemble
 from ..errors import ConvergenceError
@@ -97,6 +96,8 @@ def refine_tip(factory: SystemFactory, kind: str, lo: float, hi: float, tau_gues
                                "smooth there (it jumps to another branch, e.g. where the finger's "
                                "real tau turn complex), so the sampled minimum is not a finger tip")
     xtol, rtol = 1e-14, 4 * np.finfo(float).eps
+    from scipy.optimize import brentq  # lazy: ~0.2 s to import, only where tips are refined
+
     kappa = lo if g_lo == 0.0 else hi if g_hi == 0.0 else brentq(slope, lo, hi, xtol=xtol, rtol=rtol)
     kappa_error = 2 * (xtol + rtol * abs(kappa))
     plateau = tracked(kappa) == 0.0

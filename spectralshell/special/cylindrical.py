@@ -29,7 +29,6 @@ naming the argument; no function returns NaN or inf. Validation (and its message
 from __future__ import annotations
 
 import numpy as np
-import scipy.special as sc
 
 from .spherical import M_MAX, _finish, _invalid, _prepare, ratio_i_continued_fraction
 
@@ -120,6 +119,8 @@ def _k1_over_k0(z: np.ndarray) -> np.ndarray:
     small = ~big
     if small.any():
         zs = z[small]
+        import scipy.special as sc  # lazy: ~0.2 s to import (the CLI's start-up)
+
         out[small] = sc.kve(1, zs) / sc.kve(0, zs)
     return out
 
