@@ -362,7 +362,8 @@ def cmd_figure(args) -> int:
 
 
 def cmd_validate(args) -> int:
-    """Run the validation cases, write report.md (+ report.json, PNGs); status 1 if any case fails."""
+    """Run the validation cases, write report.md, report.html (self-contained), report.json and
+    PNGs; status 1 if any case fails."""
     from .reports import validation
 
     workers = None if args.workers is None else _integer("workers", args.workers)
@@ -379,7 +380,7 @@ def cmd_validate(args) -> int:
     report = validation.run(out, quick=args.quick, workers=workers, progress=show)
     n, failed = len(report.outcomes), len(report.failures)
     print(f"validation ({'quick' if args.quick else 'full'}): {n - failed} of {n} cases pass "
-          f"in {report.seconds:.1f} s -> {out / 'report.md'}")
+          f"in {report.seconds:.1f} s -> {out / 'report.md'}, {out / 'report.html'}")
     return 0 if report.passed else 1
 
 
@@ -679,7 +680,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="processes for the figure sweeps (default: all cores)")
     p.set_defaults(func=cmd_figure)
 
-    p = sub.add_parser("validate", help="run the validation cases; write report.md and PNGs "
+    p = sub.add_parser("validate", help="run the validation cases; write report.md, report.html and PNGs "
                                         "(exit 1 if any case fails)")
     p.add_argument("--out", default="validation-report", help="output directory (default validation-report)")
     p.add_argument("--quick", action="store_true", help="only the quick cases (well under 2 minutes)")

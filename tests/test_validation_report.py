@@ -7,7 +7,9 @@ The full report is written to $SPECTRALSHELL_REPORT_DIR when set (``make test-al
 
 from __future__ import annotations
 
+import base64
 import json
+import re
 import os
 from pathlib import Path
 
@@ -36,7 +38,22 @@ def _check_report(out: Path, cases: list) -> dict:
     assert text.count("\n- **") == len(FINDINGS)  # every finding, each with its evidence
     assert text.count("  - Evidence: ") == len(FINDINGS)
     assert (out / "errors.png").stat().st_size > 10_000
+    _check_html(out, text)
     return data
+
+
+def _check_html(out: Path, text: str) -> None:
+    """report.html is report.md as one page with every figure embedded: as many images as the
+    Markdown shows, each the bytes of its PNG, no reference to another file."""
+    page = (out / "report.html").read_text()
+    assert page.startswith("<!DOCTYPE html>") and page.rstrip().endswith("</html>")
+    shown = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text)
+    embedded = re.findall(r'<img src="data:image/png;base64,([^"]+)"', page)
+    assert shown and len(embedded) == len(shown) == page.count("<img ")
+    for path, data in zip(shown, embedded):
+        assert base64.b64decode(data) == (out / path).read_bytes(), path
+    assert not re.search(r'(src|href)="(?!data:|#|https?:)', page)
+    assert page.count("<tr>") == text.count("\n| ")  # every table row, headers included
 
 
 def test_quick_report(tmp_path, capsys):
@@ -87,6 +104,18 @@ def test_failing_cases_fail_the_report_and_the_exit_status(tmp_path, capsys, mon
     assert "- `raises`: RuntimeError: no convergence here" in text
     assert "| 2.5 | 5.0e-01 | 1e-12 | **FAIL** |" in text
     assert "| 2 (exact) | 0.0e+00 | 1e-12 | pass |" in text
+    assert "<td><strong>FAIL</strong></td>" in (tmp_path / "report.html").read_text()
+    assert main(["validate", "--quick", "--quiet", "--out", str(tmp_path)]) == 1
+    assert [line.split()[:2] for line in capsys.readouterr().err.splitlines()] == [
+        ["FAIL", "wrong.value"], ["FAIL", "raises"]]  # --quiet: the failures only
+
+
+def test_the_stepper_agrees_with_floquet_in_the_quick_set():
+    """The quick set holds the time-stepper cross-check: at, below and above tau_min."""
+    quick = {c.name for c in validation.all_cases(quick=True)}
+    assert {f"stepper.m2.k0.06.nu0.002.quick.{s}" for s in ("at_tau_min", "below", "above")} <= quick
+    full = {c.name for c in validation.all_cases()} - quick
+    assert {c for c in full if c.startswith("stepper.")}  # longer runs, a second degree
 
 
 @pytest.mark.slow

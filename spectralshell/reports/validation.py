@@ -1,5 +1,6 @@
 """Validation report: a registry of cases, each a number the package computes through its public
-API set against independent evidence, and a runner writing ``report.md`` (+ JSON and PNGs).
+API set against independent evidence, and a runner writing ``report.md``, the same as one
+self-contained ``report.html`` (figures embedded), JSON and PNGs.
 
 A :class:`Case` is data: name, section, quantity, source (where the expected value comes from:
 a thesis table/figure/claim, a closed form, a scipy oracle, a second method, mpmath, convergence
@@ -14,7 +15,7 @@ runs, including the reproduction of each thesis figure of :mod:`spectralshell.re
 the thesis is wrong" (:mod:`spectralshell.reports.thesis_errata`), each finding with the live
 result of its supporting cases.
 
-Adding cases (another model, the time stepper): write a function returning a list of :class:`Case`
+Adding cases (another model): write a function returning a list of :class:`Case`
 (``section`` = its heading) and append it to :data:`SECTIONS`. ``compute`` and a callable
 ``expected`` receive a :class:`Context` (output directory, figure cache); ``compute`` may return a
 :class:`Measured` to attach a note (truncation, error estimate) to the value.
@@ -42,6 +43,7 @@ from scipy.optimize import brentq, minimize_scalar
 from ..runner.floquet import exponents, floquet, stability, tongues
 from ..runner.lp import lp_summary
 from ..runner.modes import natural_modes as solve_natural_modes
+from ..runner.simulate import simulate
 from .._version import __version__, libraries, libraries_line
 from ..discretise.sphere_radial import radial_operators
 from ..params.physical import BALLOONS, CARDIAC, TABLE_4_1, TABLE_6_1, balloon, fibre_forced
@@ -854,6 +856,68 @@ def cochlea_cases() -> list[Case]:
 
 # ------------------------------------------------------------------ 7.3: nonlinear coefficients
 
+STEPPER = "Chapter 6: time stepper against Floquet (sphere)"
+#: (m, kappa, nu, t_end, quick) of the cross-checks: the quick set steps the shorter time.
+STEPPER_POINTS = ((2, 0.06, 0.002, 60.0, True), (2, 0.06, 0.002, 160.0, False),
+                  (3, 0.02, 0.006, 160.0, False))
+#: tau / tau_min of the three runs of a point: below, at and above the boundary.
+STEPPER_FACTORS = {"below": 0.9, "at": 1.0, "above": 1.1}
+
+
+def _stepped_rate(m: int, kappa: float, nu: float, t_end: float, factor: float):
+    """Fitted growth rate of the (m, 0) mode stepped by ``simulate`` at tau = factor x the
+    subharmonic tau_min of the Floquet solver, with its fit (error estimate, frequency)."""
+    tau_min = floquet("sphere", m=m, kappa=kappa, nu=nu, kind="subharmonic").subharmonic.tau_min
+    scene = {"params": {"kappa": kappa, "nu": nu, "tau": factor * tau_min},
+             "initial": {"shape": f"{m}:0"}, "simulate": {"t_end": t_end}}
+    (fit,) = simulate(scene).fits
+    return tau_min, fit
+
+
+def stepper_cases() -> list[Case]:
+    """The time stepper (``simulate``: radial Chebyshev, IMEX) against the Floquet solver (Hill
+    determinant, exact Bessel D(s)): at the Floquet tau_min the stepped mode neither grows nor
+    decays (growth rate 0 within the fit's error), 10 % below it decays, 10 % above it grows,
+    at the period-doubling frequency 1/2 of a subharmonic boundary."""
+    cases = []
+    for m, kappa, nu, t_end, quick in STEPPER_POINTS:
+        label = f"stepper.m{m}.k{kappa:g}.nu{nu:g}" + (".quick" if quick else "")
+        where = f"m = {m}, kappa = {kappa:g}, nu = {nu:g}, t_end = {t_end:g}"
+
+        def at(ctx, m=m, kappa=kappa, nu=nu, t_end=t_end):
+            tau_min, fit = _stepped_rate(m, kappa, nu, t_end, 1.0)
+            return Measured(fit.growth_rate, f"tau_min = {tau_min:.10g}; fit error "
+                                             f"{fit.error_estimate:.1e}, frequency "
+                                             f"{fit.frequency:g}")
+
+        cases.append(Case(
+            name=f"{label}.at_tau_min", section=STEPPER,
+            quantity=f"growth rate of the stepped (m, 0) mode at the Floquet tau_min ({where})",
+            source="Floquet theory: Re gamma = 0 on the marginal curve tau_min (Hill solver)",
+            source_kind="second method", expected=0.0, compute=at, tolerance=5e-6, quick=quick))
+        for side, factor in STEPPER_FACTORS.items():
+            if side == "at":
+                continue
+
+            def sign(ctx, m=m, kappa=kappa, nu=nu, t_end=t_end, factor=factor):
+                tau_min, fit = _stepped_rate(m, kappa, nu, t_end, factor)
+                grows = "grows" if fit.growth_rate > fit.error_estimate else \
+                    "decays" if fit.growth_rate < -fit.error_estimate else "undecided"
+                period = "period doubling" if abs(fit.frequency - 0.5) < 1e-6 else \
+                    f"frequency {fit.frequency:g}"
+                return Measured(f"{grows}, {period}", f"rate {fit.growth_rate:.3e} +- "
+                                                      f"{fit.error_estimate:.1e}")
+
+            cases.append(Case(
+                name=f"{label}.{side}", section=STEPPER,
+                quantity=f"the stepped mode at tau = {factor:g} tau_min ({where})",
+                source="Floquet theory: stable below the marginal curve, unstable above it",
+                source_kind="second method",
+                expected=f"{'decays' if side == 'below' else 'grows'}, period doubling",
+                compute=sign, tolerance=0.0, quick=quick))
+    return cases
+
+
 NONLINEAR = "Chapter 7.3: nonlinear frequency coefficients (inviscid, radial-only membrane)"
 EXACT_C = {(2, 0): (-81161, 122304), (3, 0): (-56307454453, 38760733440),
            (4, 0): (-767309533458687, 306666814854400), (3, 3): (-226595867423, 124034347008)}
@@ -877,7 +941,7 @@ def nonlinear_cases() -> list[Case]:
 
 #: The registry: each entry returns the cases of one section, in report order.
 SECTIONS: tuple[Callable[[], list[Case]], ...] = (mathieu_cases, fibre_cases, cochlea_cases, sphere_cases,
-                                                   mode_cases, nonlinear_cases)
+                                                   stepper_cases, mode_cases, nonlinear_cases)
 
 
 def all_cases(*, quick: bool = False) -> list[Case]:
@@ -1113,8 +1177,40 @@ def _atomic_text(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
+#: The style of report.html (self-contained: no external sheet).
+HTML_STYLE = """body { font-family: sans-serif; max-width: 72em; margin: 2em auto; padding: 0 1em;
+  line-height: 1.4; color: #222; }
+table { border-collapse: collapse; font-size: 85%; margin: 1em 0; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; vertical-align: top; }
+th { background: #f0f0f0; }
+img { max-width: 100%; }
+code { background: #f4f4f4; padding: 0 0.2em; }"""
+
+
+def html(text: str, base: Path) -> str:
+    """report.md's ``text`` as one self-contained HTML page: every image (a path relative to
+    ``base``) embedded as a base64 PNG data URI, the style inline."""
+    import base64
+    import html as escape
+
+    from markdown_it import MarkdownIt
+
+    md = MarkdownIt("commonmark").enable("table")
+    tokens = md.parse(text)
+    for token in tokens:
+        for child in token.children or ():
+            if child.type == "image":
+                png = (base / str(child.attrs["src"])).read_bytes()
+                child.attrs["src"] = "data:image/png;base64," + base64.b64encode(png).decode()
+    title = text.splitlines()[0].lstrip("# ")
+    return (f"<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            f"<title>{escape.escape(title)}</title>\n<style>\n{HTML_STYLE}\n</style>\n</head>\n"
+            f"<body>\n{md.renderer.render(tokens, md.options, {})}</body>\n</html>\n")
+
+
 def write(report: Report, out: Path) -> list[Path]:
-    """report.md, report.json and errors.png (error / tolerance of every case) into ``out``."""
+    """report.md, report.html (the same, self-contained: figures embedded), report.json and
+    errors.png (error / tolerance of every case) into ``out``."""
     from ..plots import validation_chart
 
     chart = validation_chart.save_errors(
@@ -1130,5 +1226,7 @@ def write(report: Report, out: Path) -> list[Path]:
                        "passed": o.passed, "seconds": o.seconds, "note": o.note, "message": o.message}
                       for o in report.outcomes]}
     _atomic_text(out / "report.json", json.dumps(data, indent=1))
-    _atomic_text(out / "report.md", markdown(report, chart.name))
-    return [out / "report.md", out / "report.json", chart]
+    text = markdown(report, chart.name)
+    _atomic_text(out / "report.md", text)
+    _atomic_text(out / "report.html", html(text, out))
+    return [out / "report.md", out / "report.html", out / "report.json", chart]
