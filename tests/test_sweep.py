@@ -510,6 +510,11 @@ def test_a_store_of_the_tau_max_convention_reads_as_nan_and_resumes(serial, tmp_
     assert (resumed.computed, resumed.damaged) == (96 - 3 * POINTS_PER_CHUNK, 0)
     assert_same(resumed.dataset, serial.dataset)
     assert_same(open_sweep(out), serial.dataset)
+    import xarray as xr  # the store as another reader sees it: one convention, migrated
+
+    raw = xr.open_zarr(out, mask_and_scale=False).load()
+    assert np.isnan(raw["tau_min"].values[~raw["has_tau"].values]).all()
+    assert raw["tau_min"].attrs["note"] == "NaN where has_tau is false"
 
 
 def test_a_netcdf_of_the_tau_max_convention_reads_as_nan(serial, tmp_path):

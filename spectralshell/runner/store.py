@@ -26,8 +26,9 @@ missing, unreadable or foreign chunk files are found, never served. Only one pro
 store at a time (:mod:`.lock`).
 
 Stores written before tau_min was NaN where there is none hold tau_max there; they verify as
-written (the records digest the stored bytes), and reading them (:func:`open_sweep`, a rerun)
-gives NaN there (:func:`without_tau_as_nan`), so old and new chunks of a resumed store agree.
+written (the records digest the stored bytes), reading them (:func:`open_sweep`, a rerun) gives
+NaN there (:func:`without_tau_as_nan`), and a rerun rewrites those chunks (values and records)
+and tau_min's note, so that the resumed store holds one convention.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ import shutil
 import signal
 import threading
 import uuid
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -170,13 +172,15 @@ def _other_scene(path: Path, found: str | None, spec: SweepSpec) -> ParameterErr
 class StoredSweep:
     """A store's contents as read back: ``arrays`` of every stored variable (the values of
     finished chunks, those of :func:`empty_arrays` elsewhere; ``computed`` true exactly on
-    finished chunks), its ``attrs``, the ``damaged`` chunks (numbers) and the coordinates
-    whose stored values differ from the scene's."""
+    finished chunks), its ``attrs``, the ``damaged`` chunks (numbers), the coordinates
+    whose stored values differ from the scene's, and the finished chunks stored with tau_max
+    where there is no tau (``legacy``: written before NaN was)."""
 
     arrays: dict[str, np.ndarray]
     attrs: dict[str, Any]
     damaged: frozenset[int] = frozenset()
     coordinates: tuple[str, ...] = ()
+    legacy: frozenset[int] = frozenset()
 
     def damage(self, spec: SweepSpec) -> str:
         """'3 of 8 chunks missing, unreadable or altered[, coordinates kappa]' ('' if none)."""
@@ -253,10 +257,12 @@ def read_zarr(path: Path, spec: SweepSpec | None = None) -> tuple[SweepSpec, Sto
         if chunk.index in state.finished:
             done[region(spec, chunk)] = True
     empty = empty_arrays(spec)
-    arrays = without_tau_as_nan({v: np.where(done, values, empty[v])
-                                 for v, values in arrays.items()})
+    stored = {v: np.where(done, values, empty[v]) for v, values in arrays.items()}
+    old = ~stored["has_tau"] & ~np.isnan(stored["tau_min"])
+    legacy = frozenset(c.index for c in chunks(spec) if old[region(spec, c)].any())
     coordinates = tuple(a.name for a in spec.axes if not _coordinate_intact(group, a))
-    return spec, StoredSweep(arrays, attrs, state.damaged, coordinates)
+    return spec, StoredSweep(without_tau_as_nan(stored), attrs, state.damaged, coordinates,
+                             legacy)
 
 
 def load_existing(path: Path, spec: SweepSpec) -> StoredSweep | None:
@@ -398,9 +404,10 @@ class ZarrStore:
 
     def repair(self, stored: StoredSweep) -> None:
         """Prepare a store read back as ``stored`` for a rerun: remove the temporary files of
-        writes a killed writer left, rewrite the altered coordinates from the scene, and remove
+        writes a killed writer left, rewrite the altered coordinates from the scene, remove
         the damaged chunks' files and records (whatever they became: a directory or a link is
-        never written through), so that they are recomputed."""
+        never written through), so that they are recomputed, and rewrite the chunks of the
+        tau_max convention with NaN (:meth:`migrate`)."""
         for leftover in self.path.glob("*/*.partial"):
             _remove(leftover)
         for axis in self.spec.axes:
@@ -411,6 +418,24 @@ class ZarrStore:
                 _remove(record_path(self.path, self.spec, chunk))
                 for name in self._arrays:
                     _remove(self.path / name / chunk_key(self.spec, chunk))
+        self.migrate(stored)
+
+    def migrate(self, stored: StoredSweep) -> None:
+        """Rewrite the ``legacy`` chunks of ``stored`` (tau_max where there is no tau) with its
+        values, NaN there, and their records; give tau_min the note of this convention."""
+        if not stored.legacy:
+            return
+        import zarr
+
+        for chunk in chunks(self.spec):
+            if chunk.index in stored.legacy:
+                where = region(self.spec, chunk)
+                self.write(chunk, {name: stored.arrays[name][where] for name in self._arrays
+                                   if name != "computed"})
+        self._arrays["tau_min"].attrs.update(_VAR_ATTRS["tau_min"])
+        with warnings.catch_warnings():  # the records' directory is not a Zarr node: expected
+            warnings.filterwarnings("ignore", "Object at .chunks is not recognized")
+            zarr.consolidate_metadata(str(self.path), zarr_format=2)
 
 
 def _remove(path: Path) -> None:
