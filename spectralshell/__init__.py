@@ -18,6 +18,8 @@ Public API::
     ss.lp_coefficient(2)                                # lambda = lambda0 (1 + c eps^2), thesis 7.3
     ss.simulate({"params": {"kappa": 0.06, "nu": 0.002, "tau": 0.25},
                  "initial": {"shape": "2:0"}, "simulate": {"t_end": 200}})  # time stepping
+    ss.plot.tongues(ss.tongues("mathieu", kappa="0:3:301", nu=0.1), ax=None)  # -> Axes
+    ss.floquet("mathieu", kappa=0.25, nu=0.1).plot(ax=ax)  # results draw themselves too
 """
 
 from ._version import __version__
@@ -28,4 +30,14 @@ from .errors import BackendUnavailable, ConvergenceError, ParameterError, Spectr
 
 __all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "natural_modes", "tau_map",
            "run_scene", "sweep", "open_sweep", "lp_coefficient", "simulate", "response", "models", "SpectralShellError",
-           "ParameterError", "ConvergenceError", "BackendUnavailable"]
+           "ParameterError", "ConvergenceError", "BackendUnavailable", "plot"]
+
+
+def __getattr__(name: str):
+    """``spectralshell.plot``: the drawing functions (:mod:`spectralshell.plots.public`),
+    imported on first use so that ``import spectralshell`` stays free of the plotting library."""
+    if name == "plot":
+        from .plots import public
+
+        return public
+    raise AttributeError(f"module 'spectralshell' has no attribute {name!r}")

@@ -21,34 +21,48 @@ def _axis(res: ResponseResult):
     return res.x, "distance from the base x (dimensionless, [0, π])", lambda v: v
 
 
+def response_title(res: ResponseResult) -> str:
+    """'cochlea, tone at ω = 1000 rad/s: κ = 0.5386, ν = 1.61e-05, α = 1.56, M = 128' (the
+    parameters that are set, in the thesis's symbols; tau for the parametric kinds)."""
+    omega = f" at ω = {res.physical['omega']:g} rad/s" if res.physical else ""
+    names = {"kappa": "κ", "nu": "ν", "alpha": "α", "n_spatial": "M", "spatial_mode": "mode k"}
+    shown = [f"{names.get(k, k)} = {v:.4g}" if isinstance(v, float) else f"{names.get(k, k)} = {v}"
+             for k, v in res.params.items() if v is not None]
+    if res.tau is not None:
+        shown.append(f"τ_min = {res.tau:.4g}")
+    return f"{res.model}, {res.kind} response{omega}: " + ", ".join(shown)
+
+
 def draw_response(ax, res: ResponseResult, *, label: str | None = None, envelope_only: bool = False) -> None:
-    """Profile h(x, t_peak) and envelope (normalised), with the peak and the WKB peak marked."""
+    """Profile h(x, t_peak) and envelope (normalised), with the peak and the WKB peak marked;
+    every line labelled."""
     x, xlabel, conv = _axis(res)
     style = KIND_STYLE[res.kind]
     freq = (f"{res.response_frequency * res.physical['omega']:g} rad/s" if res.physical
-            else f"{res.response_frequency:g} (units of ω)")
-    label = label or f"{res.kind}, response frequency {freq}"
+            else f"{res.response_frequency:g} ω")
+    label = label or f"{res.kind} (response frequency {freq})"
     line = ax.plot(x, res.envelope, style, linewidth=1.6, label=f"{label}: envelope")[0]
     if not envelope_only:
         ax.plot(x, res.profile, style, color=line.get_color(), linewidth=0.7, alpha=0.7,
-                label="profile at t_peak")
-    ax.axvline(conv(res.peak_x), color=line.get_color(), linewidth=0.8)
+                label=f"{res.kind}: profile h(x) at the time of the peak")
+    ax.axvline(conv(res.peak_x), color=line.get_color(), linewidth=0.8,
+               label=f"{res.kind}: envelope peak")
     if res.wkb_peak_x is not None and 0 <= res.wkb_peak_x <= np.pi:
         ax.axvline(conv(res.wkb_peak_x), color=line.get_color(), linestyle=":", linewidth=1.2,
-                   label="WKB peak (LeVeque, Peskin & Lax)")
+                   label=f"{res.kind}: WKB peak (LeVeque, Peskin & Lax)")
     ax.set_xlabel(xlabel)
-    ax.set_ylabel("normalised BM displacement")
+    ax.set_ylabel("normalised BM displacement (envelope max = 1)")
     ax.grid(alpha=0.3)
 
 
 def save_responses(panels: Sequence[tuple[str, Sequence[ResponseResult]]], path: str | Path) -> Path:
     """One panel per (title, results), responses overlaid (Fig 5.8)."""
-    fig, axes = subplots(len(panels), 1, figsize=(8.0, 2.8 * len(panels)), squeeze=False)
+    fig, axes = subplots(len(panels), 1, figsize=(10.5, 2.8 * len(panels)), squeeze=False)
     for ax, (title, results) in zip(axes[:, 0], panels):
         for res in results:
             draw_response(ax, res)
         ax.set_title(title, fontsize=9)
-        ax.legend(fontsize=6, loc="upper left")
+        ax.legend(fontsize=6, loc="center left", bbox_to_anchor=(1.01, 0.5))  # beside the curves
     return save_figure(fig, path, dpi=120)
 
 
@@ -70,13 +84,16 @@ def save_peaks(series: Sequence[tuple[str, str, np.ndarray, np.ndarray, np.ndarr
 def save_det_contours(panels: Sequence[tuple[str, np.ndarray, np.ndarray, np.ndarray, np.ndarray]],
                       path: str | Path) -> Path:
     """Zero contours of Re det T (thick, blue) and Im det T (thin, red) over the s = gamma/sqrt(kappa)
-    plane, with the computed modes marked (Fig 5.7). ``panels``: (title, re grid, im grid,
+    plane, with the computed modes marked and a legend naming each (Fig 5.7). ``panels``: (title, re grid, im grid,
     det values, modes)."""
     fig, axes = subplots(1, len(panels), figsize=(6.0 * len(panels), 4.6), squeeze=False)
     for ax, (title, re, im, det, modes) in zip(axes[0], panels):
         ax.contour(re, im, det.real, levels=[0.0], colors="tab:blue", linewidths=1.8)
         ax.contour(re, im, det.imag, levels=[0.0], colors="tab:red", linewidths=0.7)
-        ax.plot(modes.real, modes.imag, "ko", mfc="none", markersize=6, label="computed modes")
+        ax.plot([], [], color="tab:blue", linewidth=1.8, label="Re det T = 0")
+        ax.plot([], [], color="tab:red", linewidth=0.7, label="Im det T = 0")
+        ax.plot(modes.real, modes.imag, "ko", mfc="none", markersize=6,
+                label="computed modes (both zero)")
         ax.set_xlim(re.min(), re.max())
         ax.set_ylim(im.min(), im.max())
         ax.set_xlabel("Re γ/√κ (decay rate)")

@@ -79,8 +79,7 @@ def _scale(ax, ds: xr.Dataset, name: str, which: str) -> None:
         getattr(ax, f"set_{which}scale")("log")
 
 
-def _line(ds: xr.Dataset, axis: str, cats: list[str]):
-    fig, ax = subplots(figsize=(7.0, 4.5))
+def _line(ax, ds: xr.Dataset, axis: str, cats: list[str]) -> None:
     tau = ds["tau_min"].transpose(axis, *cats).values
     ok = _valid(ds.transpose(axis, *cats))
     x = ds[axis].values
@@ -106,7 +105,6 @@ def _line(ds: xr.Dataset, axis: str, cats: list[str]):
                   title_fontsize=7)
     ax.set_title(_title(ds, _fixed(ds, [axis] + [d for d in cats if ds.sizes[d] > 1])),
                  fontsize=9)
-    return fig
 
 
 def _band_labels(ax, x: np.ndarray, y: np.ndarray, code: np.ndarray, labels: list[str],
@@ -190,11 +188,10 @@ def hatch_note(ds, count: int, cells: int) -> str:
     return f"; hatched grey: {count} of {cells} points not converged in {where}"
 
 
-def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int):
+def _map(ax, ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int) -> None:
     tau_max = float(ds.attrs.get("tau_max", ds["tau_min"].max()))
-    fig, ax = subplots(figsize=(7.5, 5.5))
     mesh, hatched = draw_map(ax, ds, xname, yname, min_cells=min_cells)
-    fig.colorbar(mesh, ax=ax, label=colour_label(tau_max))
+    ax.figure.colorbar(mesh, ax=ax, label=colour_label(tau_max))
     over = ", ".join(f"{d} = {', '.join(str(v) for v in ds[d].values)}" for d in cats
                      if ds.sizes[d] > 1)
     labels_note = " (labels: " + ("m, " if "m" in cats else "") + "H harmonic / S subharmonic)"
@@ -202,25 +199,32 @@ def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int
     note = hatch_note(ds, hatched, ds.sizes[xname] * ds.sizes[yname])
     ax.set_title(_title(ds, fixed) + (f"\nminimum over {over}{labels_note}" if over else "")
                  + note, fontsize=8)
-    return fig
 
 
-def save(ds: xr.Dataset, path: str | Path, *, min_cells: int = 6, dpi: int = 120) -> Path:
-    """Draw a sweep Dataset as PNG: a line plot for one real axis, a labelled minimum-tau map
-    for two (the first grid axis horizontal).
+def draw(ax, ds: xr.Dataset, *, min_cells: int = 6) -> None:
+    """Draw a sweep Dataset on ``ax``: a line plot for one real axis, a labelled minimum-tau
+    map with its colour bar for two (the first grid axis horizontal).
 
     Raises
     ------
-    ParameterError : the sweep has no, or more than two, real axes with several values.
+    ParameterError : the sweep has no tau_min/has_tau, or not one or two real axes with
+        several values.
     """
     if "tau_min" not in ds or "has_tau" not in ds:
         raise ParameterError("sweep is invalid for plotting: it has no tau_min/has_tau variables")
     real, cats = picture_axes(ds)
     if len(real) == 1:
-        fig = _line(ds, real[0], cats)
+        _line(ax, ds, real[0], cats)
     elif len(real) == 2:
-        fig = _map(ds, real[0], real[1], cats, min_cells)
+        _map(ax, ds, real[0], real[1], cats, min_cells)
     else:
         raise ParameterError(f"sweep axes {real!r} are invalid for a picture: plot draws one or "
                              "two real axes with several values")
+
+
+def save(ds: xr.Dataset, path: str | Path, *, min_cells: int = 6, dpi: int = 120) -> Path:
+    """Write :func:`draw` of a sweep Dataset to ``path`` (PNG, SVG or PDF by its suffix)."""
+    two = len(picture_axes(ds)[0]) == 2 if "tau_min" in ds else False
+    fig, ax = subplots(figsize=(7.5, 5.5) if two else (7.0, 4.5))
+    draw(ax, ds, min_cells=min_cells)
     return save_figure(fig, path, dpi=dpi)

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._version import stamp
 from ..params.stiffness import amplitude_warnings
-from .base import Result, format_params
+from .base import Plottable, Result, format_params
 from .notebook import (Variable, coordinate, dataset, named, or_nan, padded, result_attrs, table,
                        variable)
 from .records import Exponents, MarginalTau, Tip
@@ -95,7 +95,7 @@ def _or_none(value: float | None, spec: str, missing: str = "none") -> str:
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
-class FloquetResult(Result):
+class FloquetResult(Result, Plottable):
     """Marginal amplitudes of each requested Floquet kind (None for a kind not asked)."""
 
     model: str
@@ -233,7 +233,7 @@ class ExponentsResult(Result):
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
-class TonguesResult(Result):
+class TonguesResult(Result, Plottable):
     """An Ince-Strutt diagram: marginal tau of each kind at every kappa, and the finger tips."""
 
     model: str
