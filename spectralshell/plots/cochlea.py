@@ -181,8 +181,8 @@ def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, 
     """Minimum-tau maps of cochlea sweeps over (frequency in Hz, sigma), Fig 5.18: one panel per
     (title, Dataset), frequency horizontal (log, with omega = 2 pi f in rad/s on the top axis),
     sigma vertical (log), one colour bar (viridis: dark blue small tau, through green to yellow
-    at tau_max, so that white -- no tau <= tau_max -- stands apart), cells whose M refinement
-    did not converge grey hatched (counted in the panel title)."""
+    at tau_max; no tau <= tau_max in light grey, named in the legend), cells whose M refinement
+    did not converge grey hatched (counted in the panel title and the legend)."""
     from . import sweep_plot
 
     fig, axes = subplots(len(panels), 1, figsize=(7.6, 3.9 * len(panels) + 1.4), squeeze=False)

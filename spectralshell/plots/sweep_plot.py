@@ -3,8 +3,9 @@
 The real-valued axes with more than one value are the picture's axes; the others (m, kind,
 component, ...) are categories: one curve each in 1-D; in 2-D the colour is the smallest tau_min
 over them and each band is labelled by the category attaining it, e.g. '3S' = m 3,
-subharmonic (as thesis Fig 6.13). Points without a marginal tau <= tau_max (or not yet computed)
-are left white. Where a sweep refined the number of spatial modes per point (the cochlea), cells
+subharmonic (as thesis Fig 6.13). Points without a marginal tau <= tau_max (``has_tau`` false,
+whatever ``tau_min`` holds there: tau_max or NaN), or not yet computed, are drawn in their own
+light grey (:data:`NONE_COLOUR`, named in the legend), apart from every colour of the scale. Where a sweep refined the number of spatial modes per point (the cochlea), cells
 whose refinement did not converge by its limit (M = 512 per kind, 1024 for the minimum over
 kinds) for some category (``spatial_converged`` false) are drawn grey and hatched, whatever their
 value, and the title counts them.
@@ -13,15 +14,24 @@ value, and the title counts them.
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Patch, Rectangle
 from scipy import ndimage
 
 from ._canvas import colours, save_figure, subplots
 from ..errors import ParameterError
 from ..results.maps import category_label, minimum_map
+
+#: Cells without instability ("none": no tau <= tau_max): a neutral light grey, which neither
+#: colour map used here (Blues_r up to a light blue, viridis up to yellow) contains.
+NONE_COLOUR = "0.82"
+#: Cells whose M refinement did not converge: a darker grey under black hatching.
+UNCONVERGED_COLOUR = "0.55"
 
 SYMBOLS = {"kappa": "κ", "nu": "ν", "sigma": "σ", "omega": "ω", "mu": "μ", "rho": "ρ",
            "radius": "R", "bpm": "beat rate", "frequency": "f", "length": "L",
@@ -142,28 +152,45 @@ def unconverged(ds: xr.Dataset, xname: str, yname: str) -> np.ndarray:
 
 
 def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
-             labels: bool = True, cmap: str = "Blues_r", headroom: float = 1.0):
+             labels: bool = True, cmap: str = "Blues_r", headroom: float = 1.0,
+             boxes: Sequence[tuple[tuple[float, float], tuple[float, float], str, str]] = ()):
     """Minimum tau_min over the categories (:func:`~spectralshell.results.maps.minimum_map`)
-    on the (x, y) cells of ``ax``: white where none <= tau_max, grey hatched where the M
-    refinement did not converge; the colour scale runs to ``headroom`` x tau_max (above 1 it
-    stops short of a colour map's white end). Returns (mesh, number of hatched cells)."""
+    on the (x, y) cells of ``ax``: light grey (:data:`NONE_COLOUR`) where none <= tau_max (by
+    ``has_tau``), grey hatched where the M refinement did not converge; the colour scale runs to
+    ``headroom`` x tau_max (above 1 it stops short of a colour map's white end). ``boxes`` are
+    ((x0, x1), (y0, y1), label, colour) rectangles. A legend below the axes names "none", the
+    hatching and the boxes. Returns (mesh, number of hatched cells)."""
     ds = ds.sortby([xname, yname])
     mm = minimum_map(ds, xname, yname)
     found = mm["has_tau"].values
-    tau_max = float(ds.attrs.get("tau_max", mm["tau_min"].values.max(initial=0.0)))
+    values = mm["tau_min"].values
+    tau_max = float(ds.attrs.get("tau_max", np.max(values[found], initial=0.0)))
     xe, ye = _edges(ds[xname]), _edges(ds[yname])
-    shown = np.ma.masked_where(~found, mm["tau_min"].values)
-    mesh = ax.pcolormesh(xe, ye, shown, cmap=cmap, vmin=0.0, vmax=headroom * tau_max,
-                         shading="flat")
+    ax.pcolormesh(xe, ye, np.ma.masked_where(found, np.zeros(found.shape)),
+                  cmap=ListedColormap([NONE_COLOUR]), shading="flat")
+    mesh = ax.pcolormesh(xe, ye, np.ma.masked_where(~found, values), cmap=cmap, vmin=0.0,
+                         vmax=headroom * tau_max, shading="flat")
+    handles = [Patch(facecolor=NONE_COLOUR, edgecolor="0.5", linewidth=0.5,
+                     label=f"none: no τ ≤ {tau_max:g}")] if not found.all() else []
     bad = unconverged(ds, xname, yname)
     if bad.any():
-        ax.pcolor(xe, ye, np.ma.masked_where(~bad, np.ones(found.shape)), cmap="Greys",
-                  vmin=0.0, vmax=2.5, hatch="///", edgecolor="0.35", linewidth=0.0)
+        ax.pcolor(xe, ye, np.ma.masked_where(~bad, np.ones(found.shape)),
+                  cmap=ListedColormap([UNCONVERGED_COLOUR]), hatch="///", edgecolor="0.15",
+                  linewidth=0.0)
+        handles.append(Patch(facecolor=UNCONVERGED_COLOUR, hatch="///", edgecolor="0.15",
+                             label="not converged in M"))
+    for (x0, x1), (y0, y1), label, colour in boxes:
+        handles.append(ax.add_patch(Rectangle(
+            (x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor=colour, label=label,
+            linestyle="-" if colour == "tab:blue" else "--", linewidth=1.5)))
     if labels:
         names, code = np.unique(mm["label"].values, return_inverse=True)
         _band_labels(ax, ds[xname].values, ds[yname].values,
                      np.where(found & ~bad, code.reshape(found.shape), -1), list(names),
                      min_cells)
+    if handles:  # below the axes: inside, the legend would cover cells of the map
+        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.11),
+                  ncol=len(handles), fontsize=7, frameon=False)
     ax.set_xlabel(axis_label(ds[xname]))
     ax.set_ylabel(axis_label(ds[yname]))
     _scale(ax, ds, xname, "x")
@@ -175,7 +202,7 @@ def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
 
 def colour_label(tau_max: float) -> str:
     """Colour-bar label of a minimum-tau map."""
-    return f"minimum τ of instability (white: none ≤ {tau_max:g})"
+    return f"minimum τ of instability (≤ {tau_max:g})"
 
 
 def hatch_note(ds, count: int, cells: int) -> str:

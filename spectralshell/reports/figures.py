@@ -437,7 +437,7 @@ def _cochlea_tau_maps(out: Path, *, progress: bool, workers: int | None,
                "solver_options": options, "n_spatial_range": [lo, hi],
                "frequency": FIG_5_18_FREQUENCY,
                "sigma_units": "g cm^-2 s^-2 (= dyn/cm^3: stiffness per unit area of the BM)",
-               "white": "no marginal tau <= tau_max = 1/2 of either kind",
+               "light_grey": "no marginal tau <= tau_max = 1/2 of either kind (has_tau false)",
                "hatched": "M refinement did not converge by M = 1024 (values at the last M "
                           "solved: 1024, or 512 where only the reach test failed and M = 512 "
                           "does not reach the resonance, so that M = 1024 could not settle it)",
