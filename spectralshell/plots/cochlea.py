@@ -92,15 +92,17 @@ def save_det_contours(panels: Sequence[tuple[str, np.ndarray, np.ndarray, np.nda
         ax.contour(re, im, det.imag, levels=[0.0], colors="tab:red", linewidths=0.7)
         ax.plot([], [], color="tab:blue", linewidth=1.8, label="Re det T = 0")
         ax.plot([], [], color="tab:red", linewidth=0.7, label="Im det T = 0")
-        ax.plot(modes.real, modes.imag, "ko", mfc="none", markersize=6,
+        ax.plot(modes.real, modes.imag, "ko", mfc="none", markersize=6, clip_on=False,
                 label="computed modes (both zero)")
         ax.set_xlim(re.min(), re.max())
         ax.set_ylim(im.min(), im.max())
         ax.set_xlabel("Re γ/√κ (decay rate)")
         ax.set_ylabel("Im γ/√κ (frequency)")
         ax.set_title(title, fontsize=9)
-        ax.legend(fontsize=7)
-    return save_figure(fig, path, dpi=120)
+    # one legend for the figure, below the panels: inside, it would hide contours
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=8,
+               frameon=False)
+    return save_figure(fig, path, dpi=120, rect=(0, 0.06, 1, 1))
 
 
 TAU_STYLE = {"harmonic": dict(marker="+", color="tab:blue", linestyle="none", label="harmonic"),

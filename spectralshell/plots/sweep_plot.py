@@ -25,7 +25,7 @@ from scipy import ndimage
 
 from ._canvas import colours, save_figure, subplots
 from ..errors import ParameterError
-from ..results.maps import category_label, minimum_map
+from ..results.maps import minimum_map
 
 #: Cells without instability ("none": no tau <= tau_max): a neutral light grey, which neither
 #: colour map used here (Blues_r up to a light blue, viridis up to yellow) contains.
@@ -89,6 +89,13 @@ def _scale(ax, ds: xr.Dataset, name: str, which: str) -> None:
         getattr(ax, f"set_{which}scale")("log")
 
 
+def _curve_label(ds: xr.Dataset, cats: list[str], index: tuple[int, ...]) -> str:
+    """Legend text of one category combination, in words: 'm = 3, subharmonic' (each value
+    with more than one choice; the kind always)."""
+    return ", ".join(str(ds[d].values[i]) if d == "kind" else f"{d} = {ds[d].values[i]}"
+                     for d, i in zip(cats, index) if ds.sizes[d] > 1 or d == "kind")
+
+
 def _line(ax, ds: xr.Dataset, axis: str, cats: list[str]) -> None:
     tau = ds["tau_min"].transpose(axis, *cats).values
     ok = _valid(ds.transpose(axis, *cats))
@@ -103,7 +110,7 @@ def _line(ax, ds: xr.Dataset, axis: str, cats: list[str]) -> None:
         group = tuple(i for d, i in zip(cats, index) if d != "kind")
         colour = cycle[(np.ravel_multi_index(group, [ds.sizes[d] for d in non_kind])
                         if group else 0) % len(cycle)]
-        label = category_label(ds, cats, index) or None
+        label = _curve_label(ds, cats, index) or None
         ax.plot(x[order], y[order], styles.get(kind, "-"), color=colour, label=label, lw=1.4)
     tau_max = float(ds.attrs.get("tau_max", np.nanmax(tau)))
     ax.set_ylim(0.0, tau_max)
@@ -111,8 +118,7 @@ def _line(ax, ds: xr.Dataset, axis: str, cats: list[str]) -> None:
     ax.set_ylabel(f"τ_min, smallest marginal τ ≤ {tau_max:g}")
     _scale(ax, ds, axis, "x")
     if cats:
-        ax.legend(fontsize=7, ncol=2, title="m, H/S" if "m" in cats else "H/S",
-                  title_fontsize=7)
+        ax.legend(fontsize=7, ncol=2)
     ax.set_title(_title(ds, _fixed(ds, [axis] + [d for d in cats if ds.sizes[d] > 1])),
                  fontsize=9)
 
