@@ -17,7 +17,7 @@ from ..params.stiffness import amplitude_warnings
 from .base import Plottable, Result, format_params
 from .notebook import (Variable, coordinate, dataset, named, or_nan, padded, result_attrs, table,
                        variable)
-from .records import Exponents, MarginalTau, Tip
+from .records import Boundary, Exponents, MarginalTau, Tip
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -234,7 +234,9 @@ class ExponentsResult(Result):
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class TonguesResult(Result, Plottable):
-    """An Ince-Strutt diagram: marginal tau of each kind at every kappa, and the finger tips."""
+    """An Ince-Strutt diagram: marginal tau of each kind at every kappa, the finger tips, and
+    the boundary curves traced through them (``boundaries``: :class:`Boundary` records, empty
+    when not traced)."""
 
     model: str
     params: dict[str, Any]
@@ -244,6 +246,7 @@ class TonguesResult(Result, Plottable):
     tips: tuple[Tip, ...]
     provenance: dict[str, Any]
     warnings: tuple[str, ...] = field(default=())
+    boundaries: tuple[Boundary, ...] = field(default=())
 
     def points(self, kind: str) -> tuple[np.ndarray, np.ndarray]:
         """All (kappa, tau) points of one kind, flattened (for plotting and CSV)."""
@@ -259,6 +262,8 @@ class TonguesResult(Result, Plottable):
                          for key in ("tau", "tau_min", "n_temporal", "error_estimate")}
         out["tips"] = [{k: (float(v) if k != "kind" else v) for k, v in asdict(t).items()}
                        for t in self.tips]
+        out["boundaries"] = [{"kind": b.kind, "kappa": b.kappa.tolist(), "tau": b.tau.tolist()}
+                             for b in self.boundaries]
         out["warnings"] = list(self.warnings)
         out["provenance"] = self.provenance
         return out
