@@ -133,3 +133,19 @@ def test_linking_joins_a_fold_and_keeps_branches_apart():
                      for c in curves)
     assert ordered == [[0.2, 0.24, 0.26, 0.3], [0.78, 0.79, 0.8]]
     assert match_taus(np.array([0.1, 0.5, 0.9]), np.array([0.52])) == [(1, 0)]
+
+
+def test_a_branch_missed_at_the_converging_truncation_is_filled_in():
+    """Fibre m = 2, nu = 2e-4: at kappa = 0.172 the truncation N = 22 that converges tau_min
+    does not show the upper branch (tau = 0.760) that its neighbour, solved at N = 33, has. The
+    boundary re-solves kappa = 0.172 at N = 33; oracle: a fixed N = 60 solve has the same tau."""
+    res = ss.tongues("fibre", m=2, nu=2e-4, kappa="0.166:0.2:18", tau_max=1.0, workers=1,
+                     tips=False)
+    row = res.rows[3]
+    assert res.kappa[3] == pytest.approx(0.172) and row["subharmonic"].tau.size == 1
+    at = [t for b in res.boundaries if b.kind == "subharmonic"
+          for k, t in zip(b.kappa, b.tau) if k == res.kappa[3]]
+    reference = ss.floquet("fibre", m=2, nu=2e-4, kappa=float(res.kappa[3]), tau_max=1.0,
+                           n_temporal=60, kind="subharmonic").subharmonic.tau
+    assert len(at) == 2 and reference.size == 2
+    np.testing.assert_allclose(sorted(at), reference, atol=1e-10)

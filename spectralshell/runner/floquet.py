@@ -15,7 +15,7 @@ import numpy as np
 
 from .._validate import require_int_in_range, require_positive, require_real
 from ..discretise.fourier import expand_kind
-from ..errors import ParameterError
+from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
 from ..models.registry import hill_system
 from ..params.grid import parse_int_range, parse_range
@@ -290,25 +290,71 @@ def _boundaries(factory, grid: np.ndarray, rows: list, tips: list, kinds: tuple[
     """The boundary curves of each kind (:func:`~spectralshell.solvers.tongues.link_boundaries`)
     through the grid's marginal tau, the finger tips' kappa and the kappa added by bisection
     where neighbouring values cannot be linked (:func:`~spectralshell.solvers.tongues.
-    refinement_points`), every added kappa solved as the grid's points are; traced up to
-    tau_max (BOUNDARY_TAU_MAX where there is none)."""
+    refinement_points`), every added kappa solved as the grid's points are (one where the
+    solver does not converge is left out, its interval unrefined); traced up to tau_max
+    (BOUNDARY_TAU_MAX where there is none)."""
     cap = options.get("tau_max") if options.get("tau_max") is not None else BOUNDARY_TAU_MAX
     min_dkappa = BOUNDARY_MIN_DKAPPA * float(grid.max() - grid.min())
-    solved = dict(zip(grid.tolist(), rows))
+    solved, failed, tried = dict(zip(grid.tolist(), rows)), set(), set()
     # a tip within rounding of a grid point is that point (one vertex where the sides meet)
     extra = sorted({float(t.kappa) for t in tips
                     if np.min(np.abs(grid - t.kappa)) > 1e-9 * min_dkappa})
     for _ in range(BOUNDARY_ROUNDS + 1):
         if extra:
-            solved.update(zip(extra, _map(factory, extra, kinds, workers, progress,
-                                          "tongue boundaries", options)))
+            try:
+                solved.update(zip(extra, _map(factory, extra, kinds, workers, progress,
+                                              "tongue boundaries", options)))
+            except ConvergenceError:  # one at a time: keep the points that converge
+                for k in extra:
+                    try:
+                        solved[k] = solve_kinds(factory(k), kinds, options)
+                    except ConvergenceError:
+                        failed.add(k)
+        for kind in kinds:
+            _fill_gaps(factory, solved, kind, cap, options, tried)
         kappas = np.array(sorted(solved))
         taus = {kind: [boundary_taus(solved[k][kind], cap) for k in kappas] for kind in kinds}
         extra = sorted({k for kind in kinds for k in refinement_points(
-            kappas, taus[kind], dtau=BOUNDARY_DTAU, min_dkappa=min_dkappa)})
+            kappas, taus[kind], dtau=BOUNDARY_DTAU, min_dkappa=min_dkappa)} - failed)
         if not extra:
             break
     return tuple(b for kind in kinds for b in link_boundaries(kind, kappas, taus[kind]))
+
+
+def _fill_gaps(factory, solved: dict, kind: str, cap: float, options: dict[str, Any],
+               tried: set) -> None:
+    """Re-solve, at the neighbour's larger truncation N (fixed), each kappa of ``solved`` that
+    has fewer marginal tau <= ``cap`` of ``kind`` than its neighbour and was converged at a
+    smaller N, keeping the new values where there are more of them; repeated until none is
+    added (``tried``: the (kappa, kind, N) already solved).
+
+    The convergence test of tau_min does not prove a larger tau complete: a branch above it
+    may be found only from some N on (e.g. the fibre, m = 2, nu = 2e-4: tau = 0.760 at kappa
+    = 0.172 appears from N = 33, not at the N = 22 that converges tau_min = 0.605), and a
+    boundary would end in mid-air where a neighbour was solved at the smaller N."""
+    while True:
+        kappas = sorted(solved)
+        wanted: dict[float, int] = {}
+        for left, right in zip(kappas[:-1], kappas[1:]):
+            a, b = solved[left][kind], solved[right][kind]
+            if boundary_taus(a, cap).size == boundary_taus(b, cap).size or \
+                    a.n_temporal == b.n_temporal:
+                continue
+            low, n = (left, b.n_temporal) if a.n_temporal < b.n_temporal else (right, a.n_temporal)
+            if (low, kind, n) not in tried:
+                wanted[low] = max(wanted.get(low, 0), n)
+        added = False
+        for k, n in wanted.items():
+            tried.add((k, kind, n))
+            try:
+                new = solve_kinds(factory(k), (kind,), {**options, "n_temporal": n})[kind]
+            except ConvergenceError:
+                continue
+            if boundary_taus(new, cap).size > boundary_taus(solved[k][kind], cap).size:
+                solved[k] = {**solved[k], kind: new}
+                added = True
+        if not added:
+            return
 
 
 def _map_axis(model: str, label: str, axis: object, physical: bool,
