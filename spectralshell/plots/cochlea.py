@@ -51,7 +51,7 @@ def draw_response(ax, res: ResponseResult, *, label: str | None = None, envelope
         ax.axvline(conv(res.wkb_peak_x), color=line.get_color(), linestyle=":", linewidth=1.2,
                    label=f"{res.kind}: WKB peak (LeVeque, Peskin & Lax)")
     ax.set_xlabel(xlabel)
-    ax.set_ylabel("normalised BM displacement (envelope max = 1)")
+    ax.set_ylabel("normalised BM displacement")
     ax.grid(alpha=0.3)
 
 

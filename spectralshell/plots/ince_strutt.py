@@ -27,9 +27,11 @@ def unstable_bands(boundaries: Sequence[Boundary], tau_max: float) -> list[np.nd
     Between neighbouring vertex kappa, every boundary segment spanning the interval is a line;
     ordered by height, the tau between the 1st and 2nd line, the 3rd and 4th, ... (and from the
     last line to ``tau_max`` when their number is odd) are unstable: each boundary crossed
-    moves one Floquet multiplier of the kind through +1 (harmonic) or -1 (subharmonic), and
-    below the lowest there is none outside the unit circle. A band that continues into the
-    next interval (same lines where they meet) extends the same polygon, so that no seams show.
+    moves one real Floquet multiplier of the kind through +1 (harmonic) or -1 (subharmonic),
+    and at small tau none lies beyond. This is the parity of those multipliers: where two
+    fingers of one kind overlap (two beyond), the overlap is left unshaded. A band that
+    continues into the next interval (same lines where they meet) extends the same polygon, so
+    that no seams show.
     """
     k0, k1, t0, t1 = [], [], [], []
     for b in boundaries:
