@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ._canvas import save_figure, subplots
+from ..results.records import Boundary
 from ..results.response import ResponseResult
 
 KIND_STYLE = {"tone": "-", "harmonic": "-", "subharmonic": "--"}
@@ -110,19 +111,25 @@ TAU_STYLE = {"harmonic": dict(marker="+", color="tab:blue", linestyle="none", la
                                  label="subharmonic")}
 
 
-def _fingers(ax, title: str, points, *, tau_max: float, x_range, xlabel: str) -> None:
-    """One Ince-Strutt panel: {kind: (x points, tau points)} with harmonic '+', subharmonic 'o',
-    the tau = 1/2 line, labels and legend."""
-    for kind, (x, tau) in points.items():
-        keep = tau <= tau_max
-        ax.plot(x[keep], tau[keep], markersize=3, **TAU_STYLE[kind])
+def _finger_axes(ax, title: str, *, tau_max: float, x_range, xlabel: str) -> None:
+    """The frame of one Ince-Strutt panel: the tau = 1/2 line, limits (a margin below tau = 0
+    so that markers there stay whole), labels."""
     ax.axhline(0.5, color="0.4", linestyle="--", linewidth=1, label="τ = 1/2")
-    ax.set_ylim(0, tau_max)
+    ax.set_ylim(-0.025 * tau_max, tau_max)
     if x_range is not None:
         ax.set_xlim(*x_range)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("τ, forcing amplitude")
     ax.set_title(title, fontsize=9)
+
+
+def _fingers(ax, title: str, points, *, tau_max: float, x_range, xlabel: str) -> None:
+    """One Ince-Strutt panel of points: {kind: (x points, tau points)} with harmonic '+',
+    subharmonic 'o', the tau = 1/2 line, labels and legend."""
+    for kind, (x, tau) in points.items():
+        keep = tau <= tau_max
+        ax.plot(x[keep], tau[keep], markersize=3, **TAU_STYLE[kind])
+    _finger_axes(ax, title, tau_max=tau_max, x_range=x_range, xlabel=xlabel)
     ax.legend(fontsize=7, loc="upper left")
 
 
@@ -157,25 +164,33 @@ def save_convergence(series: Sequence[tuple[str, np.ndarray, dict[str, np.ndarra
     return save_figure(fig, path, dpi=120)
 
 
-def save_tau_against_wavenumber(panels: Sequence[tuple[str, dict[str, tuple[np.ndarray, np.ndarray]],
+def save_tau_against_wavenumber(panels: Sequence[tuple[str, Sequence[Boundary], Sequence[str],
                                                        Sequence[tuple[str, float, float]],
                                                        dict[int, float]]],
                                 path: str | Path, *, tau_max: float = 1.0,
                                 k_range: tuple[float, float] | None = None) -> Path:
     """Ince-Strutt diagrams against the spatial wavenumber k (Fig 5.11): per panel (title,
-    {kind: (k points, tau points)}, finger tips [(kind, k, tau)], {integer k: tau_min <= 1/2}),
-    harmonic '+', subharmonic 'o', the tips as filled markers, the tau = 1/2 line, and at each
-    integer (physical) wavenumber unstable below it a vertical green segment from tau_min to 1/2."""
-    fig, axes = subplots(1, len(panels), figsize=(6.0 * len(panels), 4.2), squeeze=False)
-    for ax, (title, points, tips, unstable) in zip(axes[0], panels):
+    traced boundaries (k as kappa), kinds, finger tips [(kind, k, tau)], {integer k: tau_min
+    <= 1/2}), each kind's boundaries as curves with its unstable region shaded
+    (:func:`spectralshell.plots.ince_strutt.draw_boundaries`), the tips as black markers, the
+    tau = 1/2 line, at each integer (physical) wavenumber unstable below it a vertical green
+    segment from tau_min to 1/2, and one legend below the panels."""
+    from .ince_strutt import draw_boundaries, legend_entries
+
+    fig, axes = subplots(1, len(panels), figsize=(6.0 * len(panels), 4.6), squeeze=False)
+    for ax, (title, boundaries, kinds, tips, unstable) in zip(axes[0], panels):
+        for kind in kinds:
+            draw_boundaries(ax, boundaries, kind, tau_max=tau_max)
         for kind, k, tau in tips:
-            ax.plot(k, tau, marker=TAU_STYLE[kind]["marker"], color="k", markersize=7, linestyle="none")
+            ax.plot(k, tau, marker=TAU_STYLE[kind]["marker"], color="k", markersize=7,
+                    linestyle="none", mfc="k", zorder=4, label=f"{kind} finger tips")
         for k, tau in unstable.items():
             ax.plot([k, k], [tau, 0.5], color="tab:green", linewidth=2.2)
         ax.plot([], [], color="tab:green", linewidth=2.2, label="integer k unstable for τ ≤ 1/2")
-        _fingers(ax, title, points, tau_max=tau_max, x_range=k_range,
-                 xlabel="spatial wavenumber k (cosine mode cos kx; physical modes: integers)")
-    return save_figure(fig, path, dpi=120)
+        _finger_axes(ax, title, tau_max=tau_max, x_range=k_range,
+                     xlabel="spatial wavenumber k (cosine mode cos kx; physical modes: integers)")
+    fig.legend(*legend_entries(axes.flat), loc="lower center", ncol=4, fontsize=8, frameon=False)
+    return save_figure(fig, path, dpi=120, rect=(0, 0.11, 1, 1))
 
 
 def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, *,

@@ -76,31 +76,37 @@ def _points(ax, result: TonguesResult, kind: str, tau_max: float, x_scale: float
     ax.plot(x_scale * k[keep], t[keep], linestyle="none", markersize=3, **STYLE[kind])
 
 
+def draw_boundaries(ax, boundaries: Sequence[Boundary], kind: str, *, tau_max: float,
+                    x_scale: float = 1.0) -> None:
+    """The boundary curves of one kind and its shaded unstable region (:func:`unstable_bands`),
+    the abscissa ``x_scale * kappa``."""
+    curves = [b for b in boundaries if b.kind == kind]
+    colour = STYLE[kind]["color"]
+    bands = [Path(np.vstack([q, q[:1]]) * (x_scale, 1.0), closed=True)
+             for q in unstable_bands(curves, tau_max)]
+    for i, b in enumerate(curves):
+        ax.plot(x_scale * b.kappa, b.tau, color=colour, linewidth=1.3,
+                label=f"{kind} boundary" if i == 0 else None)
+    gamma = "γ = 0" if kind == "harmonic" else "γ = i/2"
+    if bands:  # one compound path: bands that meet are filled without a seam between
+        ax.add_patch(PathPatch(Path.make_compound_path(*bands), facecolor=colour,
+                               alpha=SHADE_ALPHA, linewidth=0, label=f"{kind} unstable ({gamma})"))
+
+
 def draw(ax, result: TonguesResult, *, tau_max: float = 1.0, title: str | None = None,
          x_scale: float = 1.0, x_label: str = "κ, stiffness (dimensionless)",
          legend: bool = True) -> None:
     """Draw one diagram on ``ax``: each traced boundary as a curve, the unstable region of
-    each kind shaded (:func:`unstable_bands`), the finger tips, the tau = 1/2 line, and (with
+    each kind shaded (:func:`draw_boundaries`), the finger tips, the tau = 1/2 line, and (with
     ``legend``) a legend below the axes. A result traced without boundaries shows its marginal
     points instead.
 
     The abscissa is ``x_scale * kappa`` (e.g. sigma = rho R^3 omega^2 kappa, in dyn/cm)."""
     for kind in result.kinds:
-        curves = [b for b in result.boundaries if b.kind == kind]
-        if not curves:
+        if any(b.kind == kind for b in result.boundaries):
+            draw_boundaries(ax, result.boundaries, kind, tau_max=tau_max, x_scale=x_scale)
+        else:
             _points(ax, result, kind, tau_max, x_scale)
-            continue
-        colour = STYLE[kind]["color"]
-        bands = [Path(np.vstack([q, q[:1]]) * (x_scale, 1.0), closed=True)
-                 for q in unstable_bands(curves, tau_max)]
-        for i, b in enumerate(curves):
-            ax.plot(x_scale * b.kappa, b.tau, color=colour, linewidth=1.3,
-                    label=f"{kind} boundary" if i == 0 else None)
-        gamma = "γ = 0" if kind == "harmonic" else "γ = i/2"
-        if bands:  # one compound path: bands that meet are filled without a seam between
-            ax.add_patch(PathPatch(Path.make_compound_path(*bands), facecolor=colour,
-                                   alpha=SHADE_ALPHA, linewidth=0,
-                                   label=f"{kind} unstable ({gamma})"))
     tips = [tip for tip in result.tips if tip.tau <= tau_max]
     if tips:
         ax.plot([x_scale * t.kappa for t in tips], [t.tau for t in tips], "k*", markersize=9,

@@ -269,8 +269,8 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
     factory = functools.partial(_factory, model, dict(params))
     rows = _map(factory, list(grid), kinds, workers, progress, "tongues", options)
     found, failures = find_tips(factory, grid, rows, kinds, tol=options["tol"]) if tips else ([], [])
-    traced = _boundaries(factory, grid, rows, found, kinds, workers, progress,
-                         options) if boundaries else ()
+    traced = trace_boundaries(factory, grid, rows, found, kinds, workers=workers,
+                              progress=progress, options=options) if boundaries else ()
     warnings = threshold_warnings({k: [r[k].tau_min for r in rows] for k in kinds}) + failures
     p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
     p.pop("kappa")
@@ -285,9 +285,11 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
 BOUNDARY_ROUNDS = 12
 
 
-def _boundaries(factory, grid: np.ndarray, rows: list, tips: list, kinds: tuple[str, ...],
-                workers: int | None, progress: bool, options: dict[str, Any]) -> tuple:
-    """The boundary curves of each kind (:func:`~spectralshell.solvers.tongues.link_boundaries`)
+def trace_boundaries(factory, grid: np.ndarray, rows: list, tips: list, kinds: tuple[str, ...],
+                     *, workers: int | None, progress: bool, options: dict[str, Any]) -> tuple:
+    """The boundary curves of each kind of an Ince-Strutt diagram over ``grid`` (any
+    one-parameter family ``factory``; ``rows``: the grid's marginal tau, ``tips``: its finger
+    tips, ``options``: the solver's) (:func:`~spectralshell.solvers.tongues.link_boundaries`)
     through the grid's marginal tau, the finger tips' kappa and the kappa added by bisection
     where neighbouring values cannot be linked (:func:`~spectralshell.solvers.tongues.
     refinement_points`), every added kappa solved as the grid's points are (one where the
