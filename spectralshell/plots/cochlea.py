@@ -220,6 +220,16 @@ def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, 
     fig.subplots_adjust(left=0.12, right=0.82, top=top, bottom=bottom, hspace=0.7)
     cax = fig.add_axes((0.86, bottom + 0.1, 0.025, top - bottom - 0.2))
     fig.colorbar(mesh, cax=cax, label=sweep_plot.colour_label(tau_max))
+    entries = {}  # the panels' legends as one, under the colour bar (below a short panel it
+    for ax in axes[:, 0]:  # would cover the frequency axis label)
+        if ax.get_legend() is not None:
+            legend = ax.get_legend()
+            entries.update({t.get_text(): h for t, h in zip(legend.get_texts(),
+                                                            legend.legend_handles)})
+            legend.remove()
+    if entries:
+        fig.legend(list(entries.values()), list(entries), loc="upper right", fontsize=7,
+                   bbox_to_anchor=(0.995, bottom + 0.085), frameon=False)
     if caption:
         import textwrap
 
