@@ -18,6 +18,8 @@ Public API::
     ss.lp_coefficient(2)                                # lambda = lambda0 (1 + c eps^2), thesis 7.3
     ss.simulate({"params": {"kappa": 0.06, "nu": 0.002, "tau": 0.25},
                  "initial": {"shape": "2:0"}, "simulate": {"t_end": 200}})  # time stepping
+    ss.plot.tongues(ss.tongues("mathieu", kappa="0:3:301", nu=0.1), ax=None)  # -> Axes
+    ss.floquet("mathieu", kappa=0.25, nu=0.1).plot(ax=ax)  # results draw themselves too
 """
 
 import importlib
@@ -36,14 +38,18 @@ _LAZY = dict.fromkeys(("exponents", "floquet", "lp_coefficient", "natural_modes"
 
 __all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "natural_modes", "tau_map",
            "run_scene", "sweep", "open_sweep", "lp_coefficient", "simulate", "response", "models",
-           "SpectralShellError", "ParameterError", "ConvergenceError", "BackendUnavailable"]
+           "SpectralShellError", "ParameterError", "ConvergenceError", "BackendUnavailable", "plot"]
 
 
 def __getattr__(name: str) -> Any:
+    """The public functions (from :mod:`spectralshell.api`) and ``spectralshell.plot`` (the
+    drawing functions, :mod:`spectralshell.plots.public`), imported on first use."""
     if name in _LAZY:
         return getattr(importlib.import_module(_LAZY[name], __name__), name)
+    if name == "plot":
+        return importlib.import_module(".plots.public", __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted(set(globals()) | set(_LAZY) | {"plot"})

@@ -29,7 +29,6 @@ from .params.registry import (get_model, load_entry_points, models, models_with,
                               param_help, param_names)
 from .params.scene import default_scene, load_scene, plan
 from .params.sweep_grid import is_sweep_scene, sweep_spec
-from .results.base import format_params
 
 
 def _api():
@@ -309,7 +308,7 @@ def cmd_response(args) -> int:
     if args.png:
         from .plots import cochlea as cochlea_plots
 
-        title = f"{res.model}: {format_params(res.params)}"
+        title = cochlea_plots.response_title(res)
         _atomic_write(args.png, lambda path: cochlea_plots.save_responses([(title, [res])], path))
         written.append(args.png)
     return _report(args.json, res.to_dict(), res.summary, written)

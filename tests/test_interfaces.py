@@ -167,6 +167,9 @@ def test_figures_reproduce(capsys, tmp_path, name):
     code, out, _ = run_cli(capsys, "figure", name, "--out", str(tmp_path), "--workers", "1")
     assert code == 0 and (tmp_path / f"{name}.png").exists()
     data = json.loads((tmp_path / f"{name}.json").read_text())
+    for panel in data:  # drawn as traced curves: three tongues below tau = 1 on [0, 3]
+        assert len(panel["boundaries"]) == 3
+        assert {b["kind"] for b in panel["boundaries"]} == {"harmonic", "subharmonic"}
     if name == "fig-2.2":  # undamped: fingers touch the axis at sqrt(kappa) = k/2, k = 1..3
         tips = sorted(t["kappa"] for t in data[0]["tips"])
         np.testing.assert_allclose(tips, [0.25, 1.0, 2.25], atol=1e-11)

@@ -157,8 +157,11 @@ def test_records_round_trip_through_their_dict():
                     n_previous=9, error_estimate=1e-15, method="structured")
     back = MarginalTau.from_dict(json.loads(json.dumps(m.to_dict(), allow_nan=False)))
     assert _same(back.to_dict(), m.to_dict()) and back.complete_to == np.inf
-    assert set(RECORDS) == {"MarginalTau", "Tip", "Exponents", "ModeRoots", "RateFit",
-                            "ContinuedModes"}
+    assert set(RECORDS) == {"MarginalTau", "Tip", "Boundary", "Exponents", "ModeRoots",
+                            "RateFit", "ContinuedModes"}
+    b = RECORDS["Boundary"](kind="harmonic", kappa=np.array([0.9, 1.0]), tau=np.array([0.3, 0.0]))
+    back = RECORDS["Boundary"].from_dict(json.loads(json.dumps(b.to_dict(), allow_nan=False)))
+    assert back.kind == b.kind and _same(back.to_dict(), b.to_dict())
 
 
 @settings(max_examples=60, deadline=None)

@@ -12,7 +12,7 @@ from pathlib import Path
 import matplotlib
 from matplotlib.figure import Figure
 
-__all__ = ["colours", "figure", "subplots", "save_figure"]
+__all__ = ["axes_or_new", "colours", "figure", "subplots", "save_figure"]
 
 
 def figure(*, figsize: tuple[float, float]) -> Figure:
@@ -24,6 +24,11 @@ def subplots(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float], **
     """(figure, axes) as ``pyplot.subplots`` returns them, outside pyplot."""
     fig = figure(figsize=figsize)
     return fig, fig.subplots(nrows, ncols, **kwargs)
+
+
+def axes_or_new(ax, *, figsize: tuple[float, float] = (6.4, 4.6)):
+    """``ax`` itself, or (``ax`` None) the axes of a new figure of ``figsize`` inches."""
+    return ax if ax is not None else subplots(figsize=figsize)[1]
 
 
 def colours() -> list[str]:

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ._canvas import save_figure, subplots
+from ..results.records import Boundary
 from ..results.response import ResponseResult
 
 KIND_STYLE = {"tone": "-", "harmonic": "-", "subharmonic": "--"}
@@ -21,21 +22,35 @@ def _axis(res: ResponseResult):
     return res.x, "distance from the base x (dimensionless, [0, π])", lambda v: v
 
 
+def response_title(res: ResponseResult) -> str:
+    """'cochlea, tone at ω = 1000 rad/s: κ = 0.5386, ν = 1.61e-05, α = 1.56, M = 128' (the
+    parameters that are set, in the thesis's symbols; tau for the parametric kinds)."""
+    omega = f" at ω = {res.physical['omega']:g} rad/s" if res.physical else ""
+    names = {"kappa": "κ", "nu": "ν", "alpha": "α", "n_spatial": "M", "spatial_mode": "mode k"}
+    shown = [f"{names.get(k, k)} = {v:.4g}" if isinstance(v, float) else f"{names.get(k, k)} = {v}"
+             for k, v in res.params.items() if v is not None]
+    if res.tau is not None:
+        shown.append(f"τ_min = {res.tau:.4g}")
+    return f"{res.model}, {res.kind} response{omega}: " + ", ".join(shown)
+
+
 def draw_response(ax, res: ResponseResult, *, label: str | None = None, envelope_only: bool = False) -> None:
-    """Profile h(x, t_peak) and envelope (normalised), with the peak and the WKB peak marked."""
+    """Profile h(x, t_peak) and envelope (normalised), with the peak and the WKB peak marked;
+    every line labelled."""
     x, xlabel, conv = _axis(res)
     style = KIND_STYLE[res.kind]
     freq = (f"{res.response_frequency * res.physical['omega']:g} rad/s" if res.physical
-            else f"{res.response_frequency:g} (units of ω)")
-    label = label or f"{res.kind}, response frequency {freq}"
+            else f"{res.response_frequency:g} ω")
+    label = label or f"{res.kind} (response frequency {freq})"
     line = ax.plot(x, res.envelope, style, linewidth=1.6, label=f"{label}: envelope")[0]
     if not envelope_only:
         ax.plot(x, res.profile, style, color=line.get_color(), linewidth=0.7, alpha=0.7,
-                label="profile at t_peak")
-    ax.axvline(conv(res.peak_x), color=line.get_color(), linewidth=0.8)
+                label=f"{res.kind}: profile h(x) at the time of the peak")
+    ax.axvline(conv(res.peak_x), color=line.get_color(), linewidth=0.8,
+               label=f"{res.kind}: envelope peak")
     if res.wkb_peak_x is not None and 0 <= res.wkb_peak_x <= np.pi:
         ax.axvline(conv(res.wkb_peak_x), color=line.get_color(), linestyle=":", linewidth=1.2,
-                   label="WKB peak (LeVeque, Peskin & Lax)")
+                   label=f"{res.kind}: WKB peak (LeVeque, Peskin & Lax)")
     ax.set_xlabel(xlabel)
     ax.set_ylabel("normalised BM displacement")
     ax.grid(alpha=0.3)
@@ -43,12 +58,12 @@ def draw_response(ax, res: ResponseResult, *, label: str | None = None, envelope
 
 def save_responses(panels: Sequence[tuple[str, Sequence[ResponseResult]]], path: str | Path) -> Path:
     """One panel per (title, results), responses overlaid (Fig 5.8)."""
-    fig, axes = subplots(len(panels), 1, figsize=(8.0, 2.8 * len(panels)), squeeze=False)
+    fig, axes = subplots(len(panels), 1, figsize=(10.5, 2.8 * len(panels)), squeeze=False)
     for ax, (title, results) in zip(axes[:, 0], panels):
         for res in results:
             draw_response(ax, res)
         ax.set_title(title, fontsize=9)
-        ax.legend(fontsize=6, loc="upper left")
+        ax.legend(fontsize=6, loc="center left", bbox_to_anchor=(1.01, 0.5))  # beside the curves
     return save_figure(fig, path, dpi=120)
 
 
@@ -70,20 +85,25 @@ def save_peaks(series: Sequence[tuple[str, str, np.ndarray, np.ndarray, np.ndarr
 def save_det_contours(panels: Sequence[tuple[str, np.ndarray, np.ndarray, np.ndarray, np.ndarray]],
                       path: str | Path) -> Path:
     """Zero contours of Re det T (thick, blue) and Im det T (thin, red) over the s = gamma/sqrt(kappa)
-    plane, with the computed modes marked (Fig 5.7). ``panels``: (title, re grid, im grid,
+    plane, with the computed modes marked and a legend naming each (Fig 5.7). ``panels``: (title, re grid, im grid,
     det values, modes)."""
     fig, axes = subplots(1, len(panels), figsize=(6.0 * len(panels), 4.6), squeeze=False)
     for ax, (title, re, im, det, modes) in zip(axes[0], panels):
         ax.contour(re, im, det.real, levels=[0.0], colors="tab:blue", linewidths=1.8)
         ax.contour(re, im, det.imag, levels=[0.0], colors="tab:red", linewidths=0.7)
-        ax.plot(modes.real, modes.imag, "ko", mfc="none", markersize=6, label="computed modes")
+        ax.plot([], [], color="tab:blue", linewidth=1.8, label="Re det T = 0")
+        ax.plot([], [], color="tab:red", linewidth=0.7, label="Im det T = 0")
+        ax.plot(modes.real, modes.imag, "ko", mfc="none", markersize=6, clip_on=False,
+                label="computed modes (both zero)")
         ax.set_xlim(re.min(), re.max())
         ax.set_ylim(im.min(), im.max())
         ax.set_xlabel("Re γ/√κ (decay rate)")
         ax.set_ylabel("Im γ/√κ (frequency)")
         ax.set_title(title, fontsize=9)
-        ax.legend(fontsize=7)
-    return save_figure(fig, path, dpi=120)
+    # one legend for the figure, below the panels: inside, it would hide contours
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=8,
+               frameon=False)
+    return save_figure(fig, path, dpi=120, rect=(0, 0.06, 1, 1))
 
 
 TAU_STYLE = {"harmonic": dict(marker="+", color="tab:blue", linestyle="none", label="harmonic"),
@@ -91,19 +111,25 @@ TAU_STYLE = {"harmonic": dict(marker="+", color="tab:blue", linestyle="none", la
                                  label="subharmonic")}
 
 
-def _fingers(ax, title: str, points, *, tau_max: float, x_range, xlabel: str) -> None:
-    """One Ince-Strutt panel: {kind: (x points, tau points)} with harmonic '+', subharmonic 'o',
-    the tau = 1/2 line, labels and legend."""
-    for kind, (x, tau) in points.items():
-        keep = tau <= tau_max
-        ax.plot(x[keep], tau[keep], markersize=3, **TAU_STYLE[kind])
+def _finger_axes(ax, title: str, *, tau_max: float, x_range, xlabel: str) -> None:
+    """The frame of one Ince-Strutt panel: the tau = 1/2 line, limits (a margin below tau = 0
+    so that markers there stay whole), labels."""
     ax.axhline(0.5, color="0.4", linestyle="--", linewidth=1, label="τ = 1/2")
-    ax.set_ylim(0, tau_max)
+    ax.set_ylim(-0.025 * tau_max, tau_max)
     if x_range is not None:
         ax.set_xlim(*x_range)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("τ, forcing amplitude")
     ax.set_title(title, fontsize=9)
+
+
+def _fingers(ax, title: str, points, *, tau_max: float, x_range, xlabel: str) -> None:
+    """One Ince-Strutt panel of points: {kind: (x points, tau points)} with harmonic '+',
+    subharmonic 'o', the tau = 1/2 line, labels and legend."""
+    for kind, (x, tau) in points.items():
+        keep = tau <= tau_max
+        ax.plot(x[keep], tau[keep], markersize=3, **TAU_STYLE[kind])
+    _finger_axes(ax, title, tau_max=tau_max, x_range=x_range, xlabel=xlabel)
     ax.legend(fontsize=7, loc="upper left")
 
 
@@ -138,25 +164,33 @@ def save_convergence(series: Sequence[tuple[str, np.ndarray, dict[str, np.ndarra
     return save_figure(fig, path, dpi=120)
 
 
-def save_tau_against_wavenumber(panels: Sequence[tuple[str, dict[str, tuple[np.ndarray, np.ndarray]],
+def save_tau_against_wavenumber(panels: Sequence[tuple[str, Sequence[Boundary], Sequence[str],
                                                        Sequence[tuple[str, float, float]],
                                                        dict[int, float]]],
                                 path: str | Path, *, tau_max: float = 1.0,
                                 k_range: tuple[float, float] | None = None) -> Path:
     """Ince-Strutt diagrams against the spatial wavenumber k (Fig 5.11): per panel (title,
-    {kind: (k points, tau points)}, finger tips [(kind, k, tau)], {integer k: tau_min <= 1/2}),
-    harmonic '+', subharmonic 'o', the tips as filled markers, the tau = 1/2 line, and at each
-    integer (physical) wavenumber unstable below it a vertical green segment from tau_min to 1/2."""
-    fig, axes = subplots(1, len(panels), figsize=(6.0 * len(panels), 4.2), squeeze=False)
-    for ax, (title, points, tips, unstable) in zip(axes[0], panels):
+    traced boundaries (k as kappa), kinds, finger tips [(kind, k, tau)], {integer k: tau_min
+    <= 1/2}), each kind's boundaries as curves with its unstable region shaded
+    (:func:`spectralshell.plots.ince_strutt.draw_boundaries`), the tips as black markers, the
+    tau = 1/2 line, at each integer (physical) wavenumber unstable below it a vertical green
+    segment from tau_min to 1/2, and one legend below the panels."""
+    from .ince_strutt import draw_boundaries, legend_entries
+
+    fig, axes = subplots(1, len(panels), figsize=(6.0 * len(panels), 4.6), squeeze=False)
+    for ax, (title, boundaries, kinds, tips, unstable) in zip(axes[0], panels):
+        for kind in kinds:
+            draw_boundaries(ax, boundaries, kind, tau_max=tau_max)
         for kind, k, tau in tips:
-            ax.plot(k, tau, marker=TAU_STYLE[kind]["marker"], color="k", markersize=7, linestyle="none")
+            ax.plot(k, tau, marker=TAU_STYLE[kind]["marker"], color="k", markersize=7,
+                    linestyle="none", mfc="k", zorder=4, label=f"{kind} finger tips")
         for k, tau in unstable.items():
             ax.plot([k, k], [tau, 0.5], color="tab:green", linewidth=2.2)
         ax.plot([], [], color="tab:green", linewidth=2.2, label="integer k unstable for τ ≤ 1/2")
-        _fingers(ax, title, points, tau_max=tau_max, x_range=k_range,
-                 xlabel="spatial wavenumber k (cosine mode cos kx; physical modes: integers)")
-    return save_figure(fig, path, dpi=120)
+        _finger_axes(ax, title, tau_max=tau_max, x_range=k_range,
+                     xlabel="spatial wavenumber k (cosine mode cos kx; physical modes: integers)")
+    fig.legend(*legend_entries(axes.flat), loc="lower center", ncol=4, fontsize=8, frameon=False)
+    return save_figure(fig, path, dpi=120, rect=(0, 0.11, 1, 1))
 
 
 def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, *,
@@ -164,8 +198,8 @@ def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, 
     """Minimum-tau maps of cochlea sweeps over (frequency in Hz, sigma), Fig 5.18: one panel per
     (title, Dataset), frequency horizontal (log, with omega = 2 pi f in rad/s on the top axis),
     sigma vertical (log), one colour bar (viridis: dark blue small tau, through green to yellow
-    at tau_max, so that white -- no tau <= tau_max -- stands apart), cells whose M refinement
-    did not converge grey hatched (counted in the panel title)."""
+    at tau_max; no tau <= tau_max in light grey, named in the legend), cells whose M refinement
+    did not converge grey hatched (counted in the panel title and the legend)."""
     from . import sweep_plot
 
     fig, axes = subplots(len(panels), 1, figsize=(7.6, 3.9 * len(panels) + 1.4), squeeze=False)
@@ -186,6 +220,16 @@ def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, 
     fig.subplots_adjust(left=0.12, right=0.82, top=top, bottom=bottom, hspace=0.7)
     cax = fig.add_axes((0.86, bottom + 0.1, 0.025, top - bottom - 0.2))
     fig.colorbar(mesh, cax=cax, label=sweep_plot.colour_label(tau_max))
+    entries = {}  # the panels' legends as one, under the colour bar (below a short panel it
+    for ax in axes[:, 0]:  # would cover the frequency axis label)
+        if ax.get_legend() is not None:
+            legend = ax.get_legend()
+            entries.update({t.get_text(): h for t, h in zip(legend.get_texts(),
+                                                            legend.legend_handles)})
+            legend.remove()
+    if entries:
+        fig.legend(list(entries.values()), list(entries), loc="upper right", fontsize=7,
+                   bbox_to_anchor=(0.995, bottom + 0.085), frameon=False)
     if caption:
         import textwrap
 

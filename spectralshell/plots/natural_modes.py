@@ -1,4 +1,5 @@
-"""Natural modes against zeta (thesis Fig 7.1): decay rate (top) and frequency (bottom)."""
+"""Natural modes: one result's modes in the complex gamma plane, and the least-damped mode
+against zeta (thesis Fig 7.1): decay rate (top) and frequency (bottom)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,22 @@ from pathlib import Path
 import numpy as np
 
 from ._canvas import colours, save_figure, subplots
+from ..results.base import format_params
 from ..results.modes import NaturalModesResult
+
+
+def draw(ax, result: NaturalModesResult) -> None:
+    """The modes of ``result`` as points (Re gamma, Im gamma) with their error bars."""
+    unit = result.params.get("units", "dimensionless")
+    err = result.error_estimate
+    ax.errorbar(result.gamma.real, result.gamma.imag, xerr=err, yerr=err, fmt="o", mfc="none",
+                label="natural modes γ (X ~ exp(γt))")
+    ax.axvline(0.0, color="0.4", linewidth=0.8)
+    ax.set_xlabel(f"Re γ, growth rate (< 0: decaying; {unit})")
+    ax.set_ylabel(f"Im γ, angular frequency ({unit})")
+    ax.set_title(f"{result.model} natural modes: {format_params(result.params)}", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
 
 
 def save(zeta: np.ndarray, by_degree: Mapping[int, Sequence[NaturalModesResult]],

@@ -3,8 +3,9 @@
 The real-valued axes with more than one value are the picture's axes; the others (m, kind,
 component, ...) are categories: one curve each in 1-D; in 2-D the colour is the smallest tau_min
 over them and each band is labelled by the category attaining it, e.g. '3S' = m 3,
-subharmonic (as thesis Fig 6.13). Points without a marginal tau <= tau_max (or not yet computed)
-are left white. Where a sweep refined the number of spatial modes per point (the cochlea), cells
+subharmonic (as thesis Fig 6.13). Points without a marginal tau <= tau_max (``has_tau`` false,
+whatever ``tau_min`` holds there: tau_max or NaN), or not yet computed, are drawn in their own
+light grey (:data:`NONE_COLOUR`, named in the legend), apart from every colour of the scale. Where a sweep refined the number of spatial modes per point (the cochlea), cells
 whose refinement did not converge by its limit (M = 512 per kind, 1024 for the minimum over
 kinds) for some category (``spatial_converged`` false) are drawn grey and hatched, whatever their
 value, and the title counts them.
@@ -13,15 +14,24 @@ value, and the title counts them.
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Patch, Rectangle
 from scipy import ndimage
 
 from ._canvas import colours, save_figure, subplots
 from ..errors import ParameterError
-from ..results.maps import category_label, minimum_map
+from ..results.maps import minimum_map
+
+#: Cells without instability ("none": no tau <= tau_max): a neutral light grey, which neither
+#: colour map used here (Blues_r up to a light blue, viridis up to yellow) contains.
+NONE_COLOUR = "0.82"
+#: Cells whose M refinement did not converge: a darker grey under black hatching.
+UNCONVERGED_COLOUR = "0.55"
 
 SYMBOLS = {"kappa": "κ", "nu": "ν", "sigma": "σ", "omega": "ω", "mu": "μ", "rho": "ρ",
            "radius": "R", "bpm": "beat rate", "frequency": "f", "length": "L",
@@ -79,8 +89,14 @@ def _scale(ax, ds: xr.Dataset, name: str, which: str) -> None:
         getattr(ax, f"set_{which}scale")("log")
 
 
-def _line(ds: xr.Dataset, axis: str, cats: list[str]):
-    fig, ax = subplots(figsize=(7.0, 4.5))
+def _curve_label(ds: xr.Dataset, cats: list[str], index: tuple[int, ...]) -> str:
+    """Legend text of one category combination, in words: 'm = 3, subharmonic' (each value
+    with more than one choice; the kind always)."""
+    return ", ".join(str(ds[d].values[i]) if d == "kind" else f"{d} = {ds[d].values[i]}"
+                     for d, i in zip(cats, index) if ds.sizes[d] > 1 or d == "kind")
+
+
+def _line(ax, ds: xr.Dataset, axis: str, cats: list[str]) -> None:
     tau = ds["tau_min"].transpose(axis, *cats).values
     ok = _valid(ds.transpose(axis, *cats))
     x = ds[axis].values
@@ -94,7 +110,7 @@ def _line(ds: xr.Dataset, axis: str, cats: list[str]):
         group = tuple(i for d, i in zip(cats, index) if d != "kind")
         colour = cycle[(np.ravel_multi_index(group, [ds.sizes[d] for d in non_kind])
                         if group else 0) % len(cycle)]
-        label = category_label(ds, cats, index) or None
+        label = _curve_label(ds, cats, index) or None
         ax.plot(x[order], y[order], styles.get(kind, "-"), color=colour, label=label, lw=1.4)
     tau_max = float(ds.attrs.get("tau_max", np.nanmax(tau)))
     ax.set_ylim(0.0, tau_max)
@@ -102,11 +118,9 @@ def _line(ds: xr.Dataset, axis: str, cats: list[str]):
     ax.set_ylabel(f"τ_min, smallest marginal τ ≤ {tau_max:g}")
     _scale(ax, ds, axis, "x")
     if cats:
-        ax.legend(fontsize=7, ncol=2, title="m, H/S" if "m" in cats else "H/S",
-                  title_fontsize=7)
+        ax.legend(fontsize=7, ncol=2)
     ax.set_title(_title(ds, _fixed(ds, [axis] + [d for d in cats if ds.sizes[d] > 1])),
                  fontsize=9)
-    return fig
 
 
 def _band_labels(ax, x: np.ndarray, y: np.ndarray, code: np.ndarray, labels: list[str],
@@ -144,28 +158,45 @@ def unconverged(ds: xr.Dataset, xname: str, yname: str) -> np.ndarray:
 
 
 def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
-             labels: bool = True, cmap: str = "Blues_r", headroom: float = 1.0):
+             labels: bool = True, cmap: str = "Blues_r", headroom: float = 1.0,
+             boxes: Sequence[tuple[tuple[float, float], tuple[float, float], str, str]] = ()):
     """Minimum tau_min over the categories (:func:`~spectralshell.results.maps.minimum_map`)
-    on the (x, y) cells of ``ax``: white where none <= tau_max, grey hatched where the M
-    refinement did not converge; the colour scale runs to ``headroom`` x tau_max (above 1 it
-    stops short of a colour map's white end). Returns (mesh, number of hatched cells)."""
+    on the (x, y) cells of ``ax``: light grey (:data:`NONE_COLOUR`) where none <= tau_max (by
+    ``has_tau``), grey hatched where the M refinement did not converge; the colour scale runs to
+    ``headroom`` x tau_max (above 1 it stops short of a colour map's white end). ``boxes`` are
+    ((x0, x1), (y0, y1), label, colour) rectangles. A legend below the axes names "none", the
+    hatching and the boxes. Returns (mesh, number of hatched cells)."""
     ds = ds.sortby([xname, yname])
     mm = minimum_map(ds, xname, yname)
     found = mm["has_tau"].values
-    tau_max = float(ds.attrs.get("tau_max", np.nanmax(mm["tau_min"].values, initial=0.0)))
+    values = mm["tau_min"].values
+    tau_max = float(ds.attrs.get("tau_max", np.max(values[found], initial=0.0)))
     xe, ye = _edges(ds[xname]), _edges(ds[yname])
-    shown = np.ma.masked_where(~found, mm["tau_min"].values)
-    mesh = ax.pcolormesh(xe, ye, shown, cmap=cmap, vmin=0.0, vmax=headroom * tau_max,
-                         shading="flat")
+    ax.pcolormesh(xe, ye, np.ma.masked_where(found, np.zeros(found.shape)),
+                  cmap=ListedColormap([NONE_COLOUR]), shading="flat")
+    mesh = ax.pcolormesh(xe, ye, np.ma.masked_where(~found, values), cmap=cmap, vmin=0.0,
+                         vmax=headroom * tau_max, shading="flat")
+    handles = [Patch(facecolor=NONE_COLOUR, edgecolor="0.5", linewidth=0.5,
+                     label=f"none: no τ ≤ {tau_max:g}")] if not found.all() else []
     bad = unconverged(ds, xname, yname)
     if bad.any():
-        ax.pcolor(xe, ye, np.ma.masked_where(~bad, np.ones(found.shape)), cmap="Greys",
-                  vmin=0.0, vmax=2.5, hatch="///", edgecolor="0.35", linewidth=0.0)
+        ax.pcolor(xe, ye, np.ma.masked_where(~bad, np.ones(found.shape)),
+                  cmap=ListedColormap([UNCONVERGED_COLOUR]), hatch="///", edgecolor="0.15",
+                  linewidth=0.0)
+        handles.append(Patch(facecolor=UNCONVERGED_COLOUR, hatch="///", edgecolor="0.15",
+                             label="not converged in M"))
+    for (x0, x1), (y0, y1), label, colour in boxes:
+        handles.append(ax.add_patch(Rectangle(
+            (x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor=colour, label=label,
+            linestyle="-" if colour == "tab:blue" else "--", linewidth=1.5)))
     if labels:
         names, code = np.unique(mm["label"].values, return_inverse=True)
         _band_labels(ax, ds[xname].values, ds[yname].values,
                      np.where(found & ~bad, code.reshape(found.shape), -1), list(names),
                      min_cells)
+    if handles:  # below the axes: inside, the legend would cover cells of the map
+        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.11),
+                  ncol=len(handles), fontsize=7, frameon=False)
     ax.set_xlabel(axis_label(ds[xname]))
     ax.set_ylabel(axis_label(ds[yname]))
     _scale(ax, ds, xname, "x")
@@ -177,7 +208,7 @@ def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
 
 def colour_label(tau_max: float) -> str:
     """Colour-bar label of a minimum-tau map."""
-    return f"minimum τ of instability (white: none ≤ {tau_max:g})"
+    return f"minimum τ of instability (≤ {tau_max:g})"
 
 
 def hatch_note(ds, count: int, cells: int) -> str:
@@ -190,11 +221,10 @@ def hatch_note(ds, count: int, cells: int) -> str:
     return f"; hatched grey: {count} of {cells} points not converged in {where}"
 
 
-def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int):
+def _map(ax, ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int) -> None:
     tau_max = float(ds.attrs.get("tau_max", ds["tau_min"].max()))
-    fig, ax = subplots(figsize=(7.5, 5.5))
     mesh, hatched = draw_map(ax, ds, xname, yname, min_cells=min_cells)
-    fig.colorbar(mesh, ax=ax, label=colour_label(tau_max))
+    ax.figure.colorbar(mesh, ax=ax, label=colour_label(tau_max))
     over = ", ".join(f"{d} = {', '.join(str(v) for v in ds[d].values)}" for d in cats
                      if ds.sizes[d] > 1)
     labels_note = " (labels: " + ("m, " if "m" in cats else "") + "H harmonic / S subharmonic)"
@@ -202,25 +232,32 @@ def _map(ds: xr.Dataset, xname: str, yname: str, cats: list[str], min_cells: int
     note = hatch_note(ds, hatched, ds.sizes[xname] * ds.sizes[yname])
     ax.set_title(_title(ds, fixed) + (f"\nminimum over {over}{labels_note}" if over else "")
                  + note, fontsize=8)
-    return fig
 
 
-def save(ds: xr.Dataset, path: str | Path, *, min_cells: int = 6, dpi: int = 120) -> Path:
-    """Draw a sweep Dataset as PNG: a line plot for one real axis, a labelled minimum-tau map
-    for two (the first grid axis horizontal).
+def draw(ax, ds: xr.Dataset, *, min_cells: int = 6) -> None:
+    """Draw a sweep Dataset on ``ax``: a line plot for one real axis, a labelled minimum-tau
+    map with its colour bar for two (the first grid axis horizontal).
 
     Raises
     ------
-    ParameterError : the sweep has no, or more than two, real axes with several values.
+    ParameterError : the sweep has no tau_min/has_tau, or not one or two real axes with
+        several values.
     """
     if "tau_min" not in ds or "has_tau" not in ds:
         raise ParameterError("sweep is invalid for plotting: it has no tau_min/has_tau variables")
     real, cats = picture_axes(ds)
     if len(real) == 1:
-        fig = _line(ds, real[0], cats)
+        _line(ax, ds, real[0], cats)
     elif len(real) == 2:
-        fig = _map(ds, real[0], real[1], cats, min_cells)
+        _map(ax, ds, real[0], real[1], cats, min_cells)
     else:
         raise ParameterError(f"sweep axes {real!r} are invalid for a picture: plot draws one or "
                              "two real axes with several values")
+
+
+def save(ds: xr.Dataset, path: str | Path, *, min_cells: int = 6, dpi: int = 120) -> Path:
+    """Write :func:`draw` of a sweep Dataset to ``path`` (PNG, SVG or PDF by its suffix)."""
+    two = len(picture_axes(ds)[0]) == 2 if "tau_min" in ds else False
+    fig, ax = subplots(figsize=(7.5, 5.5) if two else (7.0, 4.5))
+    draw(ax, ds, min_cells=min_cells)
     return save_figure(fig, path, dpi=dpi)

@@ -234,8 +234,9 @@ def _cochlea_uniform(out: Path, *, progress: bool, **_) -> list[Path]:
 def _cochlea_wavenumber(out: Path, *, progress: bool, **_) -> list[Path]:
     """Fig 5.11: every real marginal tau <= 1 against a continuous wavenumber k in (0, 12],
     alpha = 0, omega = 500 and 1000 rad/s (Table 5.1), with the finger tips and the integer
-    wavenumbers unstable for tau <= 1/2. The grid and the tips come from the Ince-Strutt engine
-    (runner.map_points, solvers.tongues.find_tips) run over the 1-parameter family
+    wavenumbers unstable for tau <= 1/2. The grid, the tips and the traced boundaries come from
+    the Ince-Strutt engine (runner.map_points, solvers.tongues.find_tips,
+    runner.floquet.trace_boundaries) run over the 1-parameter family
     models.cochlea.wavenumber_system (k in place of kappa)."""
     import functools
 
@@ -243,6 +244,7 @@ def _cochlea_wavenumber(out: Path, *, progress: bool, **_) -> list[Path]:
     from ..params.physical import TABLE_5_1, cochlea_forced
     from ..plots import cochlea as cochlea_plots
     from ..runner import map_points
+    from ..runner.floquet import trace_boundaries
     from ..solvers.tongues import find_tips
 
     kinds, options = ("harmonic", "subharmonic"), {"tol": 1e-8, "tau_max": 1.0}
@@ -255,19 +257,21 @@ def _cochlea_wavenumber(out: Path, *, progress: bool, **_) -> list[Path]:
         rows = map_points(factory, list(k_grid), kinds, executor="serial", progress=progress,
                           desc=f"fig-5.11, ω = {omega:g}", **options)
         tips, failures = find_tips(factory, k_grid, rows, kinds, tol=options["tol"])
+        boundaries = trace_boundaries(factory, k_grid, rows, tips, kinds, workers=1,
+                                      progress=progress, options=options)
         at_integers = map_points(factory, list(integers), kinds, executor="serial", **options)
         tau_min = {int(k): min((r[kind].tau_min for kind in kinds if r[kind].tau_min is not None),
                                default=None) for k, r in zip(integers, at_integers)}
-        points = {kind: (np.concatenate([np.full(r[kind].tau.size, k) for k, r in zip(k_grid, rows)]),
-                         np.concatenate([r[kind].tau for r in rows])) for kind in kinds}
         unstable = {k: t for k, t in tau_min.items() if t is not None and t <= 0.5}
         panels.append((f"ω = {omega:g} rad/s, α = 0 (κ = {d['kappa']:.4g}, ν = {d['nu']:.3g})",
-                       points, [(t.kind, t.kappa, t.tau) for t in tips], unstable))
+                       boundaries, kinds, [(t.kind, t.kappa, t.tau) for t in tips], unstable))
         data[str(omega)] = {
             "kappa": d["kappa"], "nu": d["nu"], "k": k_grid.tolist(),
             "tau": {kind: [r[kind].tau.tolist() for r in rows] for kind in kinds},
             "tips": [{"kind": t.kind, "k": t.kappa, "tau": t.tau, "k_error": t.kappa_error,
                       "tau_error": t.tau_error} for t in tips],
+            "boundaries": [{"kind": b.kind, "k": b.kappa.tolist(), "tau": b.tau.tolist()}
+                           for b in boundaries],
             "tip_failures": failures,
             "inviscid_tips_k": [j * j / (2 * d["kappa"]) for j in range(1, 12)
                                 if j * j / (2 * d["kappa"]) <= k_grid[-1]],
@@ -444,7 +448,7 @@ def _cochlea_tau_maps(out: Path, *, progress: bool, workers: int | None,
                "solver_options": options, "n_spatial_range": [lo, hi],
                "frequency": FIG_5_18_FREQUENCY,
                "sigma_units": "g cm^-2 s^-2 (= dyn/cm^3: stiffness per unit area of the BM)",
-               "white": "no marginal tau <= tau_max = 1/2 of either kind",
+               "light_grey": "no marginal tau <= tau_max = 1/2 of either kind (has_tau false)",
                "hatched": "M refinement did not converge by M = 1024 (values at the last M "
                           "solved: 1024, or 512 where only the reach test failed and M = 512 "
                           "does not reach the resonance, so that M = 1024 could not settle it)",

@@ -20,6 +20,21 @@ if TYPE_CHECKING:
 REPR_LINES = 20
 
 
+class Plottable:
+    """A result with a picture: :meth:`plot` draws it (``spectralshell.plot.draw``)."""
+
+    def plot(self, ax=None, **options: Any):
+        """Draw this result on ``ax`` (None: on a new figure made without pyplot, so the
+        backend is never changed) and return the Axes; ``options`` as for the function of
+        ``spectralshell.plot`` that draws this type."""
+        # The drawing lives in the plots stage, downstream of the results: it is named by
+        # module path (as pandas' DataFrame.plot finds its backend), so no results module
+        # imports a later stage.
+        from importlib import import_module
+
+        return import_module("spectralshell.plots.public").draw(self, ax, **options)
+
+
 def format_params(params: dict[str, Any]) -> str:
     """Parameters as one line, 'kappa = 0.3  nu = 0.1' (floats with %g); those that are None
     (an option not used, e.g. spatial_mode) are left out."""

@@ -14,10 +14,10 @@ import numpy as np
 
 from .._version import stamp
 from ..params.stiffness import amplitude_warnings
-from .base import Result, format_params
+from .base import Plottable, Result, format_params
 from .notebook import (Variable, coordinate, dataset, named, or_nan, padded, result_attrs, table,
                        variable)
-from .records import Exponents, MarginalTau, Tip
+from .records import Boundary, Exponents, MarginalTau, Tip
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -106,7 +106,7 @@ def _or_none(value: float | None, spec: str, missing: str = "none") -> str:
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
-class FloquetResult(Result):
+class FloquetResult(Result, Plottable):
     """Marginal amplitudes of each requested Floquet kind (None for a kind not asked)."""
 
     model: str
@@ -255,8 +255,10 @@ class ExponentsResult(Result):
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
-class TonguesResult(Result):
-    """An Ince-Strutt diagram: marginal tau of each kind at every kappa, and the finger tips."""
+class TonguesResult(Result, Plottable):
+    """An Ince-Strutt diagram: marginal tau of each kind at every kappa, the finger tips, and
+    the boundary curves traced through them (``boundaries``: :class:`Boundary` records, empty
+    when not traced)."""
 
     model: str
     params: dict[str, Any]
@@ -266,6 +268,7 @@ class TonguesResult(Result):
     tips: tuple[Tip, ...]
     provenance: dict[str, Any]
     warnings: tuple[str, ...] = field(default=())
+    boundaries: tuple[Boundary, ...] = field(default=())
 
     def points(self, kind: str) -> tuple[np.ndarray, np.ndarray]:
         """All (kappa, tau) points of one kind, flattened (for plotting and CSV)."""
@@ -281,6 +284,8 @@ class TonguesResult(Result):
                          for key in ("tau", "tau_min", "n_temporal", "error_estimate")}
         out["tips"] = [{k: (float(v) if k != "kind" else v) for k, v in asdict(t).items()}
                        for t in self.tips]
+        out["boundaries"] = [{"kind": b.kind, "kappa": b.kappa.tolist(), "tau": b.tau.tolist()}
+                             for b in self.boundaries]
         out["warnings"] = list(self.warnings)
         out["provenance"] = self.provenance
         return out

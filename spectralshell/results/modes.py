@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .base import Result, format_params
+from .base import Plottable, Result, format_params
 from .floquet import provenance
 from .notebook import dataset, json_attr, result_attrs, table, variable
 from .records import ModeRoots
@@ -43,7 +43,7 @@ def mode_kind(gamma: complex, error: float) -> str:
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
-class NaturalModesResult(Result):
+class NaturalModesResult(Result, Plottable):
     """Least damped natural modes gamma (X ~ exp(gamma t)) of one model, least damped first.
 
     Attributes

@@ -153,6 +153,18 @@ class Tip(Record):
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
+class Boundary(Record):
+    """One traced boundary curve of an Ince-Strutt diagram: vertices (kappa[i], tau[i]) in
+    order along the curve, each a marginal tau of ``kind`` from the point solver (or a finger
+    tip), so that the unstable region of the kind lies on one side (see
+    :func:`spectralshell.solvers.tongues.link_boundaries`)."""
+
+    kind: str
+    kappa: np.ndarray
+    tau: np.ndarray
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
 class Exponents(Record):
     """Floquet exponents of one model at one tau.
 
@@ -235,5 +247,5 @@ class ContinuedModes(Record):
 
 
 #: Every record type by name (what :func:`decode` accepts for them).
-RECORDS: dict[str, type] = {cls.__name__: cls for cls in (MarginalTau, Tip, Exponents, ModeRoots,
-                                                          RateFit, ContinuedModes)}
+RECORDS: dict[str, type] = {cls.__name__: cls for cls in (MarginalTau, Tip, Boundary, Exponents,
+                                                          ModeRoots, RateFit, ContinuedModes)}

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .base import Result, format_params
+from .base import Plottable, Result, format_params
 from .notebook import dataset, json_attr, or_nan, result_attrs, variable
 
 if TYPE_CHECKING:
@@ -15,7 +15,7 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
-class ResponseResult(Result):
+class ResponseResult(Result, Plottable):
     """Displacement envelope along the membrane for one tone frequency.
 
     Attributes

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .base import Result
+from .base import Plottable, Result
 from .notebook import Variable, dataset, result_attrs, variable
 from .records import RateFit
 
@@ -36,7 +36,7 @@ class ModeFit:
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
-class Trajectory(Result):
+class Trajectory(Result, Plottable):
     """Membrane displacement coefficients against time, per real harmonic mode (m, k).
 
     Attributes

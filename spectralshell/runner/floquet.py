@@ -14,7 +14,7 @@ import numpy as np
 
 from .._validate import require_int_in_range, require_positive, require_real
 from ..discretise.fourier import expand_kind
-from ..errors import ParameterError
+from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
 from ..models.registry import hill_system
 from ..params.grid import parse_int_range, parse_range
@@ -34,7 +34,8 @@ from ..solvers.marginal import N_MAX
 from ..solvers.spatial_refinement import TOL_SPATIAL, spatial_error
 from .solve import solve_kinds, spatial_point, spatial_system
 from .progress import progress_bar
-from ..solvers.tongues import find_tips
+from ..solvers.tongues import (BOUNDARY_DTAU, BOUNDARY_MIN_DKAPPA, BOUNDARY_TAU_MAX, boundary_taus,
+                               find_tips, link_boundaries, refinement_points)
 
 
 def solver_options(tol: float, n_temporal: int | None, tau_max: float | None = None) -> dict[str, Any]:
@@ -239,7 +240,7 @@ def _grid(name: str, spec: Any, max_points: int | None) -> np.ndarray:
 def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
             n_temporal: int | None = None, tau_max: float | None = None, tips: bool = True,
             workers: int | None = None, progress: bool = False, max_points: int | None = None,
-            **params: Any) -> TonguesResult:
+            boundaries: bool = True, **params: Any) -> TonguesResult:
     """Ince-Strutt diagram: marginal tau of each kind over a kappa grid, and the finger tips.
 
     Parameters
@@ -249,6 +250,10 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
         tau_min on the grid (to ~1e-12 in kappa; see ``solvers.tongues.refine_tip``).
     workers : processes (None: all cores for large grids; 1: serial). progress : show a bar.
     tau_max : only the marginal tau <= tau_max are computed (as in :func:`floquet`).
+    boundaries : trace each boundary as a curve (``TonguesResult.boundaries``) through the
+        grid, the finger tips and kappa added by bisection wherever a branch is steep (tau moves
+        by more than 0.02 between neighbouring kappa), turns back or ends, down to 1e-4 of the
+        kappa range; up to tau_max (1 where there is none).
     max_points : raise the limit on the grid's points (default
         :data:`spectralshell.params.limits.POINTS`, 1e6, or $SPECTRALSHELL_MAX_POINTS); a grid
         above it, or whose results exceed the memory limit, is refused before any work.
@@ -264,12 +269,94 @@ def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
     factory = functools.partial(_factory, model, dict(params))
     rows = _map(factory, list(grid), kinds, workers, progress, "tongues", options)
     found, failures = find_tips(factory, grid, rows, kinds, tol=options["tol"]) if tips else ([], [])
+    traced = trace_boundaries(factory, grid, rows, found, kinds, workers=workers,
+                              progress=progress, options=options) if boundaries else ()
     warnings = threshold_warnings({k: [r[k].tau_min for r in rows] for k in kinds}) + failures
     p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
     p.pop("kappa")
     return TonguesResult(model=model, params=p, kappa=grid, kinds=kinds, rows=tuple(rows),
-                         tips=tuple(found), warnings=tuple(warnings),
-                         provenance=provenance({"kind": kind, "tips": tips, **options}))
+                         tips=tuple(found), boundaries=traced, warnings=tuple(warnings),
+                         provenance=provenance({"kind": kind, "tips": tips,
+                                                "boundaries": boundaries, **options}))
+
+
+#: Rounds of bisection at most when tracing boundaries (each halves the unresolved intervals:
+#: from a grid step of 1/300 of the range down to BOUNDARY_MIN_DKAPPA takes 5).
+BOUNDARY_ROUNDS = 12
+
+
+def trace_boundaries(factory, grid: np.ndarray, rows: list, tips: list, kinds: tuple[str, ...],
+                     *, workers: int | None, progress: bool, options: dict[str, Any]) -> tuple:
+    """The boundary curves of each kind of an Ince-Strutt diagram over ``grid`` (any
+    one-parameter family ``factory``; ``rows``: the grid's marginal tau, ``tips``: its finger
+    tips, ``options``: the solver's) (:func:`~spectralshell.solvers.tongues.link_boundaries`)
+    through the grid's marginal tau, the finger tips' kappa and the kappa added by bisection
+    where neighbouring values cannot be linked (:func:`~spectralshell.solvers.tongues.
+    refinement_points`), every added kappa solved as the grid's points are (one where the
+    solver does not converge is left out, its interval unrefined); traced up to tau_max
+    (BOUNDARY_TAU_MAX where there is none)."""
+    cap = options.get("tau_max") if options.get("tau_max") is not None else BOUNDARY_TAU_MAX
+    min_dkappa = BOUNDARY_MIN_DKAPPA * float(grid.max() - grid.min())
+    solved, failed, tried = dict(zip(grid.tolist(), rows)), set(), set()
+    # a tip within rounding of a grid point is that point (one vertex where the sides meet)
+    extra = sorted({float(t.kappa) for t in tips
+                    if np.min(np.abs(grid - t.kappa)) > 1e-9 * min_dkappa})
+    for _ in range(BOUNDARY_ROUNDS + 1):
+        if extra:
+            try:
+                solved.update(zip(extra, _map(factory, extra, kinds, workers, progress,
+                                              "tongue boundaries", options)))
+            except ConvergenceError:  # one at a time: keep the points that converge
+                for k in extra:
+                    try:
+                        solved[k] = solve_kinds(factory(k), kinds, options)
+                    except ConvergenceError:
+                        failed.add(k)
+        for kind in kinds:
+            _fill_gaps(factory, solved, kind, cap, options, tried)
+        kappas = np.array(sorted(solved))
+        taus = {kind: [boundary_taus(solved[k][kind], cap) for k in kappas] for kind in kinds}
+        extra = sorted({k for kind in kinds for k in refinement_points(
+            kappas, taus[kind], dtau=BOUNDARY_DTAU, min_dkappa=min_dkappa)} - failed)
+        if not extra:
+            break
+    return tuple(b for kind in kinds for b in link_boundaries(kind, kappas, taus[kind]))
+
+
+def _fill_gaps(factory, solved: dict, kind: str, cap: float, options: dict[str, Any],
+               tried: set) -> None:
+    """Re-solve, at the neighbour's larger truncation N (fixed), each kappa of ``solved`` that
+    has fewer marginal tau <= ``cap`` of ``kind`` than its neighbour and was converged at a
+    smaller N, keeping the new values where there are more of them; repeated until none is
+    added (``tried``: the (kappa, kind, N) already solved).
+
+    The convergence test of tau_min does not prove a larger tau complete: a branch above it
+    may be found only from some N on (e.g. the fibre, m = 2, nu = 2e-4: tau = 0.760 at kappa
+    = 0.172 appears from N = 33, not at the N = 22 that converges tau_min = 0.605), and a
+    boundary would end in mid-air where a neighbour was solved at the smaller N."""
+    while True:
+        kappas = sorted(solved)
+        wanted: dict[float, int] = {}
+        for left, right in zip(kappas[:-1], kappas[1:]):
+            a, b = solved[left][kind], solved[right][kind]
+            if boundary_taus(a, cap).size == boundary_taus(b, cap).size or \
+                    a.n_temporal == b.n_temporal:
+                continue
+            low, n = (left, b.n_temporal) if a.n_temporal < b.n_temporal else (right, a.n_temporal)
+            if (low, kind, n) not in tried:
+                wanted[low] = max(wanted.get(low, 0), n)
+        added = False
+        for k, n in wanted.items():
+            tried.add((k, kind, n))
+            try:
+                new = solve_kinds(factory(k), (kind,), {**options, "n_temporal": n})[kind]
+            except ConvergenceError:
+                continue
+            if boundary_taus(new, cap).size > boundary_taus(solved[k][kind], cap).size:
+                solved[k] = {**solved[k], kind: new}
+                added = True
+        if not added:
+            return
 
 
 def _map_axis(model: str, label: str, axis: object, physical: bool,

@@ -1,4 +1,5 @@
-"""Ince-Strutt diagrams: the tips (minima) of the fingers of marginal tau over a kappa grid.
+"""Ince-Strutt diagrams: the tips (minima) of the fingers of marginal tau over a kappa grid, and
+the boundary curves traced through the marginal tau of neighbouring kappa.
 
 The grid itself is solved by the sweep runner (:func:`spectralshell.runner.map_points`). The
 solver sees only a picklable ``factory(kappa) -> HillSystem``; it never knows the model. "kappa"
@@ -16,7 +17,7 @@ import scipy.linalg as sla
 from ..discretise.hill import assemble
 from ..errors import ConvergenceError
 from ..models.base import HillSystem
-from ..results.records import MarginalTau, Tip
+from ..results.records import Boundary, MarginalTau, Tip
 from .marginal import marginal_tau, solve_truncation
 
 SystemFactory = Callable[[float], HillSystem]
@@ -133,3 +134,137 @@ def find_tips(factory: SystemFactory, kappas: np.ndarray, rows: list[dict[str, M
                 except ConvergenceError as exc:
                     failures.append(f"tip near kappa = {kappas[i]:.6g} ({kind}) not located: {exc}")
     return sorted(tips, key=lambda t: t.kappa), failures
+
+
+# ---------------------------------------------------------------------------------------------
+# Boundary curves: continuation in kappa, refined where neighbouring values cannot be linked
+# ---------------------------------------------------------------------------------------------
+
+#: Largest tau step between consecutive vertices of a traced boundary, above which the kappa
+#: interval is bisected (a fiftieth of the unit tau axis of the thesis's diagrams).
+BOUNDARY_DTAU = 0.02
+#: Smallest kappa interval bisected, as a fraction of the diagram's kappa range: where a branch
+#: is steeper than BOUNDARY_DTAU over it (a fold, a finger tip at tau = 0, a branch leaving
+#: through tau_max), the refinement stops there.
+BOUNDARY_MIN_DKAPPA = 1e-4
+#: Boundaries are traced up to tau_max, or up to this where the diagram has none.
+BOUNDARY_TAU_MAX = 1.0
+#: Two curve ends at one kappa closer than this in tau are joined: a double root split by
+#: rounding (by ~1e-6 at the tip of an undamped finger, where both of its sides meet at tau = 0).
+SAME_TAU = 1e-5
+
+
+def boundary_taus(marginal: MarginalTau, tau_max: float) -> np.ndarray:
+    """The distinct marginal tau <= ``tau_max`` of one kind at one kappa, ascending."""
+    return np.unique(marginal.tau[np.isfinite(marginal.tau) & (marginal.tau <= tau_max)])
+
+
+def match_taus(a: np.ndarray, b: np.ndarray) -> list[tuple[int, int]]:
+    """Order-preserving pairs (i, j) of the ascending values a and b, as many as the shorter
+    has, of least total |a[i] - b[j]| (dynamic programming): which value of one kappa continues
+    which value of its neighbour."""
+    swap = a.size > b.size
+    short, long = (b, a) if swap else (a, b)
+    n, m = short.size, long.size
+    cost = np.full((n + 1, m + 1), np.inf)
+    cost[0, :] = 0.0
+    for i in range(1, n + 1):
+        for j in range(i, m + 1):
+            cost[i, j] = min(cost[i, j - 1], cost[i - 1, j - 1] + abs(short[i - 1] - long[j - 1]))
+    pairs, i, j = [], n, m
+    while i > 0:
+        if j > i and cost[i, j] == cost[i, j - 1]:
+            j -= 1
+        else:
+            pairs.append((i - 1, j - 1))
+            i, j = i - 1, j - 1
+    pairs.reverse()
+    return [(j, i) for i, j in pairs] if swap else pairs
+
+
+def _linked(a: np.ndarray, b: np.ndarray, dtau: float) -> bool:
+    """Whether every value of two neighbouring kappa continues one of the other within dtau."""
+    return a.size == b.size and all(abs(a[i] - b[j]) <= dtau for i, j in match_taus(a, b))
+
+
+def refinement_points(kappas: np.ndarray, taus: list[np.ndarray], *, dtau: float,
+                      min_dkappa: float) -> list[float]:
+    """Midpoints of the intervals between neighbouring kappa (ascending) wider than
+    ``min_dkappa`` whose marginal tau cannot yet be linked: a different number of values (a
+    branch turns back at a fold, starts, or leaves through tau_max), or a value moving by more
+    than ``dtau`` (a steep branch)."""
+    return [0.5 * (kappas[j] + kappas[j + 1]) for j in range(len(kappas) - 1)
+            if kappas[j + 1] - kappas[j] > min_dkappa and not _linked(taus[j], taus[j + 1], dtau)]
+
+
+def _edges(taus: list[np.ndarray]) -> set[tuple[tuple[int, int], tuple[int, int]]]:
+    """Segments between vertices (column, index): matched values of neighbouring columns; the
+    two values left unmatched next to each other in one column (a fold, where two branches
+    merge between the columns); a value left alone beside a matched one, joined to that one's
+    partner if it has a free side (two branches leaving one point, as both sides of a tilted
+    undamped finger leave its tip at tau = 0); and two curve ends in one column closer than
+    SAME_TAU (a double root split by rounding)."""
+    edges, alone = set(), []
+    for j in range(len(taus) - 1):
+        pairs = match_taus(taus[j], taus[j + 1])
+        edges |= {((j, a), (j + 1, b)) for a, b in pairs}
+        side, col = (0, j) if taus[j].size > taus[j + 1].size else (1, j + 1)
+        free = sorted(set(range(taus[col].size)) - {p[side] for p in pairs})
+        joined = set()
+        for u, v in zip(free[:-1], free[1:]):
+            if v == u + 1 and u not in joined:
+                edges.add(((col, u), (col, v)))
+                joined |= {u, v}
+        partner = {p[side]: (col + 1 - 2 * side, p[1 - side]) for p in pairs}
+        alone += [(col, u, partner) for u in free if u not in joined]
+    degree: dict[tuple[int, int], int] = {}
+    for u, v in edges:
+        degree[u], degree[v] = degree.get(u, 0) + 1, degree.get(v, 0) + 1
+    for col, u, partner in alone:
+        near = [partner[i] for i in (u - 1, u + 1) if i in partner and degree.get(partner[i], 0) < 2]
+        if near:
+            w = min(near, key=lambda w: abs(taus[w[0]][w[1]] - taus[col][u]))
+            edges.add(((col, u), w))
+            degree[w] = degree.get(w, 0) + 1
+            degree[(col, u)] = degree.get((col, u), 0) + 1
+    for j, tau in enumerate(taus):
+        for u in range(tau.size - 1):
+            if (tau[u + 1] - tau[u] < SAME_TAU and degree.get((j, u), 0) < 2
+                    and degree.get((j, u + 1), 0) < 2):
+                edges.add(((j, u), (j, u + 1)))
+                degree[(j, u)] = degree.get((j, u), 0) + 1
+                degree[(j, u + 1)] = degree.get((j, u + 1), 0) + 1
+    return edges
+
+
+def link_boundaries(kind: str, kappas: np.ndarray, taus: list[np.ndarray]) -> list[Boundary]:
+    """The boundary curves of one kind through the marginal tau ``taus[j]`` (ascending) at the
+    ascending ``kappas[j]``: each value joined to the value that continues it at the
+    neighbouring kappa (:func:`match_taus`) and, at a fold, to its partner; every vertex is a
+    point-solver value. Isolated values (no neighbour on either side) are left out."""
+    neighbours: dict[tuple[int, int], list[tuple[int, int]]] = {}
+    for u, v in _edges(taus):
+        neighbours.setdefault(u, []).append(v)
+        neighbours.setdefault(v, []).append(u)
+    seen: set[tuple[int, int]] = set()
+    curves = []
+    # open curves from their ends first, then closed loops from any vertex
+    starts = sorted(neighbours, key=lambda v: (len(neighbours[v]) != 1, v))
+    for start in starts:
+        if start in seen:
+            continue
+        path, here = [start], start
+        seen.add(start)
+        while True:
+            ahead = [v for v in neighbours[here] if v not in seen]
+            if not ahead:
+                break
+            here = ahead[0]
+            seen.add(here)
+            path.append(here)
+        if len(path) > 2 and start in neighbours[here]:
+            path.append(start)  # a closed loop
+        if len(path) > 1:
+            curves.append(Boundary(kind=kind, kappa=np.array([kappas[j] for j, _ in path]),
+                                   tau=np.array([taus[j][i] for j, i in path])))
+    return curves
