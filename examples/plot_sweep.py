@@ -8,12 +8,13 @@ m = 2..4 of the sphere) into a Zarr store, chunk by chunk (a rerun resumes);
 ``xarray.Dataset``; :mod:`spectralshell.plots.sweep_plot` draws its minimum-tau map.
 """
 
+import sys
 from pathlib import Path
 
 import spectralshell as ss
 from spectralshell.plots import sweep_plot
 
-scene = Path(__file__).resolve().with_name("map.toml")
+scene = Path(sys.argv[0]).resolve().with_name("map.toml")  # next to this script
 ss.sweep(scene, executor="serial", out="map.zarr")  # or executor="processes" / "dask"
 
 ds = ss.open_sweep("map.zarr")

@@ -46,8 +46,8 @@ def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: 
         optional [tau_min] (tol, n_temporal, tau_max = 0.5, continuation) and [sweep] (chunk).
     executor : 'serial', 'processes' (all cores, or ``workers``) or 'dask' (``scheduler`` =
         'local' for a LocalCluster, or 'tcp://HOST:PORT').
-    out : '*.zarr' written chunk by chunk (a rerun resumes, a different scene is refused) or
-        '*.nc' written at the end; None keeps the result in memory.
+    out : ``*.zarr`` written chunk by chunk (a rerun resumes, a different scene is refused) or
+        ``*.nc`` written at the end; None keeps the result in memory.
 
     Notes
     -----

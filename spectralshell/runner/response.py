@@ -85,7 +85,7 @@ def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: 
 
     Notes
     -----
-    The envelope is the largest |h(x, t)| over a period (for the tone, |complex amplitude|); the
+    The envelope is the largest ``|h(x, t)|`` over a period (for the tone, ``|complex amplitude|``); the
     thesis draws the Hilbert-transform envelope of one snapshot instead. The tone's peak is
     searched for x >= the model's ``tone_start`` (the cochlea: 4 TONE_WIDTH, past the load).
     """
