@@ -10,8 +10,8 @@ coefficients in ``runner.lp``); this module holds no numerics.
 from __future__ import annotations
 
 from pathlib import Path
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING, Any
 
 from .params.registry import parameters_doc
 from .runner.floquet import exponents, floquet, run_scene, stability, tau_map, tongues
@@ -19,12 +19,17 @@ from .runner.lp import lp_coefficient, lp_summary
 from .runner.modes import natural_modes
 from .runner.response import response
 
+if TYPE_CHECKING:  # lazy at run time: xarray costs ~0.35 s to import
+    import xarray as xr
+
+    from .results.trajectory import Trajectory
+
 __all__ = ["floquet", "tongues", "tau_map", "exponents", "stability", "run_scene",
            "natural_modes", "response", "lp_coefficient", "lp_summary", "sweep", "sweep_summary",
            "open_sweep", "simulate"]
 
 
-def _list_model_parameters(*functions) -> None:
+def _list_model_parameters(*functions: Callable[..., Any]) -> None:
     """Append the models' parameters, with meaning, units and defaults, to the docstrings of
     the entry points that take them as ``**params`` (the models registered at import)."""
     text = "\n\n    " + parameters_doc().replace("\n", "\n    ")
@@ -36,7 +41,8 @@ _list_model_parameters(floquet, tongues, tau_map, exponents, stability, natural_
 
 
 def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: int | None = None,
-          scheduler: str | None = None, out: str | Path | None = None, progress: bool = False):
+          scheduler: str | None = None, out: str | Path | None = None,
+          progress: bool = False) -> xr.Dataset:
     """Parameter sweep of a scene with a [grid] -> labelled ``xarray.Dataset``.
 
     Parameters
@@ -71,7 +77,7 @@ def sweep_summary(scene: str | Path | Mapping, **kwargs: Any) -> dict[str, Any]:
     return run(scene, **kwargs)
 
 
-def open_sweep(path: str | Path):
+def open_sweep(path: str | Path) -> xr.Dataset:
     """Load a stored sweep (.zarr or .nc) as an ``xarray.Dataset``; a Zarr store is verified
     chunk by chunk first (:class:`~spectralshell.errors.StoreDamaged` if any chunk is missing,
     unreadable or altered)."""
@@ -80,7 +86,7 @@ def open_sweep(path: str | Path):
     return load(path)
 
 
-def simulate(scene: str | Path | Mapping, *, progress: bool = False):
+def simulate(scene: str | Path | Mapping, *, progress: bool = False) -> Trajectory:
     """Time-step a sphere scene (TOML path or string, or mapping) -> :class:`Trajectory`.
 
     The linearised membrane in unsteady Stokes flow inside and outside the unit sphere, one
