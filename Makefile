@@ -5,7 +5,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 PYTHON ?= python3
 
-.PHONY: demo test test-all bench fftw clean
+.PHONY: demo test test-all bench docs fftw clean
 
 demo: $(STAMP)
 	$(VENV)/bin/spectralshell demo --out demo-output
@@ -20,6 +20,17 @@ test-all: $(STAMP)
 # every validation/bench_*.py -> validation/BENCHMARKS.md (one table) + validation/cost_growth.png
 bench: $(STAMP)
 	$(PY) validation/bench_table.py
+
+# the documentation site -> docs/_build/html/index.html: API reference, the examples/ gallery and
+# the notebooks (all executed), pages generated from the package's reports; warnings are errors
+DOCS_STAMP := $(VENV)/.installed-docs
+
+docs: $(STAMP) $(DOCS_STAMP)
+	$(PY) -m sphinx -W --keep-going -b html docs docs/_build/html
+
+$(DOCS_STAMP): pyproject.toml | $(STAMP)
+	$(PY) -m pip install -q -e '.[test,docs]'
+	@touch $(DOCS_STAMP)
 
 # SHTns is built from its PyPI source and needs the FFTW3 headers.
 fftw:
@@ -42,4 +53,4 @@ $(STAMP): pyproject.toml spectralshell/solvers/_tridiagonal.c spectralshell/spec
 	@touch $(STAMP)
 
 clean:
-	rm -rf $(VENV) demo-output .pytest_cache
+	rm -rf $(VENV) demo-output .pytest_cache docs/_build docs/generated docs/auto_examples

@@ -11,18 +11,23 @@ from __future__ import annotations
 
 import importlib
 from pathlib import Path
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING, Any
 
 from .params.registry import parameters_doc
 from .runner.floquet import exponents, floquet, run_scene, stability, tau_map, tongues
+
+if TYPE_CHECKING:  # lazy at run time: xarray costs ~0.35 s to import
+    import xarray as xr
+
+    from .results.trajectory import Trajectory
 
 __all__ = ["floquet", "tongues", "tau_map", "exponents", "stability", "run_scene",
            "natural_modes", "response", "lp_coefficient", "lp_summary", "sweep", "sweep_summary",
            "open_sweep", "simulate"]
 
 
-def _list_model_parameters(*functions) -> None:
+def _list_model_parameters(*functions: Callable[..., Any]) -> None:
     """Append the models' parameters, with meaning, units and defaults, to the docstrings of
     the entry points that take them as ``**params`` (the models registered at import)."""
     text = "\n\n    " + parameters_doc().replace("\n", "\n    ")
@@ -50,7 +55,8 @@ def __getattr__(name: str) -> Any:
 
 
 def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: int | None = None,
-          scheduler: str | None = None, out: str | Path | None = None, progress: bool = False):
+          scheduler: str | None = None, out: str | Path | None = None,
+          progress: bool = False) -> xr.Dataset:
     """Parameter sweep of a scene with a [grid] -> labelled ``xarray.Dataset``.
 
     Parameters
@@ -60,8 +66,8 @@ def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: 
         optional [tau_min] (tol, n_temporal, tau_max = 0.5, continuation) and [sweep] (chunk).
     executor : 'serial', 'processes' (all cores, or ``workers``) or 'dask' (``scheduler`` =
         'local' for a LocalCluster, or 'tcp://HOST:PORT').
-    out : '*.zarr' written chunk by chunk (a rerun resumes, a different scene is refused) or
-        '*.nc' written at the end; None keeps the result in memory.
+    out : ``*.zarr`` written chunk by chunk (a rerun resumes, a different scene is refused) or
+        ``*.nc`` written at the end; None keeps the result in memory.
 
     Notes
     -----
@@ -85,7 +91,7 @@ def sweep_summary(scene: str | Path | Mapping, **kwargs: Any) -> dict[str, Any]:
     return run(scene, **kwargs)
 
 
-def open_sweep(path: str | Path):
+def open_sweep(path: str | Path) -> xr.Dataset:
     """Load a stored sweep (.zarr or .nc) as an ``xarray.Dataset``; a Zarr store is verified
     chunk by chunk first (:class:`~spectralshell.errors.StoreDamaged` if any chunk is missing,
     unreadable or altered)."""
@@ -94,7 +100,7 @@ def open_sweep(path: str | Path):
     return load(path)
 
 
-def simulate(scene: str | Path | Mapping, *, progress: bool = False):
+def simulate(scene: str | Path | Mapping, *, progress: bool = False) -> Trajectory:
     """Time-step a sphere scene (TOML path or string, or mapping) -> :class:`Trajectory`.
 
     The linearised membrane in unsteady Stokes flow inside and outside the unit sphere, one

@@ -52,8 +52,8 @@ class NaturalModesResult(Result, Plottable):
         Re gamma. Re gamma is the decay rate (< 0: decaying), Im gamma the angular frequency
         (thesis Fig. 7.1).
     error_estimate : absolute error bound of each gamma.
-    principal_sheet : Re beta > error: a resolved, genuine decaying mode (thesis (7.9)).
-    on_cut : |Re beta| <= error: the mode lies on the branch cut gamma <= 0 to within its error.
+    principal_sheet : ``Re beta > error``: a resolved, genuine decaying mode (thesis (7.9)).
+    on_cut : ``|Re beta| <= error``: the mode lies on the branch cut gamma <= 0 to within its error.
     precision : digits of the mpmath polish, or None (double precision).
     gamma_digits : with precision, (Re, Im) of each gamma as decimal strings.
     """

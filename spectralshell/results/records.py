@@ -118,7 +118,7 @@ class MarginalTau(Record):
     tau_min : smallest such tau (None if there is none).
     n_temporal : final truncation N.
     n_previous : the truncation it was compared with.
-    error_estimate : max(|tau_min(N) - tau_min(previous N)|, spread of a reported tau = 0,
+    error_estimate : max(``|tau_min(N) - tau_min(previous N)|``, spread of a reported tau = 0,
         8 eps max(1, tau_min)) (None if there is no tau_min).
     method : 'structured', 'krylov', 'shift-invert' or 'qz' (the fallback), at the final
         truncation.

@@ -26,10 +26,10 @@ class ResponseResult(Result, Plottable):
     response_frequency : angular frequency of the response in units of the forcing frequency
         (1 for tone and harmonic, 1/2 for subharmonic).
     x : positions in [0, pi] (dimensionless; x L / pi in cm).
-    envelope : max over time of |h(x, t)|, normalised to maximum 1.
+    envelope : max over time of ``|h(x, t)|``, normalised to maximum 1.
     profile : h(x, t_peak) at the time of the largest displacement, same normalisation.
     peak_x : envelope peak (dimensionless x), from a parabola through the three grid points
-        around the maximum; peak_error : |peak_x(M) - peak_x(M // 2)| plus the grid spacing / 10.
+        around the maximum; peak_error : ``|peak_x(M) - peak_x(M // 2)|`` plus the grid spacing / 10.
     wkb_peak_x : the leading-order WKB peak (LeVeque, Peskin & Lax; models.cochlea.wkb_peak), or
         None (nu = 0 or alpha = 0, where it does not exist).
     tau : the marginal amplitude (parametric kinds), else None.

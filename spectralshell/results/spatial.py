@@ -17,12 +17,14 @@ if TYPE_CHECKING:
 class SpatialFloquetResult(FloquetResult):
     """Marginal amplitudes at a spatial truncation, with the spatial part of the error estimate.
 
-    Attributes (besides those of :class:`FloquetResult`)
-    ----------------------------------------------------
+    The attributes of :class:`FloquetResult`, and these:
+
+    Attributes
+    ----------
     n_spatial : number of spatial modes of the reported values (1 for a single-mode run).
     n_spatial_previous : the coarser truncation they were compared with (None: no comparison, a
         single decoupled mode, which is exact in space).
-    spatial_change : per kind, |tau_min(n_spatial) - tau_min(n_spatial_previous)| (None when
+    spatial_change : per kind, ``|tau_min(n_spatial) - tau_min(n_spatial_previous)|`` (None when
         there is no comparison or a kind has no tau_min at one of the two). Each kind's
         ``error_estimate`` is the larger of this and the temporal estimate.
     physical : the cgs inputs the dimensionless parameters were converted from, or None.

@@ -6,9 +6,9 @@ from __future__ import annotations
 import dataclasses
 import functools
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -36,6 +36,9 @@ from .solve import solve_kinds, spatial_point, spatial_system
 from .progress import progress_bar
 from ..solvers.tongues import (BOUNDARY_DTAU, BOUNDARY_MIN_DKAPPA, BOUNDARY_TAU_MAX, boundary_taus,
                                find_tips, link_boundaries, refinement_points)
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 
 def solver_options(tol: float, n_temporal: int | None, tau_max: float | None = None) -> dict[str, Any]:
@@ -237,8 +240,9 @@ def _grid(name: str, spec: Any, max_points: int | None) -> np.ndarray:
     return np.array([require_real(name, v) for v in values])
 
 
-def tongues(model: str, *, kappa, kind: str = "both", tol: float = 1e-10,
-            n_temporal: int | None = None, tau_max: float | None = None, tips: bool = True,
+def tongues(model: str, *, kappa: str | Mapping[str, Any] | Sequence[float] | np.ndarray,
+            kind: str = "both", tol: float = 1e-10, n_temporal: int | None = None,
+            tau_max: float | None = None, tips: bool = True,
             workers: int | None = None, progress: bool = False, max_points: int | None = None,
             boundaries: bool = True, **params: Any) -> TonguesResult:
     """Ince-Strutt diagram: marginal tau of each kind over a kappa grid, and the finger tips.
@@ -379,10 +383,11 @@ def _map_axis(model: str, label: str, axis: object, physical: bool,
     return str(axis[0]), grid
 
 
-def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any], m=None, kind: str = "both",
+def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
+            m: int | str | Sequence[int] | None = None, kind: str = "both",
             tau_max: float = 0.5, tol: float = 1e-8, physical: Mapping[str, float] | None = None,
             workers: int | None = None, progress: bool = False, max_points: int | None = None,
-            **params: Any):
+            **params: Any) -> xr.Dataset:
     """Marginal tau_min <= tau_max on an x-y grid, for each degree ``m`` and kind: a sweep
     (:func:`spectralshell.runner.sweep.run_sweep`) run in memory.
 
@@ -461,8 +466,9 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
                                  exponents=result, options=options)
 
 
-def stability(model: str, *, tau: float, m, kind: str = "both", tol: float = 1e-10,
-              n_temporal: int | None = None, **params: Any) -> StabilityResult:
+def stability(model: str, *, tau: float, m: int | str | Sequence[int], kind: str = "both",
+              tol: float = 1e-10, n_temporal: int | None = None,
+              **params: Any) -> StabilityResult:
     """Is each degree m unstable at forcing amplitude ``tau``, and with which kind?
 
     Notes

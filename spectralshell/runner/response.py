@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -15,6 +15,9 @@ from ..params.registry import Model, make_params, physical_values, require_capab
 from ..results.floquet import provenance
 from .floquet import priced_spatial, solver_options
 from .solve import solve_kinds, spatial_system
+
+if TYPE_CHECKING:  # imported where it is built (below)
+    from ..results.response import ResponseResult
 
 
 RESPONSE_MODES = 128    # default number of cosine modes of a response
@@ -65,7 +68,7 @@ def _response_at(spec: Model, p, n_spatial: int, kind: str, options: dict[str, A
 
 def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: int | None = None,
              tau_max: float | None = None, max_seconds: float | None = None,
-             **params: Any) -> "ResponseResult":
+             **params: Any) -> ResponseResult:
     """Displacement envelope along the membrane for a pure tone, or the parametric response at
     tau_min (thesis 5.5, Figs 5.8-5.10), of a model with the ``response`` capability (the
     cochlea).
@@ -85,7 +88,7 @@ def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: 
 
     Notes
     -----
-    The envelope is the largest |h(x, t)| over a period (for the tone, |complex amplitude|); the
+    The envelope is the largest ``|h(x, t)|`` over a period (for the tone, ``|complex amplitude|``); the
     thesis draws the Hilbert-transform envelope of one snapshot instead. The tone's peak is
     searched for x >= the model's ``tone_start`` (the cochlea: 4 TONE_WIDTH, past the load).
     """
