@@ -215,3 +215,29 @@ def test_api_and_cli_contract():
 def test_bad_input_names_the_parameter(params, name):
     with pytest.raises(ParameterError, match=rf"^{name} "):
         ss.floquet("cylinder", **params)
+
+
+def test_physical_input_matches_the_scalings():
+    """cgs input: kappa = sigma/(rho R^3 omega^2), nu = mu/(rho R^2 omega), k = 2 pi j R/L
+    (computed here by hand) give the same tau_min as the dimensionless call."""
+    rho, mu, R, sigma, omega, L, j = 1.0, 0.02, 0.2, 2e4, 2500.0, 2.5, 1
+    phys = ss.floquet("cylinder", m=3, rho=rho, mu=mu, radius=R, sigma=sigma, omega=omega,
+                      period=L, j=j, kind="harmonic")
+    dimless = ss.floquet("cylinder", m=3, k=2 * np.pi * j * R / L, kappa=sigma / (rho * R**3 * omega**2),
+                         nu=mu / (rho * R**2 * omega), kind="harmonic")
+    assert phys.harmonic.tau_min == pytest.approx(dimless.harmonic.tau_min, abs=1e-10)
+    with pytest.raises(ParameterError, match="^j "):
+        ss.floquet("cylinder", m=3, rho=rho, mu=mu, radius=R, sigma=sigma, omega=omega, period=L)
+    with pytest.raises(ParameterError, match="^kappa "):
+        ss.floquet("cylinder", m=3, k=0.5, kappa=0.1, rho=rho, mu=mu, radius=R, sigma=sigma,
+                   omega=omega)
+
+
+def test_tau_map_over_k_and_kappa_matches_floquet():
+    """The minimum-tau map over (k R, kappa) (a sweep) agrees with independent floquet solves."""
+    ds = ss.tau_map("cylinder", x=("k", "0.2:3:4"), y=("kappa", "0.01:0.05:3"), m="1:4", nu=2e-4,
+                    workers=1)
+    cell = ds["tau_min"].sel(kind="subharmonic", m=3).isel(k=2, kappa=0)
+    k, kappa = float(ds.k[2]), float(ds.kappa[0])
+    ref = ss.floquet("cylinder", m=3, k=k, kappa=kappa, nu=2e-4, kind="subharmonic").subharmonic
+    assert ref.tau_min < 0.5 and float(cell) == pytest.approx(ref.tau_min, abs=1e-7)

@@ -31,8 +31,8 @@ import dataclasses
 
 import numpy as np
 
-from ..params.cylinder import CylinderParams
-from ..params.registry import Model, register
+from ..params.cylinder import CYLINDER_UNITS, CylinderParams, cylinder_physical
+from ..params.registry import Model, PhysicalInput, register
 from ..special.cylindrical import logderiv_i, logderiv_k
 from . import mathieu
 from .base import HillSystem, boundary_layer
@@ -175,4 +175,7 @@ MODEL = register(Model(
     params=CylinderParams, hill_system=_hill_system,
     inviscid_modes=_inviscid_modes,
     inviscid_method="closed form lambda0^2 = kappa (m^2 + k^2 - 1)/M(m, k) "
-                    "(derivations/cylinder.py, Part 5)"))
+                    "(derivations/cylinder.py, Part 5)",
+    physical=PhysicalInput(units=CYLINDER_UNITS, convert=cylinder_physical,
+                           note="rho, mu, radius, sigma, omega required together; period L with "
+                                "j gives k = 2 pi j R/L")))

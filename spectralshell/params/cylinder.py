@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from .._validate import (invalid, require_choice, require_int_in_range, require_nonnegative,
@@ -64,3 +65,53 @@ class CylinderParams:
         if component != "coupled" and self.nu == 0.0:
             raise invalid("nu", self.nu, f"> 0 for component = {component!r} (without viscosity the "
                           "tangential component has no inertia and no load: no mode)")
+
+
+#: cgs inputs of the cylinder's Floquet computations (the sphere's scalings, thesis 6.1, with the
+#: axial period L and mode number j in place of k = 2 pi j R / L).
+CYLINDER_UNITS = {"rho": "g/cm^3", "mu": "g/(cm s)", "radius": "cm", "sigma": "dyn/cm",
+                  "omega": "rad/s", "period": "cm", "j": "axial mode number, k = 2 pi j R/L"}
+_REQUIRED = ("rho", "mu", "radius", "sigma", "omega")
+#: Which physical quantity each dimensionless parameter replaces when both are given.
+_SOURCE = {"kappa": "sigma", "nu": "mu", "k": "period"}
+
+
+def cylinder_physical(values: dict) -> tuple[dict, dict | None]:
+    """(cylinder parameters, the cgs inputs used or None when none was given).
+
+    kappa = sigma/(rho R^3 omega^2), nu = mu/(rho R^2 omega) and, with ``period`` L and ``j``,
+    k = 2 pi j R/L. rho, mu, radius, sigma and omega are then all required; k may instead be
+    given directly. A dimensionless value given together with the quantity it replaces is refused.
+
+    Raises
+    ------
+    ParameterError : a missing, contradictory or out-of-range input (the message names it).
+    """
+    if not any(name in CYLINDER_UNITS for name in values):
+        return dict(values), None
+    from .physical import _derived, physical_inputs
+
+    phys = physical_inputs({n: v for n, v in values.items() if n in CYLINDER_UNITS},
+                           CYLINDER_UNITS, _REQUIRED)
+    rest = {n: v for n, v in values.items() if n not in CYLINDER_UNITS}
+    for name, source in _SOURCE.items():
+        if name in rest and source in phys:
+            raise invalid(name, rest[name], f"absent together with {source} = {phys[source]!r}: "
+                          "give one of them")
+    for name in ("rho", "radius", "sigma", "omega"):
+        require_positive(name, phys[name])
+    require_nonnegative("mu", phys["mu"])
+    rho, radius, omega = phys["rho"], phys["radius"], phys["omega"]
+    out = {**rest,
+           "nu": _derived("nu", "mu / (rho R^2 omega)", phys["mu"], rho * radius**2 * omega, phys,
+                          zero_ok=True),
+           "kappa": _derived("kappa", "sigma / (rho R^3 omega^2)", phys["sigma"],
+                             rho * radius**3 * omega**2, phys)}
+    if ("period" in phys) != ("j" in phys):
+        missing = "j" if "period" in phys else "period"
+        raise invalid(missing, None, "given with the other of period and j (k = 2 pi j R/L)")
+    if "period" in phys:
+        j = require_int_in_range("j", phys["j"], 0)
+        out["k"] = _derived("k", "2 pi j R / L", 2 * math.pi * j * radius,
+                            require_positive("period", phys["period"]), phys, zero_ok=True)
+    return out, phys
