@@ -143,7 +143,7 @@ def added_mass(m: int, k: float) -> float:
 
 def lambda0_squared(m: int, k: float, kappa: float) -> float:
     """Inviscid natural frequency squared, kappa (m^2 + k^2 - 1)/M(m, k) (forcing frequency = 1)."""
-    return kappa * (m * m + k * k - 1.0) / added_mass(m, k)
+    return kappa * ((m * m - 1.0) + k * k) / added_mass(m, k)
 
 
 def hill_system(*, m: int, k: float, kappa: float, nu: float,

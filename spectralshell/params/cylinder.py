@@ -52,8 +52,8 @@ class CylinderParams:
         object.__setattr__(self, "nu", require_nonnegative("nu", self.nu))
         component = require_choice("component", self.component, COMPONENTS)
         object.__setattr__(self, "component", component)
-        if component == "coupled" and m * m + k * k <= 1.0:
-            raise invalid("k", self.k, f"> {(1.0 - m * m) ** 0.5:g} for m = {m} (m^2 + k^2 > 1: at or "
+        if component == "coupled" and m <= 1 and k <= 1 - m:  # m^2 + k^2 <= 1, exactly
+            raise invalid("k", self.k, f"> {1 - m} for m = {m} (m^2 + k^2 > 1: at or "
                           "below it the pressurised cylinder is Rayleigh-Plateau unstable or neutral "
                           "without pumping, m = 1, k = 0 is a rigid translation)")
         if component == "torsion" and (m != 0 or k == 0):
