@@ -24,7 +24,7 @@ if TYPE_CHECKING:  # lazy at run time: xarray costs ~0.35 s to import
 
 __all__ = ["floquet", "tongues", "tau_map", "exponents", "stability", "run_scene",
            "natural_modes", "response", "lp_coefficient", "lp_summary", "sweep", "sweep_summary",
-           "open_sweep", "simulate"]
+           "open_sweep", "simulate", "benchmark"]
 
 
 def _list_model_parameters(*functions: Callable[..., Any]) -> None:
@@ -41,7 +41,8 @@ _list_model_parameters(floquet, tongues, tau_map, exponents, stability)
 #: eigensolvers, lp the nonlinear orbits): imported on first use (PEP 562), which keeps the
 #: command line's start short; those taking ``**params`` get the parameter list then.
 _LAZY = {"natural_modes": ".runner.modes", "response": ".runner.response",
-         "lp_coefficient": ".runner.lp", "lp_summary": ".runner.lp"}
+         "lp_coefficient": ".runner.lp", "lp_summary": ".runner.lp",
+         "benchmark": ".runner.benchmark"}
 
 
 def __getattr__(name: str) -> Any:
