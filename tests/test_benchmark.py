@@ -42,6 +42,20 @@ def test_late_decay_matches_the_dispersion_relation(reference):
     assert np.max(a[-32:]) < 1e-4 * a[0]
 
 
+@pytest.mark.parametrize("zeta, l, k", [(1e-3, 12, 0), (0.06, 2, 0), (0.06, 3, 2)])
+def test_range_corners_match_the_dispersion_relation(zeta, l, k):
+    """At the corners of the offered range (zeta, l) the fitted late-time rate and frequency
+    agree with the dispersion relation to 1e-8 (time unit T); (3, 2) reports the amplitude only
+    (Yr_{3,2} vanishes at the pole and at theta = pi/2, phi = 0)."""
+    ds = ss.benchmark("sphere-release", mu=zeta * math.sqrt(0.02), l=l, k=k)
+    T = _params(ds)["T"]
+    mode = complex(ss.natural_modes("sphere", m=l, kappa=1.0, nu=zeta, count=1).gamma[0])
+    assert abs(ds.attrs["fitted_growth_rate"] * T - mode.real) < 1e-8
+    assert abs(ds.attrs["fitted_frequency"] * T - mode.imag) < 1e-8
+    if k == 2:
+        assert "u_r_pole" not in ds and "u_r_equator" not in ds
+
+
 def test_reference_is_physical_and_bounded(reference):
     """Initial amplitude epsilon R, membrane at rest at t = 0, velocities consistent with the
     amplitude (u_r = dA/dt Yr at the point; checked by a spectral derivative of A away from
