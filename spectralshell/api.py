@@ -41,8 +41,7 @@ _list_model_parameters(floquet, tongues, tau_map, exponents, stability)
 #: eigensolvers, lp the nonlinear orbits): imported on first use (PEP 562), which keeps the
 #: command line's start short; those taking ``**params`` get the parameter list then.
 _LAZY = {"natural_modes": ".runner.modes", "response": ".runner.response",
-         "lp_coefficient": ".runner.lp", "lp_summary": ".runner.lp",
-         "benchmark": ".runner.benchmark"}
+         "lp_coefficient": ".runner.lp", "lp_summary": ".runner.lp"}
 
 
 def __getattr__(name: str) -> Any:
@@ -120,3 +119,24 @@ def simulate(scene: str | Path | Mapping, *, progress: bool = False) -> Trajecto
     from .runner.simulate import simulate as run  # lazy: keeps `import spectralshell` light
 
     return run(scene, progress=progress)
+
+
+def benchmark(name: str, **params: Any) -> xr.Dataset:
+    """Reference data of a benchmark problem for immersed-boundary / FSI codes -> ``xarray.Dataset``.
+
+    ``name``: a registered problem (``spectralshell benchmark list``; e.g. 'sphere-release');
+    ``params``: its physical inputs in cgs units (rho, mu, radius, sigma, and the initial shape
+    l, k, epsilon for sphere-release; defaults from the problem). The Dataset holds the time
+    series over ``t`` (s), each with its per-sample error bound ``<quantity>_error`` (units in
+    attrs), and attributes: the parameters and provenance (package and library versions,
+    scheme, resolution) as JSON, the exact and the fitted late-time growth rate (1/s) and
+    angular frequency (rad/s), and the one-page specification.
+    :mod:`spectralshell.runner.benchmark` computes it.
+
+    Raises
+    ------
+    ParameterError : an unknown problem or parameter, or a value out of range.
+    """
+    from .runner.benchmark import benchmark as run  # lazy: brings scipy and the solvers
+
+    return run(name, **params)
