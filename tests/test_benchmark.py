@@ -102,7 +102,8 @@ def test_score_reports_known_perturbations(reference, tmp_path):
     """Synthetic user runs: the reference itself (zero error, the reference's own fit), a time
     shift (L2 error = shift times ||dA/dt|| / ||A||, from the velocity series), a wrong decay
     rate (fitted rate = reference fit + delta), noise (L2 error = ||noise|| / ||A||, rate within
-    the fit's standard errors) and a coarser, shorter sampling (small error, same rate)."""
+    the fit's standard errors) and another code's run at its own, then non-uniform, sampling
+    (small errors, the same rate and frequency)."""
     t = reference["t"].values
     a = reference["amplitude"].values
     guess = complex(reference.attrs["exact_growth_rate"], reference.attrs["exact_frequency"])
@@ -119,13 +120,15 @@ def test_score_reports_known_perturbations(reference, tmp_path):
     assert abs(same.reference_growth_rate - guess.real) < 1e-4 * abs(guess.real)
     assert abs(same.reference_frequency - guess.imag) < 1e-4 * guess.imag
 
-    # time shift by s: A(t + s) from the velocity series (dA/dt = u_r_pole / Yr_20(pole))
-    s = 1e-3
+    # a clock offset of s seconds: the user's run is A(t + s); to first order its L2 error is
+    # s ||dA/dt|| / ||A||, dA/dt = u_r_pole / Yr_20(pole) from the independent velocity series
+    s = 0.2
     dadt = reference["u_r_pole"].values / math.sqrt(5 / (4 * math.pi))
-    shifted = run("shift", t, a + s * dadt)
+    shifted = run("shift", t - s, a)
     expected = s * np.linalg.norm(dadt) / np.linalg.norm(a)
-    assert shifted.relative_l2 == pytest.approx(expected, rel=1e-12)
-    assert abs(shifted.growth_rate - same.growth_rate) < 1e-3 * abs(guess.real)
+    assert shifted.relative_l2 == pytest.approx(expected, rel=0.05)
+    assert shifted.growth_rate == pytest.approx(same.growth_rate, rel=1e-4)
+    assert shifted.frequency == pytest.approx(same.frequency, rel=1e-5)
 
     delta = 0.1 * guess.real
     t0 = score_window(reference)[0]
@@ -141,11 +144,23 @@ def test_score_reports_known_perturbations(reference, tmp_path):
     assert abs(noisy.growth_rate - same.growth_rate) < 5 * noisy.fit_error
     assert noisy.fit_error > same.fit_error
 
-    # every third sample up to two thirds of the run: cubic-spline interpolation error only
-    keep = slice(0, 2 * t.size // 3, 3)
-    coarse = run("coarse", t[keep], a[keep])
-    assert coarse.samples < t.size and coarse.relative_l2 < 1e-3
-    assert abs(coarse.growth_rate - same.growth_rate) < 1e-3 * abs(guess.real)
+    # another code's run at its own sampling: ss.simulate (SBDF3, its own step and save times;
+    # measured: L2 7e-6, rate 4e-7 from the reference's fit), then half of its samples kept at
+    # random (non-uniform times; the spline's error over the gaps, 1.5e-3, enters the L2 error,
+    # not the fitted rate)
+    p = _params(reference)
+    T, R = p["T"], p["radius"]
+    traj = ss.simulate({"params": {"kappa": 1.0, "nu": p["zeta"]},
+                        "initial": {"shape": "2:0", "amplitude": p["epsilon"]},
+                        "simulate": {"t_end": score_window(reference)[1] / T}})
+    other = run("other", T * traj.times, R * traj.coefficient(2, 0))
+    assert other.samples < t.size and other.relative_l2 < 1e-4
+    keep = np.sort(rng.choice(traj.times.size, traj.times.size // 2, replace=False))
+    sparse = run("sparse", T * traj.times[keep], R * traj.coefficient(2, 0)[keep])
+    assert 10 * other.relative_l2 < sparse.relative_l2 < 1e-2
+    for q in (other, sparse):
+        assert abs(q.growth_rate - same.growth_rate) < 2e-5 * abs(guess.real)
+        assert abs(q.frequency - same.frequency) < 2e-5 * guess.imag
 
 
 def test_rewriting_is_bit_identical(reference, tmp_path):

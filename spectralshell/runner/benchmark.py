@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -27,8 +27,8 @@ from scipy.special import lpmv
 from .._version import stamp
 from ..discretise.sphere_stepping import N_STEP, scene_blocks
 from ..errors import ParameterError, SpectralShellError
-from ..params.benchmarks import (BENCHMARKS, IB_SPRING_FACTOR, BenchmarkProblem,
-                                 benchmark_params, benchmark_problem)
+from ..params.benchmarks import (BENCHMARKS, IB_SPRING_FACTOR, benchmark_params,
+                                 benchmark_problem)
 from ..params.physical import PhysicalSphere
 from ..results.benchmark import (ERROR_SUFFIX, BenchmarkScore, QuantityScore, attrs_json,
                                  read_series, reference_columns, write_csv, write_netcdf)
@@ -37,6 +37,9 @@ from ..solvers.oscillation_fit import fit_damped_oscillation
 from ..solvers.rate_fit import fit_rate
 from ..solvers.stepper import integrate
 from .modes import natural_modes
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 SCHEME = "SBDF4"
 DT_FACTOR = 0.004        # h |s|: rate and frequency of the run to ~1e-10 (SBDF4)
@@ -60,7 +63,11 @@ def real_harmonic(l: int, k: int, theta: float, phi: float) -> float:
 
 
 def _run(system, initial, step: float, every: int, steps: int) -> np.ndarray:
-    """(samples, 2): X^Y and dX^Y/dt of the run at the saved times."""
+    """(times, (samples, 2)): X^Y and dX^Y/dt of the run at the saved times; dX^Y/dt is the
+    X^Y row of L y, the reduced ODE's right-hand side (collocation systems: M = I)."""
+    if system.radial != "collocation":
+        raise SpectralShellError(f"the reference needs the collocation system, not "
+                                 f"{system.radial!r} (n_radial = {system.n_inner})")
     row = system.membrane.start
 
     def observe(y):
@@ -71,7 +78,7 @@ def _run(system, initial, step: float, every: int, steps: int) -> np.ndarray:
     return run.times, run.values
 
 
-def _sphere_release(problem: BenchmarkProblem, p: dict[str, Any]) -> dict[str, Any]:
+def _sphere_release(p: dict[str, Any]) -> dict[str, Any]:
     """Dimensionless runs and fits of sphere-release -> physical series, bounds and metadata."""
     phys = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"])
     T, zeta, l, k = phys.time_scale, phys.zeta, p["l"], p["k"]
@@ -116,7 +123,7 @@ COMPUTE = {"sphere-release": _sphere_release}
 assert set(COMPUTE) == set(BENCHMARKS)
 
 
-def benchmark(name: str, **params: Any):
+def benchmark(name: str, **params: Any) -> xr.Dataset:
     """Reference data of benchmark ``name`` at the given physical parameters (cgs; defaults
     from the problem) -> ``xarray.Dataset`` over ``t`` (s): each quantity and its per-sample
     error bound ``<quantity>_error`` (units in attrs); attributes: problem, title, params and
@@ -124,7 +131,7 @@ def benchmark(name: str, **params: Any):
     late-time growth rate (1/s) and angular frequency (rad/s), fit window (s), specification."""
     problem = benchmark_problem(name)
     p = benchmark_params(problem, params)
-    ref = COMPUTE[name](problem, p)
+    ref = COMPUTE[name](p)
     units = {q.name: q for q in problem.quantities}
     data = {}
     for q, (values, bound) in ref["series"].items():
@@ -151,13 +158,6 @@ def specification_text(name: str, **params: Any) -> str:
         growth_rate=exact.real / T, frequency=exact.imag / T, growth_rate_nd=exact.real,
         frequency_nd=exact.imag, lamb=phys.lamb_frequency(p["l"]), efolds=EFOLDS,
         sigma_star=IB_SPRING_FACTOR * p["sigma"], reference=problem.reference)
-
-
-def write_benchmark(name: str, out: str | Path, **params: Any) -> list[Path]:
-    """Write the reference of ``name`` to DIR/<name>.nc and DIR/<name>.csv (DIR must exist)."""
-    ds = benchmark(name, **params)
-    out = Path(out)
-    return [write_netcdf(ds, out / f"{name}.nc"), write_csv(ds, out / f"{name}.csv")]
 
 
 def score_window(ds) -> tuple[float, float]:
@@ -201,7 +201,8 @@ def _score_quantity(ds, name: str, t_user: np.ndarray, x_user: np.ndarray,
                          samples=int(inside.sum()))
 
 
-def score(name: str, path: str | Path, *, reference=None, **params: Any) -> tuple[BenchmarkScore, Any, tuple]:
+def score(name: str, path: str | Path, *, reference: xr.Dataset | None = None,
+          **params: Any) -> tuple[BenchmarkScore, xr.Dataset, tuple]:
     """Score the user's CSV ``path`` (format: :mod:`spectralshell.results.benchmark`) against
     the reference of ``name`` at ``params`` (or the given ``reference`` Dataset) ->
     (score, reference Dataset, (t_user, {column: values})) ."""
