@@ -122,7 +122,7 @@ def simulate(scene: str | Path | Mapping, *, progress: bool = False) -> Trajecto
 
 
 def benchmark(name: str, **params: Any) -> xr.Dataset:
-    """Reference data of a benchmark problem for immersed-boundary / FSI codes -> ``xarray.Dataset``.
+    """Reference data of a benchmark problem for IB / FSI codes -> ``xarray.Dataset``.
 
     ``name``: a registered problem (``spectralshell benchmark list``; e.g. 'sphere-release');
     ``params``: its physical inputs in cgs units (rho, mu, radius, sigma, and the initial shape

@@ -90,6 +90,24 @@ def test_real_harmonic_is_the_package_convention():
                 field[i, j], abs=1e-12)
 
 
+def test_damped_oscillation_fit_recovers_a_known_signal():
+    """exp(gamma t)(a cos w t + b sin w t) plus a cubic trend at random times: gamma and w are
+    found to 1e-9 from a start 20 % off; with noise, within three standard errors."""
+    from spectralshell.solvers.oscillation_fit import fit_damped_oscillation
+
+    rng = np.random.default_rng(1)
+    t = np.sort(rng.uniform(10.0, 60.0, 400))
+    gamma, w = -0.07, 0.9
+    x = (np.exp(gamma * t) * (0.3 * np.cos(w * t) - 0.1 * np.sin(w * t))
+         + 1e-4 * (1 - t / 60) ** 3 + 2e-5)
+    rate, frequency, _ = fit_damped_oscillation(t, x, guess=complex(gamma, w) * 1.2)
+    assert abs(rate - gamma) < 1e-9 and abs(frequency - w) < 1e-9
+    noisy = x + 1e-4 * rng.standard_normal(t.size)
+    rate, frequency, error = fit_damped_oscillation(t, noisy, guess=complex(gamma, w))
+    assert 0 < error < 1e-3
+    assert abs(rate - gamma) < 3 * error and abs(frequency - w) < 3 * error
+
+
 def _user_csv(path, t, columns):
     names = list(columns)
     rows = np.column_stack([t] + [columns[n] for n in names])

@@ -117,7 +117,8 @@ SPHERE_RELEASE = BenchmarkProblem(
               "epsilon": 0.05},
     quantities=(Quantity("amplitude", "cm", "modal amplitude A(t) of Yr_{l,k}"),
                 Quantity("u_r_pole", "cm/s", "radial membrane velocity at theta = 0"),
-                Quantity("u_r_equator", "cm/s", "radial membrane velocity at theta = pi/2, phi = 0")),
+                Quantity("u_r_equator", "cm/s",
+                         "radial membrane velocity at theta = pi/2, phi = 0")),
     specification=SPHERE_RELEASE_SPEC,
     reference=("the linearised equations are time-stepped per degree (radial Chebyshev "
                "collocation inside and outside the sphere, reduced to an ODE, SBDF4; "

@@ -4,9 +4,9 @@ algebraic tail of the unbounded fluid's continuous spectrum, a drift of a user's
 
 For data that are not uniformly sampled or carry noise (a user's simulation), where the
 Hankel/DMD fit of :mod:`.rate_fit` needs uniform, nearly noise-free samples. The amplitudes
-(a, b and the trend) enter linearly and are eliminated (variable projection); (gamma, w) are found by
-scipy's trust-region least squares from a starting guess, and their standard errors from the
-Jacobian at the optimum (residual variance times the diagonal of (J^T J)^-1).
+(a, b and the trend) enter linearly and are eliminated (variable projection); (gamma, w) are
+found by scipy's Levenberg-Marquardt least squares from a starting guess, and their standard
+errors from the Jacobian at the optimum (residual variance times the diagonal of (J^T J)^-1).
 """
 
 from __future__ import annotations
