@@ -35,3 +35,30 @@ def test_unstable_pairs_match_single_point_solves(tmp_path):
         taus = [t for r in solves for t in (r.harmonic.tau_min, r.subharmonic.tau_min)
                 if t is not None]
         assert (not taus and got is None) or abs(min(taus) - got) < 1e-8
+
+
+def test_a_map_in_physical_units_matches_single_point_solves():
+    """The cylinder sweeps its cgs quantities through its own physical input, with no sweep rule
+    of its own: a map over sigma (dyn/cm) and omega (rad/s) at rho = 1, mu = 0.04, R = 1 and
+    period 2 pi with j = 1 (k R = 1) has every cell equal to a single floquet solve given the
+    same cgs inputs."""
+    import math
+
+    phys = {"rho": 1.0, "mu": 0.04, "radius": 1.0, "period": 2 * math.pi, "j": 1}
+    ds = ss.tau_map("cylinder", x=("sigma", "2e2:2e3:3"), y=("omega", "20:40:3"), m="2:3",
+                    physical=phys, workers=1)
+    assert ds["sigma"].attrs["units"] == "dyn/cm" and ds["omega"].attrs["units"] == "rad/s"
+    found = 0
+    for sigma in ds["sigma"].values:
+        for omega in ds["omega"].values:
+            for m in (2, 3):
+                res = ss.floquet("cylinder", m=m, sigma=float(sigma), omega=float(omega),
+                                 tau_max=0.5, tol=1e-8, **phys)
+                for kind in ("harmonic", "subharmonic"):
+                    cell = ds.sel(sigma=sigma, omega=omega, m=m, kind=kind)
+                    tau = getattr(res, kind).tau_min
+                    assert bool(cell["has_tau"]) == (tau is not None)
+                    if tau is not None:
+                        assert abs(float(cell["tau_min"]) - tau) < 1e-7
+                        found += 1
+    assert found >= 1
