@@ -111,9 +111,17 @@ def _max_points_flag(p: argparse.ArgumentParser) -> None:
                         "$SPECTRALSHELL_MAX_POINTS)")
 
 
-def _params(args: argparse.Namespace, model: str, *, skip: Sequence[str] = ()) -> dict[str, Any]:
-    """The model parameters given as flags, each as its parameter's type."""
-    return {f.name: _typed(f.name, getattr(args, f.name), f.type) for f in param_fields(model)
+def _params(args: argparse.Namespace, model: str, *, skip: Sequence[str] = (),
+            grids: bool = False) -> dict[str, Any]:
+    """The model parameters given as flags, each as its parameter's type; with ``grids``, a real
+    parameter given as a range START:STOP:NUM is kept as that text (the API parses it)."""
+    def value(f) -> Any:
+        text = getattr(args, f.name)
+        if grids and f.type in (float, "float") and ":" in text:
+            return text
+        return _typed(f.name, text, f.type)
+
+    return {f.name: value(f) for f in param_fields(model)
             if f.name not in skip and getattr(args, f.name, None) is not None}
 
 
@@ -273,7 +281,7 @@ def cmd_stability(args) -> int:
     if args.tau is None or args.m is None:
         raise ParameterError("--tau and --m are required, e.g. --tau 0.45 --m 2:6")
     res = _api().stability(args.model, tau=parse_real("tau", args.tau), m=args.m, kind=args.kind,
-                        **_solver(args), **_params(args, args.model, skip=("m",)))
+                        **_solver(args), **_params(args, args.model, skip=("m",), grids=True))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), res.summary)
 

@@ -62,3 +62,34 @@ def test_a_map_in_physical_units_matches_single_point_solves():
                         assert abs(float(cell["tau_min"]) - tau) < 1e-7
                         found += 1
     assert found >= 1
+
+
+def test_stability_over_m_and_k(capsys):
+    """``stability cylinder --m 0:3 --k 0.5:1.5:3 --tau 0.45``: every (m, k) pair decided, m
+    outermost; m = 0 at k <= 1 is not defined (the model's reason is given, the rest go on);
+    each defined pair's verdict equals an odd count of single-point marginal tau below 0.45
+    (independent floquet solves); the xarray form is over (m, k, kind)."""
+    from spectralshell.cli import main
+
+    res = ss.stability("cylinder", tau=0.45, m="0:3", k="0.5:1.5:3", kappa=0.02, nu=2e-4)
+    assert res.swept == ("k",) and len(res.modes) == 12
+    assert [(mode["m"], mode["k"]) for mode in res.modes[:3]] == [(0, 0.5), (0, 1.0), (0, 1.5)]
+    refused = [mode for mode in res.modes if not mode.get("defined", True)]
+    assert [(mode["m"], mode["k"]) for mode in refused] == [(0, 0.5), (0, 1.0)]
+    assert all("k" in mode["reason"] for mode in refused)
+    for mode in res.modes[2:]:
+        single = ss.floquet("cylinder", m=mode["m"], k=mode["k"], kappa=0.02, nu=2e-4,
+                            tau_max=0.45)
+        odd = {kind: len([t for t in getattr(single, kind).tau if t < 0.45]) % 2 == 1
+               for kind in ("harmonic", "subharmonic")}
+        assert mode["unstable"] == any(odd.values())
+    assert any(mode["unstable"] for mode in res.modes)
+    ds = res.to_xarray()
+    assert ds["unstable"].dims == ("m", "k") and ds["tau_min"].dims == ("m", "k", "kind")
+    assert not bool(ds["defined"].sel(m=0, k=0.5)) and bool(ds["defined"].sel(m=3, k=1.5))
+    assert len(res.to_dataframe()) == 12
+    assert "not defined" in res.summary()
+    assert main(["stability", "cylinder", "--m", "0:3", "--k", "0.5:1.5:3", "--kappa", "0.02",
+                 "--nu", "2e-4", "--tau", "0.45", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["swept"] == ["k"] and data["modes"] == res.to_dict()["modes"]

@@ -355,10 +355,14 @@ class TonguesResult(Result, Plottable):
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class StabilityResult(Result):
-    """Stability of each degree m at one forcing amplitude tau.
+    """Stability of each degree m (and each value of the ``swept`` parameters) at one forcing
+    amplitude tau.
 
-    ``modes`` holds, per m: ``unstable``, ``kind`` (the kind whose instability has the lower
-    threshold, None if stable), and the marginal tau of each kind below the given tau.
+    ``modes`` holds, per m (per point, m outermost, with the swept parameters' values):
+    ``unstable``,
+    ``kind`` (the kind whose instability has the lower threshold, None if stable), and the
+    marginal tau of each kind below the given tau; a point the model refuses has ``defined``
+    False and its ``reason`` instead (the key is absent where the point is defined).
     """
 
     model: str
@@ -367,19 +371,28 @@ class StabilityResult(Result):
     modes: tuple[dict[str, Any], ...]
     provenance: dict[str, Any]
     warnings: tuple[str, ...] = ()
+    swept: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         return {"model": self.model, "tau": self.tau, "params": dict(self.params),
-                "modes": [dict(m) for m in self.modes], "warnings": list(self.warnings),
-                "provenance": self.provenance}
+                "swept": list(self.swept), "modes": [dict(m) for m in self.modes],
+                "warnings": list(self.warnings), "provenance": self.provenance}
+
+    def _point(self, mode: dict[str, Any]) -> str:
+        return ", ".join([f"m = {mode['m']}"] + [f"{n} = {mode[n]:.4g}" for n in self.swept])
 
     def summary(self) -> str:
-        """One line per degree m: stable or unstable (which kind), the marginal tau below tau."""
+        """One line per degree m (per point): stable, unstable (which kind) or not defined (why),
+        and the marginal tau below tau."""
         lines = [f"{self.model} at tau = {self.tau:g}: {format_params(self.params)}"]
+        width = max((len(self._point(mode)) for mode in self.modes), default=0) + 2
         for mode in self.modes:
+            if not mode.get("defined", True):
+                lines.append(f"  {self._point(mode):<{width}}not defined: {mode['reason']}")
+                continue
             below = "; ".join(f"{k[4:]} tau below: {_taus(v)}"
                               for k, v in mode.items() if k.startswith("tau_"))
-            lines.append(f"  m = {mode['m']:<3} {_state(mode):<24} {below}")
+            lines.append(f"  {self._point(mode):<{width}}{_state(mode):<24} {below}")
         return "\n".join(lines)
 
     def kinds(self) -> list[str]:
@@ -388,40 +401,52 @@ class StabilityResult(Result):
 
     def _html_table(self) -> tuple[list[str], list[list[Any]]]:
         kinds = self.kinds()
-        return (["m", "state", *(f"{kind} tau below" for kind in kinds)],
-                [[mode["m"], _state(mode), *(_taus(mode[f"tau_{kind}"]) for kind in kinds)]
-                 for mode in self.modes])
+        return (["m", *self.swept, "state", *(f"{kind} tau below" for kind in kinds)],
+                [[mode["m"], *(f"{mode[n]:.4g}" for n in self.swept), _state(mode),
+                  *(_taus(mode[f"tau_{kind}"]) for kind in kinds)] for mode in self.modes])
 
     def to_xarray(self) -> xr.Dataset:
-        """Over degree ``m``: unstable, unstable_kind ('' where stable); over (m, kind): tau_min
-        (the smallest marginal tau below tau, NaN where none), has_tau, and every marginal
-        tau below tau over 'root' (NaN-padded); tau a scalar coordinate."""
+        """Over degree ``m`` (and the swept parameters): defined, unstable, unstable_kind
+        ('' where stable or not defined); over those and kind: tau_min (the smallest marginal
+        tau below tau, NaN where none), has_tau, and every marginal tau below tau over 'root'
+        (NaN-padded); tau a scalar coordinate."""
         kinds = self.kinds()
+        axes = ("m", *self.swept)
+        values = {n: list(dict.fromkeys(mode[n] for mode in self.modes)) for n in axes}
+        points = tuple(len(values[n]) for n in axes)  # the modes are their product, m outermost
         below = [[mode[f"tau_{kind}"] for kind in kinds] for mode in self.modes]
-        shape = (len(self.modes), len(kinds))
         lowest = np.array([[min(v, default=np.nan) for v in row] for row in below],
-                          dtype=float).reshape(shape)
-        dims = ("m", "kind")
-        data = {"unstable": variable(("m",), [mode["unstable"] for mode in self.modes],
+                          dtype=float).reshape(*points, len(kinds))
+        dims = (*axes, "kind")
+
+        def per_point(values: list) -> np.ndarray:
+            return np.array(values).reshape(points)
+
+        data = {"defined": variable(axes, per_point([m.get("defined", True) for m in self.modes]),
+                                    "the model defines this point"),
+                "unstable": variable(axes, per_point([m["unstable"] for m in self.modes]),
                                      "unstable at tau"),
-                "unstable_kind": variable(("m",), [mode["kind"] or "" for mode in self.modes],
+                "unstable_kind": variable(axes, per_point([m["kind"] or "" for m in self.modes]),
                                           "kind with the lower threshold ('' if stable)"),
                 "tau_min": variable(dims, lowest, "smallest marginal tau below tau", "1"),
                 "has_tau": variable(dims, np.isfinite(lowest), "a marginal tau below tau exists"),
                 "tau_below": variable((*dims, "root"),
-                                      padded((v for row in below for v in row), shape),
+                                      padded((v for row in below for v in row),
+                                             (*points, len(kinds))),
                                       "marginal tau below tau, ascending (NaN after the last)",
                                       "1")}
-        coords = {"m": coordinate(self.model, "m", [mode["m"] for mode in self.modes]),
+        coords = {**{n: coordinate(self.model, n, values[n]) for n in axes},
                   "kind": coordinate(self.model, "kind", kinds),
                   "tau": variable((), self.tau, TAU_LONG_NAME, "1")}
         return dataset(data, coords, result_attrs(self))
 
     def to_dataframe(self) -> pd.DataFrame:
-        """One row per degree m: unstable, unstable_kind and tau_min_<kind> of each kind."""
+        """One row per degree m (per point): defined, unstable, unstable_kind and
+        tau_min_<kind> of each kind."""
         ds = self.to_xarray()
-        return table(ds, ("m",)).join(ds["tau_min"].drop_vars("tau").to_pandas()
-                                      .add_prefix("tau_min_"))
+        axes = ("m", *self.swept)
+        lowest = ds["tau_min"].drop_vars("tau").to_dataframe()["tau_min"].unstack("kind")
+        return table(ds, axes).join(lowest.add_prefix("tau_min_"))
 
 
 def _state(mode: dict[str, Any]) -> str:

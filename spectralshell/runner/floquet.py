@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import itertools
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -474,6 +475,12 @@ def stability(model: str, *, tau: float, m: int | str | Sequence[int], kind: str
               **params: Any) -> StabilityResult:
     """Is each degree m unstable at forcing amplitude ``tau``, and with which kind?
 
+    ``m``: degrees (an integer, 'start:stop' or a list). A real parameter in ``params`` may
+    also be a grid ('start:stop:num' or a list of values, e.g. the cylinder's ``k``): then each
+    (m, value) pair is decided, m outermost; a pair the model does not define (e.g. the
+    cylinder's m = 0 at k < 1) is listed with ``defined`` False and the model's ``reason``
+    instead of stopping the rest.
+
     Notes
     -----
     Every marginal tau of a kind is a Floquet multiplier crossing +1 (harmonic) or -1
@@ -487,14 +494,26 @@ def stability(model: str, *, tau: float, m: int | str | Sequence[int], kind: str
     tau = require_real("tau", tau)
     degrees = parse_int_range("m", m, int_bounds(model, "m"))
     options = solver_options(tol, n_temporal)
-    modes = []
-    for degree in degrees:  # only the marginal tau below the asked tau are needed
-        if tau > 0:
-            res = floquet(model, kind=kind, m=degree, tau_max=tau, **options, **params)
-            solved = res.params
-        else:  # marginal tau are >= 0: none lies below tau <= 0, nothing to solve
-            res, solved = None, dataclasses.asdict(make_params(model, {**params, "m": degree}))
-        entry: dict[str, Any] = {"m": degree, "unstable": False, "kind": None}
+    swept = {name: _grid(name, params.pop(name), None) for name in _grid_params(model, params)}
+    points = [dict(zip(("m", *swept), values))
+              for values in itertools.product(degrees, *swept.values())]
+    modes, solved = [], None
+    for point in points:  # only the marginal tau below the asked tau are needed
+        at = _point_params(point)
+        entry: dict[str, Any] = {**at, "unstable": False, "kind": None}
+        try:
+            if tau > 0:
+                res = floquet(model, kind=kind, tau_max=tau, **options, **params, **at)
+                solved = res.params
+            else:  # marginal tau are >= 0: none lies below tau <= 0, nothing to solve
+                res = None
+                solved = dataclasses.asdict(make_params(model, {**params, **at}))
+        except ParameterError as exc:
+            if len(points) == 1:
+                raise
+            modes.append({**entry, "defined": False, "reason": str(exc),
+                          **{f"tau_{k}": [] for k in expand_kind(kind)}})
+            continue
         thresholds = {}
         for k in expand_kind(kind):
             below = [] if res is None else [float(t) for t in getattr(res, k).tau if t < tau]
@@ -504,10 +523,25 @@ def stability(model: str, *, tau: float, m: int | str | Sequence[int], kind: str
         if thresholds:
             entry["unstable"], entry["kind"] = True, min(thresholds, key=thresholds.get)
         modes.append(entry)
-    p = {k: v for k, v in solved.items() if k != "m"}
-    return StabilityResult(model=model, tau=tau, params=p, modes=tuple(modes),
+    if solved is None:  # every pair refused: say why for the first
+        raise ParameterError(modes[0]["reason"])
+    p = {k: v for k, v in solved.items() if k != "m" and k not in swept}
+    return StabilityResult(model=model, tau=tau, params=p, modes=tuple(modes), swept=tuple(swept),
                            warnings=tuple(amplitude_warnings(tau)),
                            provenance=provenance({"kind": kind, **options}))
+
+
+def _point_params(point: Mapping[str, Any]) -> dict[str, Any]:
+    """A stability point's model parameters: m as int, the swept reals as float."""
+    return {k: (int(v) if k == "m" else float(v)) for k, v in point.items()}
+
+
+def _grid_params(model: str, params: Mapping[str, Any]) -> list[str]:
+    """The real parameters of ``model`` given as a grid in ``params`` (a 'start:stop:num' text or
+    a list, tuple or array of values), in the model's parameter order."""
+    return [f.name for f in param_fields(model) if f.name in params and f.type in (float, "float")
+            and (isinstance(params[f.name], (list, tuple, np.ndarray))
+                 or (isinstance(params[f.name], str) and ":" in params[f.name]))]
 
 
 def run_scene(scene: str | Path | Mapping | Plan, *, progress: bool = False,
