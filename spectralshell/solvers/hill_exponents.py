@@ -1,0 +1,287 @@
+"""Floquet exponents gamma at a forcing amplitude tau for models whose D(s) is not a matrix
+polynomial (a viscous fluid: the sphere, the fibre, the viscous cochlea).
+
+Problem
+-------
+gamma is a Floquet exponent at amplitude tau when (2) of :mod:`spectralshell.models.base`,
+D(gamma + i n) u_n = i tau G (u_{n-1} - u_{n+1}), has a non-zero solution: the infinite block
+tridiagonal Hill operator is singular (thesis (2.4)-(2.6) with gamma free). Truncated at N it is
+the two-sided pencil of :func:`spectralshell.discretise.hill.assemble` at a ``shift`` g,
+T_N(g) = A(g) - tau B, with gamma = g + i GAMMA[kind]: a nonlinear eigenproblem in g (D depends
+on s through Bessel ratios of sqrt(s / nu)), solved by the Newton/continuation/winding machinery
+of :mod:`spectralshell.solvers.nonlinear_eigen`. D(s) is taken analytic off the cut
+s in (-inf, 0] (principal square roots; true of every viscous model of the package). The
+companion-form route of :mod:`spectralshell.solvers.exponents` needs a polynomial D and does
+not apply.
+
+Method
+------
+1. Seeds: at tau = 0, T_N(g) is block diagonal and singular exactly at g = s_j - i GAMMA - i n,
+   s_j the natural modes (det D(s_j) = 0), which the caller supplies (one per conjugate pair).
+2. Each pair is followed from tau = 0 to tau (:func:`~spectralshell.solvers.nonlinear_eigen.
+   continue_roots`) in the window ``kind`` whose locking line (Im gamma = 0 harmonic, 1/2
+   subharmonic) lies nearer its folded frequency. In that window the index set is symmetric, so
+   det T_N(conj g) = conj det T_N(g) exactly: a pair that meets the line there has locked to the
+   forcing and splits into two exponents on the line (one of which crosses Re gamma = 0 at
+   tau_min of that kind).
+3. Completeness: the argument principle (:func:`~spectralshell.solvers.nonlinear_eigen.
+   count_by_winding`) counts the zeros of det T_N (harmonic window, g = gamma) in the region
+   R = {re_lo <= Re gamma <= re_hi, -1/4 <= Im gamma <= 3/4}, a period of the exponents, minus
+   the band |Im gamma| < SLIT along the cut of D(s_0), gamma in [re_lo, 0] (the fluid's
+   continuous spectrum, with the interior fluid's poles on it; exponents there are not counted
+   and not listed). When the count exceeds the
+   exponents found in R, deflated Newton searches from a grid of seeds over R (and next to the
+   branch point gamma = 0, where a harmonic exponent is born at the cut); a count still larger
+   raises. The result states R (``complete_in``): every exponent of the truncation in it is
+   listed.
+4. Convergence: N is raised (N -> N + max(6, N // 2)) from the resonant index + 8 until the
+   exponents change by less than ``tol`` (mod i); the change is the error estimate, floored at
+   the Newton steps.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from ..discretise.fourier import GAMMA, KINDS, frequencies, two_sided_indices
+from ..discretise.hill import assemble
+from ..errors import ConvergenceError
+from ..models.base import HillSystem
+from ..results.records import Exponents
+from .exponents import N_MAX, distance, first_truncation, fold
+from .marginal import coarser, finer
+from .nonlinear_eigen import DUPLICATE_RTOL, continue_roots, count_by_winding, newton
+
+#: Im gamma of the counting region: one period of the exponents, both locking lines inside.
+STRIP = (-0.25, 0.75)
+#: Half-width of the band around the cut that R leaves out: D(s_0) has poles on the cut (the
+#: interior fluid's, s = -nu j^2), which a contour along the cut itself would run through.
+SLIT = 1e-6
+#: The continuation starts at this fraction of tau, from the natural modes polished there.
+START_FRACTION = 1e-3
+#: Relative step of the 4-point derivative D'(s) ~ [D(s+h) - D(s-h) - i D(s+ih) + i D(s-ih)] / 4h.
+DERIVATIVE_STEP = 1e-3
+#: A harmonic exponent is born at the branch point gamma = 0 (a real one crossing from the
+#: cut); Newton's method is always tried from here, and a root within BRANCH_POINT of 0 lies on
+#: the contour (the slit ends there), so the count may miss it.
+BRANCH_SEED = complex(1e-3, 0.0)
+BRANCH_POINT = 1e-8
+#: Where a continued branch is lost (a pair meeting its locking line is a double root there),
+#: Newton's method restarts at tau from the branch, its mirror image and the points this far
+#: beyond |Im g| on either side along the line; the count then checks nothing was missed.
+LOST_REACH = 1e-3
+#: Seeds per unit length of the region's edges in the search for exponents the count says are
+#: missing.
+SEARCH_DENSITY = 8
+
+
+def pencil_family(system: HillSystem, kind: str, n_temporal: int
+                  ) -> Callable[[float], tuple[Callable, Callable]]:
+    """tau -> (T, dT): T(g) = A(g) - tau B of the two-sided truncation N at shift g (window
+    ``kind``) and its derivative in g, blockdiag D'(s_k) (4-point formula, error ~h^4; next to the
+    cut, where the points s +- ih would straddle it, the central difference along it)."""
+    s_k = frequencies(kind, two_sided_indices(kind, n_temporal))
+    b, f = system.block_size, system.unforced
+
+    def dT(g: complex) -> np.ndarray:
+        s = s_k + g
+        h = DERIVATIVE_STEP * np.maximum(1.0, np.abs(s))
+        along = (s.real < 0) & (np.abs(s.imag) <= 2 * h)  # s +- ih would straddle the cut
+        hi = np.where(along, 0.0, h)
+        values = f(np.concatenate([s + h, s - h, s + 1j * hi, s - 1j * hi])).reshape(4, len(s), b, b)
+        d = np.where(along[:, None, None],
+                     (values[0] - values[1]) / (2 * h[:, None, None]),
+                     (values[0] - values[1] - 1j * (values[2] - values[3])) / (4 * h[:, None, None]))
+        k = len(s)
+        out = np.zeros((k, b, k, b), dtype=complex)
+        out[np.arange(k), :, np.arange(k), :] = d
+        return out.reshape(k * b, k * b)
+
+    def at(tau: float) -> tuple[Callable, Callable]:
+        def T(g: complex) -> np.ndarray:
+            return assemble(system, kind, n_temporal, "two-sided", shift=g).dense(tau)
+
+        return T, dT
+
+    return at
+
+
+def window(gamma: complex) -> tuple[str, complex]:
+    """(kind, g): the window whose locking line lies nearer gamma's folded frequency, and the
+    shift g = gamma - i GAMMA[kind] - i n with Im g in [-1/4, 1/4]."""
+    offset = gamma.imag - math.floor(gamma.imag)  # in [0, 1)
+    kind = "subharmonic" if 0.25 <= offset < 0.75 else "harmonic"
+    g = gamma - 1j * GAMMA[kind]
+    return kind, complex(g.real, g.imag - round(g.imag))
+
+
+def _followed(system: HillSystem, tau: float, seeds: Sequence[complex], n_temporal: int,
+              tol: float) -> tuple[np.ndarray, float]:
+    """Every exponent continued from the natural modes ``seeds`` (one per conjugate pair) to
+    ``tau`` at truncation N: (folded exponents, largest Newton step)."""
+    out, steps = [], [0.0]
+    for kind in KINDS:
+        start = [g for k, g in map(window, seeds) if k == kind]
+        start = [g if g.imag >= 0 else g.conjugate() for g in start]
+        if not start:
+            continue
+        family = pencil_family(system, kind, n_temporal)
+        if tau == 0.0:
+            roots, err, ok = np.array(start), np.zeros(len(start)), np.ones(len(start), bool)
+            roots = roots.astype(complex)
+        else:
+            tau0 = START_FRACTION * abs(tau)
+            T, dT = family(math.copysign(tau0, tau))
+            polished = [newton(T, dT, g, tol=tol) for g in start]
+            if any(p is None for p in polished):
+                raise ConvergenceError("a natural mode is not a root of the truncated Hill "
+                                       f"determinant at n_temporal={n_temporal}: raise n_temporal=")
+            roots, err, ok = continue_roots(
+                lambda t: family(math.copysign(t, tau)), tau0, abs(tau),
+                [p[0] for p in polished], tol=tol, conjugate_symmetric=True)
+        found: list[complex] = []
+        for g, e in zip(roots[ok], err[ok]):
+            found += [g] if abs(g.imag) <= e else [g, g.conjugate()]
+            steps.append(float(e))
+        T, dT = family(tau)
+        for g in roots[~ok]:  # lost where a pair met the line (a double root) or two merged
+            reach = abs(g.imag) + LOST_REACH
+            for seed in (g, g.conjugate(), complex(g.real + reach), complex(g.real - reach)):
+                got = newton(T, dT, seed, known=found, tol=tol)
+                if got is not None and _new(got[0], found):
+                    found.append(got[0])
+                    steps.append(got[1])
+        out += [g + 1j * GAMMA[kind] for g in found]
+    return fold(np.array(out, dtype=complex)), max(steps)
+
+
+def _new(gamma: complex, found: Sequence[complex]) -> bool:
+    """gamma differs (mod i) from every exponent in ``found``."""
+    return not found or distance(np.array([gamma]), np.array(found)) > \
+        DUPLICATE_RTOL * max(abs(gamma), 1.0)
+
+
+def region(gamma: np.ndarray) -> tuple[float, float]:
+    """(re_lo, re_hi) of the counting region around the exponents ``gamma``: a margin of
+    1/2 + |Re| / 2 to the left, 1 to the right, and re_hi >= 1 (the slit must end inside)."""
+    lo, hi = float(gamma.real.min()), float(gamma.real.max())
+    return lo - 0.5 - 0.5 * abs(lo), max(hi + 1.0, 1.0)
+
+
+def _contour(re_lo: float, re_hi: float) -> list[complex]:
+    """The counter-clockwise boundary of R slit along [re_lo, 0] (module notes, step 3)."""
+    bottom, top = STRIP
+    path = [complex(re_hi, bottom), complex(re_hi, top), complex(re_lo, top)]
+    if re_lo < 0:
+        path += [complex(re_lo, SLIT), complex(0.0, SLIT), complex(0.0, -SLIT),
+                 complex(re_lo, -SLIT)]
+    return path + [complex(re_lo, bottom)]
+
+
+def _in_strip(gamma: np.ndarray) -> np.ndarray:
+    """The copy (mod i) of each exponent with Im gamma in R's period [-1/4, 3/4)."""
+    im = gamma.imag - np.floor(gamma.imag - STRIP[0])  # the copy in [-1/4, 3/4)
+    return gamma.real + 1j * im
+
+
+def _on_cut(gamma: complex) -> bool:
+    """gamma lies in the band around the cut that R leaves out (not at the branch point)."""
+    return gamma.real < -SLIT and abs(gamma.imag) < SLIT
+
+
+def _completed(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int,
+               tol: float) -> tuple[np.ndarray, tuple[float, float]]:
+    """``gamma`` with any exponent the winding count finds missing in R added (module notes,
+    step 3), and R's real extent."""
+    re_lo, re_hi = region(gamma)
+    T, dT = pencil_family(system, "harmonic", n_temporal)(tau)
+    found = [g for g in _in_strip(gamma) if not _on_cut(g)]
+    bottom, top = STRIP
+    grid = np.linspace(re_lo, re_hi, max(3, int(SEARCH_DENSITY * (re_hi - re_lo))))
+    searched = [complex(x, y) for y in np.linspace(bottom, top, SEARCH_DENSITY + 1)[1:-1]
+                for x in grid]
+    count = None
+    for seed in [BRANCH_SEED] + searched:
+        if seed != BRANCH_SEED:
+            if count is None:
+                count = count_by_winding(T, _contour(re_lo, re_hi))
+            if len(found) >= count:
+                break
+        out = newton(T, dT, seed, known=found, tol=tol)
+        if out is not None:
+            g = complex(_in_strip(np.array([out[0]]))[0])
+            if _new(g, found) and re_lo < g.real < re_hi and not _on_cut(g):
+                found.append(g)
+    on_contour = sum(abs(g) <= BRANCH_POINT for g in found)  # a root at the slit's end
+    if not len(found) - on_contour <= count <= len(found):
+        raise ConvergenceError(
+            f"the argument principle counts {count} Floquet exponents with Re gamma in "
+            f"[{re_lo:.4g}, {re_hi:.4g}] at n_temporal={n_temporal}, but {len(found)} were "
+            "found: give n_temporal= or a nearby tau")
+    return fold(np.array(found, dtype=complex)), (re_lo, re_hi)
+
+
+def hill_exponents(system: HillSystem, tau: float, seeds: Sequence[complex], *,
+                   tol: float = 1e-10, n_temporal: int | None = None,
+                   n_max: int = N_MAX) -> Exponents:
+    """Floquet exponents gamma at forcing amplitude ``tau`` of a model with non-polynomial
+    D(s), continued from its natural modes ``seeds`` (tau = 0; one per conjugate pair) and
+    counted complete in a region (module notes).
+
+    Returns
+    -------
+    Exponents : gamma folded to Im in (-1/2, 1/2], decreasing Re; ``complete_in`` the Re gamma
+        range of the counting region; ``error_estimate`` the change from the previous
+        truncation (floored at the Newton steps).
+
+    Raises
+    ------
+    ConvergenceError : an exponent lost in the continuation, a count the search cannot match,
+        or no convergence to ``tol`` by ``n_max``.
+    """
+    seeds = [complex(s) for s in seeds]
+    if not seeds:
+        raise ConvergenceError("no natural mode to continue the Floquet exponents from")
+
+    def solve(n: int) -> tuple[np.ndarray, float, tuple[float, float]]:
+        gamma, step = _followed(system, tau, seeds, n, tol)
+        gamma, bounds = _completed(system, tau, gamma, n, tol)
+        return gamma[np.lexsort((gamma.imag, -gamma.real))], step, bounds
+
+    if n_temporal is not None:
+        gamma, step, bounds = solve(n_temporal)
+        smaller = solve(coarser(n_temporal))[0]
+        change = distance(gamma, smaller) if len(gamma) == len(smaller) else math.inf
+        if not math.isfinite(change):
+            raise ConvergenceError(
+                f"Floquet exponents at n_temporal={n_temporal}: the comparison truncation "
+                f"n_temporal={coarser(n_temporal)} finds {len(smaller)} exponents, this one "
+                f"{len(gamma)}, so no error estimate exists: raise n_temporal=")
+        return Exponents(gamma=gamma, n_temporal=n_temporal, error_estimate=max(change, step),
+                         complete_in=bounds)
+    n = first_truncation(system, tau)
+    if n >= n_max:
+        raise ConvergenceError(f"Floquet exponents need a truncation above n_temporal={n_max} "
+                               f"here (resonant Fourier index ~{n - 8}): lower kappa or |tau|")
+    previous, change = None, math.inf
+    while True:
+        try:
+            gamma, step, bounds = solve(n)
+        except ConvergenceError:  # an under-resolved truncation: the next one may settle it
+            if n >= n_max:
+                raise
+            previous = None
+        else:
+            if previous is not None and len(gamma) == len(previous):
+                change = distance(gamma, previous)
+                if change < tol:
+                    return Exponents(gamma=gamma, n_temporal=n,
+                                     error_estimate=max(change, step), complete_in=bounds)
+            previous = gamma
+        if n >= n_max:
+            raise ConvergenceError(f"Floquet exponents did not converge to tol={tol:g} by "
+                                   f"n_temporal={n_max} (last change {change:.3g}); relax tol=")
+        n = min(finer(n), n_max)
