@@ -20,7 +20,7 @@ from spectralshell.errors import ParameterError
 from spectralshell.models.registry import hill_system
 from spectralshell.params.registry import make_params
 from spectralshell.solvers.exponents import distance
-from spectralshell.solvers.hill_exponents import _contour, count_by_winding, pencil_family
+from spectralshell.solvers.hill_exponents import _contour, count_by_winding, pencil_family, slit_width
 
 SPHERE = dict(m=3, kappa=0.02, nu=0.006)          # thesis Table 6.1 case 1 (subharmonic)
 SPHERE_HARMONIC = dict(m=2, kappa=0.21, nu=0.002)  # the first harmonic tongue, tau_min ~ 0.54
@@ -79,7 +79,7 @@ def test_list_is_complete_in_the_stated_region():
     lo, hi = res.complete_in
     system = hill_system(make_params("sphere", SPHERE))
     T, _ = pencil_family(system, "harmonic", res.n_temporal)(0.3)
-    assert count_by_winding(T, _contour(lo, hi)) == len(res.gamma)
+    assert count_by_winding(T, _contour(lo, hi, slit_width(res.gamma))) == len(res.gamma)
     assert np.all((res.gamma.real > lo) & (res.gamma.real <= hi))
 
 

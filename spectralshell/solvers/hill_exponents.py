@@ -27,48 +27,67 @@ Method
 3. Completeness: the argument principle (:func:`~spectralshell.solvers.nonlinear_eigen.
    count_by_winding`) counts the zeros of det T_N (harmonic window, g = gamma) in the region
    R = {re_lo <= Re gamma <= re_hi, -1/4 <= Im gamma <= 3/4}, a period of the exponents, minus
-   the band |Im gamma| < SLIT along the cut of D(s_0), gamma in [re_lo, 0] (the fluid's
-   continuous spectrum, with the interior fluid's poles on it; exponents there are not counted
-   and not listed). When the count exceeds the
+   the band |Im gamma| < w, Re gamma < w along the cut of D(s_0) (the fluid's continuous
+   spectrum, with the interior fluid's poles on it; exponents there are not counted and not
+   listed, except within w of the branch point gamma = 0, which are listed: at the harmonic
+   tau_min an exponent passes through it). The half-width w is SLIT, or half the smallest
+   |Im gamma| of an exponent found nearer the cut (just below a harmonic tau_min a pair
+   approaches the cut from both sides): a conjugate pair inside the band would pass the
+   contour on one side within a sampling step and alias its phase by 2 pi. When the count exceeds the
    exponents found in R, deflated Newton searches from a grid of seeds over R (and next to the
-   branch point gamma = 0, where a harmonic exponent is born at the cut); a count still larger
+   branch point, where a harmonic exponent is born at the cut); a count still larger
    raises. The result states R (``complete_in``): every exponent of the truncation in it is
    listed.
 4. Convergence: N is raised (N -> N + max(6, N // 2)) from the resonant index + 8 until the
    exponents change by less than ``tol`` (mod i); the change is the error estimate, floored at
-   the Newton steps.
+   the Newton steps. Step 2 runs at the first truncation only: at the next, each exponent is
+   polished by Newton's method from its value at the previous one; step 3 runs where the
+   exponents have settled (an exponent it adds means one more truncation).
+
+Cost
+----
+T_N(g) is block tridiagonal (K = 2N + 1 or 2N + 2 blocks of size b; the couplings do not depend
+on g). The phase of det T_N (for the count) and tr(T_N^{-1} T_N') (the Newton step) come from
+its block LU (:mod:`spectralshell.solvers.block_tridiagonal`) in O(K b^3) rather than dense
+O((K b)^3), with D evaluated at all the points of a step (the count's points of one refinement
+level) in one vectorised call. ``dense=True`` runs the dense linear algebra instead: the
+reference that ``validation/bench_exponents.py`` times and compares (sphere m = 3, kappa = 0.02,
+nu = 0.006, tau = 0.3: ~1.2 s -> ~0.3 s; cochlea with M = 8: ~60 s -> ~2 s, same exponents).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
 from ..discretise.fourier import GAMMA, KINDS, frequencies, two_sided_indices
-from ..discretise.hill import assemble
+from ..discretise.hill import HillMatrices, assemble
 from ..errors import ConvergenceError
 from ..models.base import HillSystem
 from ..results.records import Exponents
 from .exponents import N_MAX, distance, first_truncation, fold
+from .block_tridiagonal import log_det_phase_and_derivative
 from .marginal import coarser, finer
-from .nonlinear_eigen import DUPLICATE_RTOL, continue_roots, count_by_winding, newton
+from .nonlinear_eigen import DUPLICATE_RTOL, Matrix, continue_roots, count_by_winding, newton
 
 #: Im gamma of the counting region: one period of the exponents, both locking lines inside.
 STRIP = (-0.25, 0.75)
 #: Half-width of the band around the cut that R leaves out: D(s_0) has poles on the cut (the
 #: interior fluid's, s = -nu j^2), which a contour along the cut itself would run through.
 SLIT = 1e-6
+#: An exponent with Re gamma < 0 and |Im gamma| below this lies on the cut (to rounding).
+ON_CUT = 1e-12
 #: The continuation starts at this fraction of tau, from the natural modes polished there.
 START_FRACTION = 1e-3
 #: Relative step of the 4-point derivative D'(s) ~ [D(s+h) - D(s-h) - i D(s+ih) + i D(s-ih)] / 4h.
 DERIVATIVE_STEP = 1e-3
 #: A harmonic exponent is born at the branch point gamma = 0 (a real one crossing from the
-#: cut); Newton's method is always tried from here, and a root within BRANCH_POINT of 0 lies on
-#: the contour (the slit ends there), so the count may miss it.
+#: cut); Newton's method is always tried from here.
 BRANCH_SEED = complex(1e-3, 0.0)
-BRANCH_POINT = 1e-8
 #: Where a continued branch is lost (a pair meeting its locking line is a double root there),
 #: Newton's method restarts at tau from the branch, its mirror image and the points this far
 #: beyond |Im g| on either side along the line; the count then checks nothing was missed.
@@ -78,33 +97,81 @@ LOST_REACH = 1e-3
 SEARCH_DENSITY = 8
 
 
-def pencil_family(system: HillSystem, kind: str, n_temporal: int
-                  ) -> Callable[[float], tuple[Callable, Callable]]:
-    """tau -> (T, dT): T(g) = A(g) - tau B of the two-sided truncation N at shift g (window
-    ``kind``) and its derivative in g, blockdiag D'(s_k) (4-point formula, error ~h^4; next to the
-    cut, where the points s +- ih would straddle it, the central difference along it)."""
-    s_k = frequencies(kind, two_sided_indices(kind, n_temporal))
-    b, f = system.block_size, system.unforced
+@dataclass(frozen=True, eq=False)
+class HillPencil:
+    """T(g) = A(g) - tau B of the two-sided truncation N at shift g (window ``kind``) as a
+    structured matrix function (:class:`~spectralshell.solvers.nonlinear_eigen.StructuredMatrix`):
+    the phase of det T and tr(T^{-1} T') at many g at once from the block LU of
+    :mod:`spectralshell.solvers.block_tridiagonal` (O(N b^3)); calling it gives the dense
+    matrix, :meth:`derivative` the dense T'(g)."""
 
-    def dT(g: complex) -> np.ndarray:
-        s = s_k + g
+    system: HillSystem
+    hill: HillMatrices  # the two-sided truncation at shift 0 (its couplings and frequencies)
+    tau: float
+
+    @cached_property
+    def _couplings(self) -> tuple[np.ndarray, np.ndarray]:
+        """(L, U): the constant off-diagonal blocks -tau lower, -tau upper of T."""
+        return -self.tau * self.hill.lower, -self.tau * self.hill.upper
+
+    @cached_property
+    def _frequencies(self) -> np.ndarray:
+        return frequencies(self.hill.kind, two_sided_indices(self.hill.kind, self.hill.n_temporal))
+
+    def __call__(self, g: complex) -> np.ndarray:
+        return assemble(self.system, self.hill.kind, self.hill.n_temporal, "two-sided",
+                        shift=g).dense(self.tau)
+
+    def _blocks(self, g: np.ndarray, derivative: bool) -> tuple[np.ndarray, np.ndarray | None]:
+        """D(s_k + g_j) and (if ``derivative``) D'(s_k + g_j), each (P, K, b, b), from one call
+        of D: D' by the 4-point formula [D(s+h) - D(s-h) - i D(s+ih) + i D(s-ih)] / 4h (error
+        ~h^4); next to the cut, where s +- ih would straddle it, the central difference along it."""
+        s = (np.asarray(g, dtype=complex)[:, None] + self._frequencies[None, :]).ravel()
+        b = self.system.block_size
+        shape = (len(g), len(self._frequencies), b, b)
+        if not derivative:
+            return self.system.unforced(s).reshape(shape), None
         h = DERIVATIVE_STEP * np.maximum(1.0, np.abs(s))
-        along = (s.real < 0) & (np.abs(s.imag) <= 2 * h)  # s +- ih would straddle the cut
+        along = (s.real < 0) & (np.abs(s.imag) <= 2 * h)
         hi = np.where(along, 0.0, h)
-        values = f(np.concatenate([s + h, s - h, s + 1j * hi, s - 1j * hi])).reshape(4, len(s), b, b)
-        d = np.where(along[:, None, None],
-                     (values[0] - values[1]) / (2 * h[:, None, None]),
-                     (values[0] - values[1] - 1j * (values[2] - values[3])) / (4 * h[:, None, None]))
-        k = len(s)
+        values = self.system.unforced(np.concatenate([s, s + h, s - h, s + 1j * hi, s - 1j * hi]))
+        values = values.reshape(5, len(s), b, b)
+        h = h[:, None, None]
+        d = np.where(along[:, None, None], (values[1] - values[2]) / (2 * h),
+                     (values[1] - values[2] - 1j * (values[3] - values[4])) / (4 * h))
+        return values[0].reshape(shape), d.reshape(shape)
+
+    def derivative(self, g: complex) -> np.ndarray:
+        """T'(g) as a dense block diagonal matrix, blockdiag D'(s_k + g)."""
+        d = self._blocks(np.array([g]), True)[1][0]
+        k, b = len(d), self.system.block_size
         out = np.zeros((k, b, k, b), dtype=complex)
         out[np.arange(k), :, np.arange(k), :] = d
         return out.reshape(k * b, k * b)
 
-    def at(tau: float) -> tuple[Callable, Callable]:
-        def T(g: complex) -> np.ndarray:
-            return assemble(system, kind, n_temporal, "two-sided", shift=g).dense(tau)
+    def phases(self, g: np.ndarray) -> np.ndarray:
+        """det T(g) / |det T(g)| at each g."""
+        return log_det_phase_and_derivative(self._blocks(g, False)[0], *self._couplings)[0]
 
-        return T, dT
+    def log_derivatives(self, g: np.ndarray) -> np.ndarray:
+        """tr(T(g)^{-1} T'(g)) = d/dg log det T(g) at each g."""
+        diag, d = self._blocks(g, True)
+        out = log_det_phase_and_derivative(diag, *self._couplings, d)[1]
+        assert out is not None
+        return out
+
+
+def pencil_family(system: HillSystem, kind: str, n_temporal: int, dense: bool = False
+                  ) -> Callable[[float], tuple[Matrix, Matrix]]:
+    """tau -> (T, dT): the :class:`HillPencil` T(g) at tau and its derivative in g; with
+    ``dense`` as plain matrix functions (dense LAPACK solves and determinants of the whole
+    truncation, O((N b)^3): the reference for the block LU)."""
+
+    hill = assemble(system, kind, n_temporal, "two-sided")
+
+    def at(tau: float) -> tuple[Matrix, Matrix]:
+        pencil = HillPencil(system, hill, tau)
+        return (pencil.__call__ if dense else pencil), pencil.derivative
 
     return at
 
@@ -119,7 +186,7 @@ def window(gamma: complex) -> tuple[str, complex]:
 
 
 def _followed(system: HillSystem, tau: float, seeds: Sequence[complex], n_temporal: int,
-              tol: float) -> tuple[np.ndarray, float]:
+              tol: float, dense: bool) -> tuple[np.ndarray, float]:
     """Every exponent continued from the natural modes ``seeds`` (one per conjugate pair) to
     ``tau`` at truncation N: (folded exponents, largest Newton step)."""
     out, steps = [], [0.0]
@@ -128,7 +195,7 @@ def _followed(system: HillSystem, tau: float, seeds: Sequence[complex], n_tempor
         start = [g if g.imag >= 0 else g.conjugate() for g in start]
         if not start:
             continue
-        family = pencil_family(system, kind, n_temporal)
+        family = pencil_family(system, kind, n_temporal, dense)
         if tau == 0.0:
             roots, err, ok = np.array(start), np.zeros(len(start)), np.ones(len(start), bool)
             roots = roots.astype(complex)
@@ -158,6 +225,24 @@ def _followed(system: HillSystem, tau: float, seeds: Sequence[complex], n_tempor
     return fold(np.array(out, dtype=complex)), max(steps)
 
 
+def _polished(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int, tol: float,
+              dense: bool) -> tuple[np.ndarray, float]:
+    """The exponents ``gamma`` of a neighbouring truncation refined at truncation N by Newton's
+    method, each in its window: (folded exponents, largest Newton step). One that does not
+    converge to a new root is left out (the count then finds it missing)."""
+    out, steps = [], [0.0]
+    for kind in KINDS:
+        T, dT = pencil_family(system, kind, n_temporal, dense)(tau)
+        found: list[complex] = []
+        for g in (g for k, g in map(window, gamma) if k == kind):
+            got = newton(T, dT, g, known=found, tol=tol)
+            if got is not None and _new(got[0], found):
+                found.append(got[0])
+                steps.append(got[1])
+        out += [g + 1j * GAMMA[kind] for g in found]
+    return fold(np.array(out, dtype=complex)), max(steps)
+
+
 def _new(gamma: complex, found: Sequence[complex]) -> bool:
     """gamma differs (mod i) from every exponent in ``found``."""
     return not found or distance(np.array([gamma]), np.array(found)) > \
@@ -171,13 +256,21 @@ def region(gamma: np.ndarray) -> tuple[float, float]:
     return lo - 0.5 - 0.5 * abs(lo), max(hi + 1.0, 1.0)
 
 
-def _contour(re_lo: float, re_hi: float) -> list[complex]:
-    """The counter-clockwise boundary of R slit along [re_lo, 0] (module notes, step 3)."""
+def slit_width(gamma: Sequence[complex]) -> float:
+    """Half-width w of the band around the cut that R leaves out (module notes, step 3)."""
+    near = [abs(g.imag) for g in gamma if g.real < 0 and ON_CUT < abs(g.imag) < SLIT]
+    return min([SLIT] + [0.5 * y for y in near])
+
+
+def _contour(re_lo: float, re_hi: float, slit: float) -> list[complex]:
+    """The counter-clockwise boundary of R slit along [re_lo, w] with half-width w = ``slit``
+    (module notes, step 3): the slit ends w to the right of the branch point, so that the
+    contour misses an exponent at gamma = 0 (the harmonic tau_min)."""
     bottom, top = STRIP
     path = [complex(re_hi, bottom), complex(re_hi, top), complex(re_lo, top)]
     if re_lo < 0:
-        path += [complex(re_lo, SLIT), complex(0.0, SLIT), complex(0.0, -SLIT),
-                 complex(re_lo, -SLIT)]
+        path += [complex(re_lo, slit), complex(slit, slit), complex(slit, -slit),
+                 complex(re_lo, -slit)]
     return path + [complex(re_lo, bottom)]
 
 
@@ -187,46 +280,53 @@ def _in_strip(gamma: np.ndarray) -> np.ndarray:
     return gamma.real + 1j * im
 
 
-def _on_cut(gamma: complex) -> bool:
-    """gamma lies in the band around the cut that R leaves out (not at the branch point)."""
-    return gamma.real < -SLIT and abs(gamma.imag) < SLIT
+def _in_slit(gamma: complex, slit: float) -> bool:
+    """gamma lies in the band of half-width ``slit`` that R leaves out (it is not counted)."""
+    return gamma.real < slit and abs(gamma.imag) < slit
+
+
+def _on_cut(gamma: complex, slit: float) -> bool:
+    """gamma lies in the band, not within ``slit`` of the branch point (it is not listed)."""
+    return _in_slit(gamma, slit) and gamma.real < -slit
+
+
+def _counted(found: Sequence[complex], slit: float) -> int:
+    """How many of ``found`` the winding count sees (those outside the band)."""
+    return sum(not _in_slit(g, slit) for g in found)
 
 
 def _completed(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int,
-               tol: float) -> tuple[np.ndarray, tuple[float, float]]:
+               tol: float, dense: bool) -> tuple[np.ndarray, tuple[float, float]]:
     """``gamma`` with any exponent the winding count finds missing in R added (module notes,
     step 3), and R's real extent."""
     re_lo, re_hi = region(gamma)
-    T, dT = pencil_family(system, "harmonic", n_temporal)(tau)
-    found = [g for g in _in_strip(gamma) if not _on_cut(g)]
+    T, dT = pencil_family(system, "harmonic", n_temporal, dense)(tau)
+    slit = slit_width(gamma)
+    found = [g for g in _in_strip(gamma) if not _on_cut(g, slit)]
     bottom, top = STRIP
     grid = np.linspace(re_lo, re_hi, max(3, int(SEARCH_DENSITY * (re_hi - re_lo))))
     searched = [complex(x, y) for y in np.linspace(bottom, top, SEARCH_DENSITY + 1)[1:-1]
                 for x in grid]
-    count = None
-    for seed in [BRANCH_SEED] + searched:
-        if seed != BRANCH_SEED:
-            if count is None:
-                count = count_by_winding(T, _contour(re_lo, re_hi))
-            if len(found) >= count:
-                break
+    count = count_by_winding(T, _contour(re_lo, re_hi, slit))
+    for seed in [BRANCH_SEED] + searched:  # the branch seed always: the count misses its root
+        if seed != BRANCH_SEED and _counted(found, slit) >= count:
+            break
         out = newton(T, dT, seed, known=found, tol=tol)
         if out is not None:
             g = complex(_in_strip(np.array([out[0]]))[0])
-            if _new(g, found) and re_lo < g.real < re_hi and not _on_cut(g):
+            if _new(g, found) and re_lo < g.real < re_hi and not _on_cut(g, slit):
                 found.append(g)
-    on_contour = sum(abs(g) <= BRANCH_POINT for g in found)  # a root at the slit's end
-    if not len(found) - on_contour <= count <= len(found):
+    if _counted(found, slit) != count:
         raise ConvergenceError(
             f"the argument principle counts {count} Floquet exponents with Re gamma in "
-            f"[{re_lo:.4g}, {re_hi:.4g}] at n_temporal={n_temporal}, but {len(found)} were "
+            f"[{re_lo:.4g}, {re_hi:.4g}] at n_temporal={n_temporal}, but {_counted(found, slit)} were "
             "found: give n_temporal= or a nearby tau")
     return fold(np.array(found, dtype=complex)), (re_lo, re_hi)
 
 
 def hill_exponents(system: HillSystem, tau: float, seeds: Sequence[complex], *,
                    tol: float = 1e-10, n_temporal: int | None = None,
-                   n_max: int = N_MAX) -> Exponents:
+                   n_max: int = N_MAX, dense: bool = False) -> Exponents:
     """Floquet exponents gamma at forcing amplitude ``tau`` of a model with non-polynomial
     D(s), continued from its natural modes ``seeds`` (tau = 0; one per conjugate pair) and
     counted complete in a region (module notes).
@@ -237,6 +337,9 @@ def hill_exponents(system: HillSystem, tau: float, seeds: Sequence[complex], *,
         range of the counting region; ``error_estimate`` the change from the previous
         truncation (floored at the Newton steps).
 
+    ``dense``: dense linear algebra on the whole truncation instead of the block LU (the
+    reference it is checked against; O((N b)^3)).
+
     Raises
     ------
     ConvergenceError : an exponent lost in the continuation, a count the search cannot match,
@@ -246,40 +349,52 @@ def hill_exponents(system: HillSystem, tau: float, seeds: Sequence[complex], *,
     if not seeds:
         raise ConvergenceError("no natural mode to continue the Floquet exponents from")
 
-    def solve(n: int) -> tuple[np.ndarray, float, tuple[float, float]]:
-        gamma, step = _followed(system, tau, seeds, n, tol)
-        gamma, bounds = _completed(system, tau, gamma, n, tol)
-        return gamma[np.lexsort((gamma.imag, -gamma.real))], step, bounds
+    def found(n: int, near: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+        """The exponents at truncation n, polished from those of a neighbouring truncation
+        (``near``) or continued from the seeds: (exponents, largest Newton step)."""
+        if near is None:
+            return _followed(system, tau, seeds, n, tol, dense)
+        return _polished(system, tau, near, n, tol, dense)
+
+    def counted(gamma: np.ndarray, n: int) -> tuple[np.ndarray, tuple[float, float]]:
+        gamma, bounds = _completed(system, tau, gamma, n, tol, dense)
+        return gamma[np.lexsort((gamma.imag, -gamma.real))], bounds
 
     if n_temporal is not None:
-        gamma, step, bounds = solve(n_temporal)
-        smaller = solve(coarser(n_temporal))[0]
-        change = distance(gamma, smaller) if len(gamma) == len(smaller) else math.inf
-        if not math.isfinite(change):
+        smaller = found(coarser(n_temporal))[0]
+        gamma, step = found(n_temporal, smaller)
+        gamma, bounds = counted(gamma, n_temporal)
+        if len(gamma) != len(smaller):  # the count added some: look for them at the coarser N
+            smaller = found(coarser(n_temporal), gamma)[0]
+        if len(gamma) != len(smaller):
             raise ConvergenceError(
                 f"Floquet exponents at n_temporal={n_temporal}: the comparison truncation "
                 f"n_temporal={coarser(n_temporal)} finds {len(smaller)} exponents, this one "
                 f"{len(gamma)}, so no error estimate exists: raise n_temporal=")
-        return Exponents(gamma=gamma, n_temporal=n_temporal, error_estimate=max(change, step),
-                         complete_in=bounds)
+        return Exponents(gamma=gamma, n_temporal=n_temporal,
+                         error_estimate=max(distance(gamma, smaller), step), complete_in=bounds)
     n = first_truncation(system, tau)
     if n >= n_max:
         raise ConvergenceError(f"Floquet exponents need a truncation above n_temporal={n_max} "
                                f"here (resonant Fourier index ~{n - 8}): lower kappa or |tau|")
-    previous, change = None, math.inf
-    while True:
+    previous: np.ndarray | None = None
+    change = math.inf
+    while True:  # the count (the costly part) only where the exponents have settled in N
         try:
-            gamma, step, bounds = solve(n)
+            gamma, step = found(n, previous)
+            if previous is not None and len(gamma) == len(previous) and distance(gamma, previous) < tol:
+                gamma, bounds = counted(gamma, n)
+                change = distance(gamma, previous) if len(gamma) == len(previous) else math.inf
+                if change < tol:
+                    return Exponents(gamma=gamma, n_temporal=n,
+                                     error_estimate=max(change, step), complete_in=bounds)
+            elif previous is not None and len(gamma) == len(previous):
+                change = distance(gamma, previous)
         except ConvergenceError:  # an under-resolved truncation: the next one may settle it
             if n >= n_max:
                 raise
             previous = None
         else:
-            if previous is not None and len(gamma) == len(previous):
-                change = distance(gamma, previous)
-                if change < tol:
-                    return Exponents(gamma=gamma, n_temporal=n,
-                                     error_estimate=max(change, step), complete_in=bounds)
             previous = gamma
         if n >= n_max:
             raise ConvergenceError(f"Floquet exponents did not converge to tol={tol:g} by "
