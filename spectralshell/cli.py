@@ -262,7 +262,7 @@ def cmd_tongues(args) -> int:
 def cmd_exponents(args) -> int:
     if args.tau is None:
         raise ParameterError("--tau is required: the forcing amplitude")
-    count = None if args.count is None else _integer("count", args.count)
+    count = None if args.count is None else require_int_in_range("count", parse_int("count", args.count), 1)
     res = _api().exponents(args.model, tau=parse_real("tau", args.tau), count=count,
                            **_solver(args),
                            **_params(args, args.model))

@@ -105,3 +105,46 @@ def test_cli_exponents_sphere_json(capsys):
     assert main(["exponents", "sphere", "--m", "3", "--kappa", "0.02", "--nu", "0.006",
                  "--tau", "0.3", "--count", "2", "--json"]) == 0
     assert len(json.loads(capsys.readouterr().out)["exponents"]) == 2
+
+
+@pytest.mark.parametrize("model,params,n", [("sphere", SPHERE, 12), ("fibre", FIBRE, 12),
+                                            ("cochlea", dict(COCHLEA, n_spatial=8), 9)])
+def test_block_lu_matches_dense_lapack(model, params, n):
+    """The block LU's phase of det T and tr(T^{-1} T') equal dense LAPACK's (numpy slogdet and
+    solve of the assembled matrix) at points off the real axis, near a root and in both windows."""
+    system = hill_system(make_params(model, params))
+    g = np.array([0.1 + 0.05j, -0.3 + 0.2j, -0.7 - 0.21j, 0.02 + 1e-5j])
+    for kind in ("harmonic", "subharmonic"):
+        T, dT = pencil_family(system, kind, n)(0.3)
+        phases, logd = T.phases(g), T.log_derivatives(g)
+        for x, p, d in zip(g, phases, logd):
+            sign, _ = np.linalg.slogdet(T(x))
+            assert abs(p - sign) < 1e-10
+            ref = np.trace(np.linalg.solve(T(x), dT(x)))
+            assert abs(d - ref) < 1e-10 * max(1.0, abs(ref))
+
+
+@pytest.mark.parametrize("argv,tau", [
+    (["fibre", "--m", "3", "--kappa", "0.02", "--nu", "2e-4"], "0.3"),
+    (["cochlea", "--kappa", "0.5", "--nu", "1e-3", "--alpha", "1", "--n-spatial", "4"], "0.45")])
+def test_cli_exponents_fibre_and_cochlea(capsys, argv, tau):
+    """The command for the other viscous models, with --count, above the marginal solver's
+    subharmonic tau_min: the least damped exponent grows, locked to Im gamma = 1/2."""
+    assert main(["exponents", *argv, "--tau", tau, "--count", "1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    (gamma,) = out["exponents"]
+    assert out["error_estimate"] < 1e-10 and abs(gamma["im"] - 0.5) < 1e-12 and gamma["re"] > 0
+    params = {k: float(v) for k, v in out["params"].items() if isinstance(v, (int, float))}
+    params = {k: int(v) if k in ("m", "n_spatial") else v for k, v in params.items()}
+    assert ss.floquet(argv[0], kind="subharmonic", **params).subharmonic.tau_min < float(tau)
+
+
+@pytest.mark.parametrize("argv", [
+    ["--count", "0"], ["--count", "2.5"], ["--tau", "x"], ["--nu", "-1"]])
+def test_cli_exponents_bad_input_exits_2_with_one_line(capsys, argv):
+    """Bad input: exit status 2 and a one-line message naming the parameter."""
+    base = {"--m": "3", "--kappa": "0.02", "--nu": "0.006", "--tau": "0.3"}
+    base.update(dict(zip(argv[::2], argv[1::2])))
+    rc = main(["exponents", "sphere", *[x for kv in base.items() for x in kv]])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and len(err.splitlines()) == 1 and argv[0].lstrip("-") in err
