@@ -218,11 +218,8 @@ def _followed(system: HillSystem, tau: float, seeds: Sequence[complex], n_tempor
         T, dT = family(tau)
         for g in roots[~ok]:  # lost where a pair met the line (a double root) or two merged
             reach = abs(g.imag) + LOST_REACH
-            for seed in (g, g.conjugate(), complex(g.real + reach), complex(g.real - reach)):
-                got = newton(T, dT, seed, known=found, tol=tol)
-                if got is not None and _new(got[0], found):
-                    found.append(got[0])
-                    steps.append(got[1])
+            _newton_from(T, dT, (g, g.conjugate(), complex(g.real + reach),
+                                 complex(g.real - reach)), found, steps, tol)
         out += [g + 1j * GAMMA[kind] for g in found]
     return fold(np.array(out, dtype=complex)), max(steps)
 
@@ -236,13 +233,20 @@ def _polished(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int
     for kind in KINDS:
         T, dT = pencil_family(system, kind, n_temporal, dense)(tau)
         found: list[complex] = []
-        for g in (g for k, g in map(window, gamma) if k == kind):
-            got = newton(T, dT, g, known=found, tol=tol)
-            if got is not None and _new(got[0], found):
-                found.append(got[0])
-                steps.append(got[1])
+        _newton_from(T, dT, [g for k, g in map(window, gamma) if k == kind], found, steps, tol)
         out += [g + 1j * GAMMA[kind] for g in found]
     return fold(np.array(out, dtype=complex)), max(steps)
+
+
+def _newton_from(T: Matrix, dT: Matrix, seeds: Sequence[complex], found: list[complex],
+                 steps: list[float], tol: float) -> None:
+    """Deflated Newton's method from each seed; a new root is appended to ``found`` and its
+    last step to ``steps``."""
+    for seed in seeds:
+        got = newton(T, dT, seed, known=found, tol=tol)
+        if got is not None and _new(got[0], found):
+            found.append(got[0])
+            steps.append(got[1])
 
 
 def _new(gamma: complex, found: Sequence[complex]) -> bool:
