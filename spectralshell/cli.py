@@ -251,6 +251,7 @@ def cmd_tongues(args) -> int:
     if args.kappa is None:
         raise ParameterError("--kappa is required: a range START:STOP:NUM, e.g. 0:3:301")
     res = _api().tongues(args.model, kappa=args.kappa, kind=args.kind, tips=not args.no_tips,
+                      boundaries=not args.no_boundaries,
                       workers=args.workers, progress=_progress(args),
                       **_solver(args), **_tau_max(args), **_given(args, "max_points", _integer),
                       **_params(args, args.model, skip=("kappa",)))
@@ -606,6 +607,9 @@ def _tongues_options(p: argparse.ArgumentParser, model: str) -> None:
                                  "replaced)")
     p.add_argument("--npz", help="write arrays to a *.npz file (an existing file is replaced)")
     p.add_argument("--no-tips", action="store_true", help="do not locate finger tips")
+    p.add_argument("--no-boundaries", action="store_true",
+                   help="do not trace the boundaries as curves (the diagram shows the grid's "
+                   "points; faster)")
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
     _max_points_flag(p)
 

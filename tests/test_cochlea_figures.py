@@ -21,7 +21,16 @@ def test_fig_5_7_and_5_12(tmp_path):
     assert all(m["gamma_re"] < 0 for d in modes.values() for m in d["modes"])  # all modes decay
     data = json.loads((tmp_path / "fig-5.12.json").read_text())
     omega = np.array(data["omega"])
-    sub = np.array([r["subharmonic"]["tau_min"] or np.inf for r in data["modes"]["1"]])
+    k1 = data["modes"]["1"]
+    sub = np.array([t[0] if t else np.inf for t in k1["tau"]["subharmonic"]])
     # k = 1: the principal subharmonic finger reaches tau ~ 0 near sqrt(kappa/2) = 1/2, i.e.
     # omega = sqrt(2 sigma pi/(rho L)) = 1036 rad/s (inviscid); Table 5.2: unstable at 1000.
-    assert abs(omega[np.argmin(sub)] - np.sqrt(2 * 6e5 * np.pi / 3.5)) < 20
+    inviscid = np.sqrt(2 * 6e5 * np.pi / 3.5)
+    assert abs(omega[np.argmin(sub)] - inviscid) < 20
+    tip = min((t for t in k1["tips"] if t["kind"] == "subharmonic"), key=lambda t: t["tau"])
+    assert abs(tip["omega"] - inviscid) < 20 and tip["tau"] <= sub.min()
+    # the traced boundaries pass through every grid value of tau <= 1
+    on_curves = np.concatenate([b["tau"] for b in k1["boundaries"] if b["kind"] == "subharmonic"])
+    grid = np.concatenate([t for t in k1["tau"]["subharmonic"]])
+    grid = grid[grid <= 1.0]
+    assert np.abs(grid[:, None] - on_curves[None, :]).min(axis=1).max() < 1e-12

@@ -246,6 +246,19 @@ def test_tongues_tau_max_flag(capsys):
     assert any(bounded["subharmonic"]["tau"]) and len(bounded["subharmonic"]["tau"]) == 13
 
 
+def test_tongues_no_boundaries_flag(capsys):
+    """``--no-boundaries`` skips the tracing: the JSON has no boundary curves and records the
+    choice, and the grid's tau are those of the traced run (Mathieu, nu = 0.1)."""
+    args = ["tongues", "mathieu", "--nu", "0.1", "--kappa", "0.1:1.5:8", "--no-tips", "--json"]
+    code, out, _ = run_cli(capsys, *args)
+    code_b, out_b, _ = run_cli(capsys, *args, "--no-boundaries")
+    traced, bare = json.loads(out), json.loads(out_b)
+    assert code == code_b == 0 and traced["boundaries"] and not bare["boundaries"]
+    assert traced["provenance"]["options"]["boundaries"] is True
+    assert bare["provenance"]["options"]["boundaries"] is False
+    assert bare["subharmonic"]["tau"] == traced["subharmonic"]["tau"]
+
+
 def test_modes_text_labels_a_practically_real_mode():
     """m = 2, zeta = 5: the least damped mode has Im gamma = 3.366e-13 (a 30-digit polish agrees,
     so the mode is off the real axis), but |Re gamma| is 1.4e11 times larger: the text calls it

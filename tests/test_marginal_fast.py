@@ -217,9 +217,15 @@ def test_auto_switch_uses_krylov_for_big_blocks_with_the_dense_answer(kind, monk
     estimate as the dense reference; below the threshold it stays dense."""
     system = cochlea_like(20)
     dense = marginal_tau(system, kind, tol=1e-10, method="dense")
-    # the dense list is complete up to 1/sqrt(floor), the amplitude of the smallest mu^2 it can
-    # tell from zero: far beyond every tau it reports
-    assert dense.method == "structured" and dense.complete_to > dense.tau[-1]
+    # the dense list is complete up to the first real tau of either truncation that the other
+    # does not repeat to 1e-10 (the truncations' own bound, 1/sqrt(floor), lies far beyond)
+    assert dense.method == "structured"
+    big, small = (truncation_taus(system, kind, n, method="dense").tau
+                  for n in (dense.n_temporal, dense.n_previous))
+    alone = [t for a, b in ((big, small), (small, big)) for t in a
+             if np.abs(b - t).min() > 1e-10 * max(1.0, t)]
+    assert alone and dense.complete_to == min(alone) < dense.tau[-1]
+    assert set(dense.tau) == {t for t in big if np.abs(small - t).min() <= 1e-10 * max(1.0, t)}
     assert marginal_tau(system, kind, tol=1e-10).method == "structured"  # (N + 1) b < 600
     monkeypatch.setattr(marginal, "KRYLOV_MIN_ORDER", 200)
     auto = marginal_tau(system, kind, tol=1e-10)
@@ -278,3 +284,25 @@ def test_map_cell_pair_matches_qz_of_both_truncations(m, kappa, nu, kind):
     np.testing.assert_allclose(found.tau, last, rtol=1e-12)
     assert found.error_estimate == pytest.approx(max(abs(last[0] - previous[0]),
                                                      8 * np.finfo(float).eps), abs=1e-13)
+
+
+def test_an_unsettled_larger_tau_bounds_the_claim_and_every_settles_it():
+    """Fibre m = 2, nu = 2e-4, kappa = 0.172, subharmonic: the pair of truncations that settles
+    tau_min = 0.605133 moves the next tau (0.75999) by more than tol, so it is not listed and
+    the list is claimed complete only below it (it was claimed to 2.3e6). every=True raises N
+    until it settles too. Oracle: the dense truncations N = 60 and 80 (a pair far above the
+    solver's) agree on both to 1e-12."""
+    from spectralshell.models.fibre import hill_system as fibre
+    system = fibre(m=2, nu=2e-4, kappa=0.172)
+    far = [truncation_taus(system, "subharmonic", n, method="dense").tau for n in (60, 80)]
+    oracle = far[1][far[1] < 1.0]
+    np.testing.assert_allclose(far[0][:oracle.size], oracle, atol=1e-12)
+    assert oracle.size == 2
+    plain = marginal_tau(system, "subharmonic", tol=1e-10)
+    assert plain.tau.size == 1 and abs(plain.tau_min - oracle[0]) < 1e-10
+    assert plain.tau_min < plain.complete_to < oracle[1] + 1e-6
+    every = marginal_tau(system, "subharmonic", tol=1e-10, tau_max=1.0, every=True)
+    np.testing.assert_allclose(every.tau, oracle, atol=1e-10)
+    assert every.complete_to >= 1.0
+    with pytest.raises(ValueError, match="tau_max"):
+        marginal_tau(system, "subharmonic", every=True)

@@ -136,13 +136,15 @@ def test_linking_joins_a_fold_and_keeps_branches_apart():
 
 
 def test_a_branch_missed_at_the_converging_truncation_is_filled_in():
-    """Fibre m = 2, nu = 2e-4: at kappa = 0.172 the truncation N = 22 that converges tau_min
-    does not show the upper branch (tau = 0.760) that its neighbour, solved at N = 33, has. The
-    boundary re-solves kappa = 0.172 at N = 33; oracle: a fixed N = 60 solve has the same tau."""
+    """Fibre m = 2, nu = 2e-4: at kappa = 0.172 the pair of truncations that converges tau_min
+    does not settle the upper branch (tau = 0.760), so the grid row lists tau_min only, and
+    says so (complete_to at that branch). The boundary re-solves the row with every=True;
+    oracle: a fixed N = 60 solve has the same tau."""
     res = ss.tongues("fibre", m=2, nu=2e-4, kappa="0.166:0.2:18", tau_max=1.0, workers=1,
                      tips=False)
     row = res.rows[3]
     assert res.kappa[3] == pytest.approx(0.172) and row["subharmonic"].tau.size == 1
+    assert row["subharmonic"].complete_to == pytest.approx(0.76, abs=1e-3)
     at = [t for b in res.boundaries if b.kind == "subharmonic"
           for k, t in zip(b.kappa, b.tau) if k == res.kappa[3]]
     reference = ss.floquet("fibre", m=2, nu=2e-4, kappa=float(res.kappa[3]), tau_max=1.0,

@@ -1,6 +1,6 @@
 """Cochlea plots (thesis 5.4-5.6): membrane envelopes (Figs 5.8, 5.10), envelope peak against
-frequency (Fig 5.9), the zero contours of det T (Fig 5.7) and Ince-Strutt diagrams against the
-forcing frequency (Figs 5.12, 5.14) and the wavenumber (Fig 5.11)."""
+frequency (Fig 5.9), the zero contours of det T (Fig 5.7) and Ince-Strutt diagrams (traced
+boundaries) against the forcing frequency (Figs 5.12, 5.14) and the wavenumber (Fig 5.11)."""
 
 from __future__ import annotations
 
@@ -93,7 +93,11 @@ def save_det_contours(panels: Sequence[tuple[str, np.ndarray, np.ndarray, np.nda
         ax.contour(re, im, det.imag, levels=[0.0], colors="tab:red", linewidths=0.7)
         ax.plot([], [], color="tab:blue", linewidth=1.8, label="Re det T = 0")
         ax.plot([], [], color="tab:red", linewidth=0.7, label="Im det T = 0")
-        ax.plot(modes.real, modes.imag, "ko", mfc="none", markersize=6, clip_on=False,
+        # markers are unclipped so that those on an edge stay whole; modes beyond the plotted
+        # range are left out (unclipped, they would be drawn far outside and break the layout)
+        shown = modes[(modes.real >= re.min()) & (modes.real <= re.max())
+                      & (modes.imag >= im.min()) & (modes.imag <= im.max())]
+        ax.plot(shown.real, shown.imag, "ko", mfc="none", markersize=6, clip_on=False,
                 label="computed modes (both zero)")
         ax.set_xlim(re.min(), re.max())
         ax.set_ylim(im.min(), im.max())
@@ -123,31 +127,6 @@ def _finger_axes(ax, title: str, *, tau_max: float, x_range, xlabel: str) -> Non
     ax.set_title(title, fontsize=9)
 
 
-def _fingers(ax, title: str, points, *, tau_max: float, x_range, xlabel: str) -> None:
-    """One Ince-Strutt panel of points: {kind: (x points, tau points)} with harmonic '+',
-    subharmonic 'o', the tau = 1/2 line, labels and legend."""
-    for kind, (x, tau) in points.items():
-        keep = tau <= tau_max
-        ax.plot(x[keep], tau[keep], markersize=3, **TAU_STYLE[kind])
-    _finger_axes(ax, title, tau_max=tau_max, x_range=x_range, xlabel=xlabel)
-    ax.legend(fontsize=7, loc="upper left")
-
-
-def save_tau_against_omega(panels: Sequence[tuple[str, dict[str, tuple[np.ndarray, np.ndarray]]]],
-                           path: str | Path, *, tau_max: float = 1.0, columns: int = 1,
-                           omega_range: tuple[float, float] | None = None) -> Path:
-    """Ince-Strutt diagrams against the forcing frequency (Figs 5.12, 5.14): per panel
-    (title, {kind: (omega points, tau points)}), harmonic '+', subharmonic 'o', tau = 1/2 line."""
-    rows = -(-len(panels) // columns)
-    fig, axes = subplots(rows, columns, figsize=(6.0 * columns, 3.6 * rows), squeeze=False)
-    for ax, (title, points) in zip(axes.flat, panels):
-        _fingers(ax, title, points, tau_max=tau_max, x_range=omega_range,
-                 xlabel="forcing frequency ω (rad/s)")
-    for ax in list(axes.flat)[len(panels):]:
-        ax.set_visible(False)
-    return save_figure(fig, path, dpi=120)
-
-
 def save_convergence(series: Sequence[tuple[str, np.ndarray, dict[str, np.ndarray]]],
                      path: str | Path) -> Path:
     """Error estimates |tau(2n) - tau(n)| against the truncation n (Figs 5.5, 5.6): per panel
@@ -164,33 +143,57 @@ def save_convergence(series: Sequence[tuple[str, np.ndarray, dict[str, np.ndarra
     return save_figure(fig, path, dpi=120)
 
 
-def save_tau_against_wavenumber(panels: Sequence[tuple[str, Sequence[Boundary], Sequence[str],
-                                                       Sequence[tuple[str, float, float]],
-                                                       dict[int, float]]],
-                                path: str | Path, *, tau_max: float = 1.0,
-                                k_range: tuple[float, float] | None = None) -> Path:
-    """Ince-Strutt diagrams against the spatial wavenumber k (Fig 5.11): per panel (title,
-    traced boundaries (k as kappa), kinds, finger tips [(kind, k, tau)], {integer k: tau_min
-    <= 1/2}), each kind's boundaries as curves with its unstable region shaded
+#: Legend entries of a traced diagram at most: per kind boundary, unstable region, tips and
+#: points, the tau = 1/2 line and the integer-k segments.
+LEGEND_ENTRIES = 10
+
+
+def save_traced(panels: Sequence[tuple], path: str | Path, *, xlabel: str,
+                tau_max: float = 1.0, columns: int | None = None,
+                x_range: tuple[float, float] | None = None) -> Path:
+    """Ince-Strutt diagrams against a parameter of the cochlea (the wavenumber k, Fig 5.11; the
+    forcing frequency omega, Figs 5.12 and 5.14): per panel (title, traced boundaries (the
+    parameter as kappa), kinds, finger tips [(kind, x, tau)], {integer k: tau_min <= 1/2}),
+    each kind's boundaries as curves with its unstable region shaded
     (:func:`spectralshell.plots.ince_strutt.draw_boundaries`), the tips as black markers, the
     tau = 1/2 line, at each integer (physical) wavenumber unstable below it a vertical green
-    segment from tau_min to 1/2, and one legend below the panels."""
+    segment from tau_min to 1/2 (only where the dict is not empty), one legend below the panels;
+    a panel (title, {kind: (x, tau)}) is drawn as points (harmonic '+', subharmonic 'o');
+    ``columns`` panels per row (default: all in one row)."""
     from .ince_strutt import draw_boundaries, legend_entries
 
-    fig, axes = subplots(1, len(panels), figsize=(6.0 * len(panels), 4.6), squeeze=False)
-    for ax, (title, boundaries, kinds, tips, unstable) in zip(axes[0], panels):
+    columns = columns or len(panels)
+    rows = -(-len(panels) // columns)
+    legend_columns = min(4, 2 * columns)
+    below = 0.3 + 0.2 * -(-LEGEND_ENTRIES // legend_columns)  # inches for the legend
+    fig, axes = subplots(rows, columns, figsize=(6.0 * columns, 3.9 * rows + below),
+                         squeeze=False)
+    for ax, panel in zip(axes.flat, panels):
+        if len(panel) == 2:
+            title, points = panel
+            for kind, (x, tau) in points.items():
+                keep = tau <= tau_max
+                ax.plot(x[keep], tau[keep], markersize=3,
+                        **{**TAU_STYLE[kind], "label": f"{kind} marginal τ (points)"})
+            _finger_axes(ax, title, tau_max=tau_max, x_range=x_range, xlabel=xlabel)
+            continue
+        title, boundaries, kinds, tips, unstable = panel
         for kind in kinds:
             draw_boundaries(ax, boundaries, kind, tau_max=tau_max)
-        for kind, k, tau in tips:
-            ax.plot(k, tau, marker=TAU_STYLE[kind]["marker"], color="k", markersize=7,
+        for kind, x, tau in tips:
+            ax.plot(x, tau, marker=TAU_STYLE[kind]["marker"], color="k", markersize=7,
                     linestyle="none", mfc="k", zorder=4, label=f"{kind} finger tips")
         for k, tau in unstable.items():
             ax.plot([k, k], [tau, 0.5], color="tab:green", linewidth=2.2)
-        ax.plot([], [], color="tab:green", linewidth=2.2, label="integer k unstable for τ ≤ 1/2")
-        _finger_axes(ax, title, tau_max=tau_max, x_range=k_range,
-                     xlabel="spatial wavenumber k (cosine mode cos kx; physical modes: integers)")
-    fig.legend(*legend_entries(axes.flat), loc="lower center", ncol=4, fontsize=8, frameon=False)
-    return save_figure(fig, path, dpi=120, rect=(0, 0.11, 1, 1))
+        if unstable:
+            ax.plot([], [], color="tab:green", linewidth=2.2,
+                    label="integer k unstable for τ ≤ 1/2")
+        _finger_axes(ax, title, tau_max=tau_max, x_range=x_range, xlabel=xlabel)
+    for ax in list(axes.flat)[len(panels):]:
+        ax.set_visible(False)
+    fig.legend(*legend_entries(axes.flat), loc="lower center", ncol=legend_columns, fontsize=8,
+               frameon=False)
+    return save_figure(fig, path, dpi=120, rect=(0, below / (3.9 * rows + below), 1, 1))
 
 
 def save_tau_maps(panels: Sequence[tuple[str, "xr.Dataset"]], path: str | Path, *,

@@ -207,36 +207,62 @@ def _cochlea_peaks(out: Path, *, progress: bool, **_) -> list[Path]:
     return [png, _write_json(out / "fig-5.9.json", data)]
 
 
-def _tau_points(results: list, omegas: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    points = {}
-    for kind in ("harmonic", "subharmonic"):
-        om = [np.full(getattr(r, kind).tau.size, w) for r, w in zip(results, omegas)]
-        points[kind] = (np.concatenate(om), np.concatenate([getattr(r, kind).tau for r in results]))
-    return points
+def _traced(factory, grid: np.ndarray, options: dict, name: str, desc: str, *, progress: bool,
+            workers: int | None) -> tuple[tuple, dict]:
+    """The Ince-Strutt diagram of the family ``factory`` over ``grid`` (the parameter ``name``)
+    through :func:`spectralshell.runner.floquet.ince_strutt`: (boundaries, tips as
+    (kind, x, tau)) for :func:`spectralshell.plots.cochlea.save_traced`, and its JSON record
+    (grid, every tau per kind, tips with errors, boundaries, tips not located)."""
+    from ..runner.floquet import ince_strutt
+
+    rows, tips, failures, boundaries = ince_strutt(factory, grid, KINDS, options, workers=workers,
+                                                   progress=progress, desc=desc)
+    record = {name: grid.tolist(),
+              "tau": {kind: [r[kind].tau.tolist() for r in rows] for kind in KINDS},
+              "tips": [{"kind": t.kind, name: t.kappa, "tau": t.tau, f"{name}_error": t.kappa_error,
+                        "tau_error": t.tau_error} for t in tips],
+              "boundaries": [{"kind": b.kind, name: b.kappa.tolist(), "tau": b.tau.tolist()}
+                             for b in boundaries],
+              "tip_failures": failures}
+    return (boundaries, [(t.kind, t.kappa, t.tau) for t in tips]), record
 
 
-def _cochlea_uniform(out: Path, *, progress: bool, **_) -> list[Path]:
-    """Fig 5.12: marginal tau against omega for the single modes k = 1..6, alpha = 0 (Table 5.1)."""
+KINDS = ("harmonic", "subharmonic")
+#: The cochlea's Ince-Strutt figures: every tau <= 1 to 1e-8 (drawing accuracy).
+COCHLEA_DIAGRAM = {"tol": 1e-8, "tau_max": 1.0}
+
+
+def _cochlea_uniform(out: Path, *, progress: bool, workers: int | None = None,
+                     **_) -> list[Path]:
+    """Fig 5.12: the boundaries of marginal tau <= 1 against omega in [200, 2000] rad/s for the
+    single modes k = 1..6, alpha = 0 (Table 5.1), traced (runner.floquet.ince_strutt over the
+    family omega -> system, the cgs omega converted as floquet does)."""
+    import functools
+
     from ..plots import cochlea as cochlea_plots
+    from ..runner.floquet import family_system
 
     omegas = np.linspace(200.0, 2000.0, 181)
     panels, data = [], {}
     for k in range(1, 7):
-        res = [floquet("cochlea", omega=w, alpha=0.0, spatial_mode=k, tau_max=1.0)
-               for w in tracked(omegas, f"fig-5.12 k = {k}", "ω", progress)]
-        panels.append((f"k = {k}, α = 0", _tau_points(res, omegas)))
-        data[k] = [r.to_dict() for r in res]
-    png = cochlea_plots.save_tau_against_omega(panels, out / "fig-5.12.png", columns=2,
-                                               omega_range=(omegas[0], omegas[-1]))
+        factory = functools.partial(family_system, "cochlea", {"alpha": 0.0, "spatial_mode": k},
+                                    "omega")
+        (boundaries, tips), data[k] = _traced(factory, omegas, COCHLEA_DIAGRAM, "omega",
+                                              f"fig-5.12 k = {k}", progress=progress,
+                                              workers=workers)
+        panels.append((f"k = {k}, α = 0", boundaries, KINDS, tips, {}))
+    png = cochlea_plots.save_traced(panels, out / "fig-5.12.png", columns=2,
+                                    xlabel="forcing frequency ω (rad/s)",
+                                    x_range=(omegas[0], omegas[-1]))
     return [png, _write_json(out / "fig-5.12.json", {"omega": omegas.tolist(), "modes": data})]
 
 
-def _cochlea_wavenumber(out: Path, *, progress: bool, **_) -> list[Path]:
+def _cochlea_wavenumber(out: Path, *, progress: bool, workers: int | None = None,
+                        **_) -> list[Path]:
     """Fig 5.11: every real marginal tau <= 1 against a continuous wavenumber k in (0, 12],
     alpha = 0, omega = 500 and 1000 rad/s (Table 5.1), with the finger tips and the integer
     wavenumbers unstable for tau <= 1/2. The grid, the tips and the traced boundaries come from
-    the Ince-Strutt engine (runner.map_points, solvers.tongues.find_tips,
-    runner.floquet.trace_boundaries) run over the 1-parameter family
+    the Ince-Strutt engine (runner.floquet.ince_strutt) run over the 1-parameter family
     models.cochlea.wavenumber_system (k in place of kappa)."""
     import functools
 
@@ -244,59 +270,73 @@ def _cochlea_wavenumber(out: Path, *, progress: bool, **_) -> list[Path]:
     from ..params.physical import TABLE_5_1, cochlea_forced
     from ..plots import cochlea as cochlea_plots
     from ..runner import map_points
-    from ..runner.floquet import trace_boundaries
-    from ..solvers.tongues import find_tips
 
-    kinds, options = ("harmonic", "subharmonic"), {"tol": 1e-8, "tau_max": 1.0}
     k_grid, integers = np.linspace(0.02, 12.0, 600), np.arange(1.0, 13.0)
     base = {k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")}
     panels, data = [], {}
     for omega in (500.0, 1000.0):
         d = cochlea_forced(**base, omega=omega)
         factory = functools.partial(wavenumber_system, kappa=d["kappa"], nu=d["nu"])
-        rows = map_points(factory, list(k_grid), kinds, executor="serial", progress=progress,
-                          desc=f"fig-5.11, ω = {omega:g}", **options)
-        tips, failures = find_tips(factory, k_grid, rows, kinds, tol=options["tol"])
-        boundaries = trace_boundaries(factory, k_grid, rows, tips, kinds, workers=1,
-                                      progress=progress, options=options)
-        at_integers = map_points(factory, list(integers), kinds, executor="serial", **options)
-        tau_min = {int(k): min((r[kind].tau_min for kind in kinds if r[kind].tau_min is not None),
+        (boundaries, tips), record = _traced(factory, k_grid, COCHLEA_DIAGRAM, "k",
+                                             f"fig-5.11, ω = {omega:g}", progress=progress,
+                                             workers=workers)
+        at_integers = map_points(factory, list(integers), KINDS, executor="serial",
+                                 **COCHLEA_DIAGRAM)
+        tau_min = {int(k): min((r[kind].tau_min for kind in KINDS if r[kind].tau_min is not None),
                                default=None) for k, r in zip(integers, at_integers)}
         unstable = {k: t for k, t in tau_min.items() if t is not None and t <= 0.5}
         panels.append((f"ω = {omega:g} rad/s, α = 0 (κ = {d['kappa']:.4g}, ν = {d['nu']:.3g})",
-                       boundaries, kinds, [(t.kind, t.kappa, t.tau) for t in tips], unstable))
+                       boundaries, KINDS, tips, unstable))
         data[str(omega)] = {
-            "kappa": d["kappa"], "nu": d["nu"], "k": k_grid.tolist(),
-            "tau": {kind: [r[kind].tau.tolist() for r in rows] for kind in kinds},
-            "tips": [{"kind": t.kind, "k": t.kappa, "tau": t.tau, "k_error": t.kappa_error,
-                      "tau_error": t.tau_error} for t in tips],
-            "boundaries": [{"kind": b.kind, "k": b.kappa.tolist(), "tau": b.tau.tolist()}
-                           for b in boundaries],
-            "tip_failures": failures,
+            "kappa": d["kappa"], "nu": d["nu"], **record,
             "inviscid_tips_k": [j * j / (2 * d["kappa"]) for j in range(1, 12)
                                 if j * j / (2 * d["kappa"]) <= k_grid[-1]],
             "integer_k_tau_min": {kind: {int(k): r[kind].tau_min for k, r in zip(integers, at_integers)}
-                                  for kind in kinds},
+                                  for kind in KINDS},
             "unstable_integer_k": sorted(unstable)}
-    png = cochlea_plots.save_tau_against_wavenumber(panels, out / "fig-5.11.png",
-                                                    k_range=(0.0, k_grid[-1]))
+    png = cochlea_plots.save_traced(panels, out / "fig-5.11.png", x_range=(0.0, k_grid[-1]),
+                                    xlabel="spatial wavenumber k (cosine mode cos kx; physical "
+                                    "modes: integers)")
     return [png, _write_json(out / "fig-5.11.json", data)]
 
 
-def _cochlea_graded(out: Path, *, progress: bool, **_) -> list[Path]:
-    """Fig 5.14: marginal tau against omega, alpha = 1.56, M = 5, 10 and 64 (the thesis: 250), N
-    converged to 1e-10; each point's error estimate includes |tau(M) - tau(M/2)|."""
+def _cochlea_graded(out: Path, *, progress: bool, workers: int | None = None,
+                    **_) -> list[Path]:
+    """Fig 5.14: the boundaries of marginal tau <= 1 against omega in [400, 1600] rad/s,
+    alpha = 1.56, at M = 5, 10 and 64 spatial modes (the thesis: 250), N converged to 1e-8
+    (:data:`COCHLEA_DIAGRAM`): the three panels show the convergence in M. M = 5 and 10 are
+    traced (:func:`_traced`); at M = 64 the pairs of truncations prove the list of tau complete
+    only up to ~0.35 (a forest of fingers whose eigenvalues near the real axis do not settle
+    up to N = 400), so a curve cannot be followed through, and the panel shows the tau of the
+    grid as points."""
+    import functools
+
     from ..plots import cochlea as cochlea_plots
+    from ..runner import map_points
+    from ..runner.floquet import family_system
 
     omegas = np.linspace(400.0, 1600.0, 61)
     panels, data = [], {}
     for M in (5, 10, 64):
-        res = [floquet("cochlea", omega=w, n_spatial=M, tau_max=1.0)
-               for w in tracked(omegas, f"fig-5.14 M = {M}", "ω", progress)]
-        panels.append((f"α = 1.56, M = {M}", _tau_points(res, omegas)))
-        data[M] = [r.to_dict() for r in res]
-    png = cochlea_plots.save_tau_against_omega(panels, out / "fig-5.14.png",
-                                               omega_range=(omegas[0], omegas[-1]))
+        factory = functools.partial(family_system, "cochlea", {"n_spatial": M}, "omega")
+        title, desc = f"α = 1.56, M = {M}", f"fig-5.14 M = {M}"
+        if M < 64:
+            (boundaries, tips), data[M] = _traced(factory, omegas, COCHLEA_DIAGRAM, "omega", desc,
+                                                  progress=progress, workers=workers)
+            panels.append((title, boundaries, KINDS, tips, {}))
+            continue
+        rows = map_points(factory, list(omegas), KINDS, executor="serial", progress=progress,
+                          desc=desc, **COCHLEA_DIAGRAM)
+        data[M] = {"omega": omegas.tolist(), "tau": {kind: [r[kind].tau.tolist() for r in rows]
+                                                     for kind in KINDS},
+                   "complete_to": {kind: [r[kind].complete_to for r in rows] for kind in KINDS}}
+        panels.append((title + " (points: the list is complete only up to ~0.35)",
+                       {kind: (np.concatenate([np.full(r[kind].tau.size, w)
+                                               for r, w in zip(rows, omegas)]),
+                               np.concatenate([r[kind].tau for r in rows])) for kind in KINDS}))
+    png = cochlea_plots.save_traced(panels, out / "fig-5.14.png",
+                                    xlabel="forcing frequency ω (rad/s)",
+                                    x_range=(omegas[0], omegas[-1]), columns=1)
     return [png, _write_json(out / "fig-5.14.json", {"omega": omegas.tolist(), "n_spatial": data})]
 
 

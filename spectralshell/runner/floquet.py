@@ -226,8 +226,29 @@ def _map(factory, points: list, kinds: tuple[str, ...], workers: int | None, pro
                       desc=desc, **options)
 
 
-def _factory(model: str, params: dict[str, Any], kappa: float) -> HillSystem:
-    return _system(model, {**params, "kappa": kappa})[1]
+def family_system(model: str, params: Mapping[str, Any], name: str, value: float) -> HillSystem:
+    """The Hill system of ``model`` at ``params`` with ``name`` = ``value``: one member of a
+    one-parameter family (``name`` a model parameter, or a cgs input such as the cochlea's
+    omega, converted as :func:`floquet` converts it); picklable through functools.partial."""
+    values, _ = physical_values(model, {**params, name: value})
+    return _system(model, values)[1]
+
+
+def ince_strutt(factory, grid: np.ndarray, kinds: tuple[str, ...], options: dict[str, Any], *,
+                tips: bool = True, boundaries: bool = True, workers: int | None = None,
+                progress: bool = False, desc: str = "tongues") -> tuple[list, list, list, tuple]:
+    """The Ince-Strutt diagram of the family ``factory`` over ``grid``: (rows: the marginal tau
+    of each kind at each grid value, the finger tips (:func:`~spectralshell.solvers.tongues.
+    find_tips`), the tips that could not be located (messages), the traced boundaries
+    (:func:`trace_boundaries`)); ``tips``/``boundaries`` False skip those. The one engine of
+    :func:`tongues` (kappa) and of the figures drawn against another parameter (the cochlea's
+    omega and wavenumber k)."""
+    rows = _map(factory, list(grid), kinds, workers, progress, desc, options)
+    found, failures = (find_tips(factory, grid, rows, kinds, tol=options["tol"]) if tips
+                       else ([], []))
+    traced = trace_boundaries(factory, grid, rows, found, kinds, workers=workers,
+                              progress=progress, options=options) if boundaries else ()
+    return rows, found, failures, traced
 
 
 def _grid(name: str, spec: Any, max_points: int | None) -> np.ndarray:
@@ -272,11 +293,10 @@ def tongues(model: str, *, kappa: str | Mapping[str, Any] | Sequence[float] | np
     check_grid("kappa", (grid.size,), RESULT_BYTES, max_points)
     for k in (grid.min(), grid.max()):
         make_params(model, {**params, "kappa": k})
-    factory = functools.partial(_factory, model, dict(params))
-    rows = _map(factory, list(grid), kinds, workers, progress, "tongues", options)
-    found, failures = find_tips(factory, grid, rows, kinds, tol=options["tol"]) if tips else ([], [])
-    traced = trace_boundaries(factory, grid, rows, found, kinds, workers=workers,
-                              progress=progress, options=options) if boundaries else ()
+    factory = functools.partial(family_system, model, dict(params), "kappa")
+    rows, found, failures, traced = ince_strutt(factory, grid, kinds, options, tips=tips,
+                                                boundaries=boundaries, workers=workers,
+                                                progress=progress)
     warnings = threshold_warnings({k: [r[k].tau_min for r in rows] for k in kinds}) + failures
     p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
     p.pop("kappa")
@@ -298,28 +318,30 @@ def trace_boundaries(factory, grid: np.ndarray, rows: list, tips: list, kinds: t
     tips, ``options``: the solver's) (:func:`~spectralshell.solvers.tongues.link_boundaries`)
     through the grid's marginal tau, the finger tips' kappa and the kappa added by bisection
     where neighbouring values cannot be linked (:func:`~spectralshell.solvers.tongues.
-    refinement_points`), every added kappa solved as the grid's points are (one where the
-    solver does not converge is left out, its interval unrefined); traced up to tau_max
-    (BOUNDARY_TAU_MAX where there is none)."""
+    refinement_points`), traced up to tau_max (BOUNDARY_TAU_MAX where there is none).
+
+    A curve follows every tau up to that cap, not only tau_min: each added kappa, and each grid
+    point whose list is not complete up to the cap (``complete_to``), is solved with
+    ``every=True`` (:func:`~spectralshell.solvers.marginal.marginal_tau`), which raises N until
+    every tau below the cap has converged. A point where that does not converge keeps its grid
+    row (its curve may end there); an added kappa where it does not is left out, its interval
+    unrefined."""
     cap = options.get("tau_max") if options.get("tau_max") is not None else BOUNDARY_TAU_MAX
+    wanted = {**options, "tau_max": cap}
+    if options.get("n_temporal") is None:
+        wanted["every"] = True
     min_dkappa = BOUNDARY_MIN_DKAPPA * float(grid.max() - grid.min())
-    solved, failed, tried = dict(zip(grid.tolist(), rows)), set(), set()
+    solved, failed = dict(zip(grid.tolist(), rows)), set()
+    short = [k for k, row in solved.items()
+             if any(row[kind].complete_to < cap for kind in kinds)]
     # a tip within rounding of a grid point is that point (one vertex where the sides meet)
     extra = sorted({float(t.kappa) for t in tips
                     if np.min(np.abs(grid - t.kappa)) > 1e-9 * min_dkappa})
     for _ in range(BOUNDARY_ROUNDS + 1):
-        if extra:
-            try:
-                solved.update(zip(extra, _map(factory, extra, kinds, workers, progress,
-                                              "tongue boundaries", options)))
-            except ConvergenceError:  # one at a time: keep the points that converge
-                for k in extra:
-                    try:
-                        solved[k] = solve_kinds(factory(k), kinds, options)
-                    except ConvergenceError:
-                        failed.add(k)
-        for kind in kinds:
-            _fill_gaps(factory, solved, kind, cap, options, tried)
+        todo = short + extra
+        if todo:
+            solved.update(_solve_some(factory, todo, kinds, workers, progress, wanted, failed))
+        short = []
         kappas = np.array(sorted(solved))
         taus = {kind: [boundary_taus(solved[k][kind], cap) for k in kappas] for kind in kinds}
         extra = sorted({k for kind in kinds for k in refinement_points(
@@ -329,40 +351,21 @@ def trace_boundaries(factory, grid: np.ndarray, rows: list, tips: list, kinds: t
     return tuple(b for kind in kinds for b in link_boundaries(kind, kappas, taus[kind]))
 
 
-def _fill_gaps(factory, solved: dict, kind: str, cap: float, options: dict[str, Any],
-               tried: set) -> None:
-    """Re-solve, at the neighbour's larger truncation N (fixed), each kappa of ``solved`` that
-    has fewer marginal tau <= ``cap`` of ``kind`` than its neighbour and was converged at a
-    smaller N, keeping the new values where there are more of them; repeated until none is
-    added (``tried``: the (kappa, kind, N) already solved).
-
-    The convergence test of tau_min does not prove a larger tau complete: a branch above it
-    may be found only from some N on (e.g. the fibre, m = 2, nu = 2e-4: tau = 0.760 at kappa
-    = 0.172 appears from N = 33, not at the N = 22 that converges tau_min = 0.605), and a
-    boundary would end in mid-air where a neighbour was solved at the smaller N."""
-    while True:
-        kappas = sorted(solved)
-        wanted: dict[float, int] = {}
-        for left, right in zip(kappas[:-1], kappas[1:]):
-            a, b = solved[left][kind], solved[right][kind]
-            if boundary_taus(a, cap).size == boundary_taus(b, cap).size or \
-                    a.n_temporal == b.n_temporal:
-                continue
-            low, n = (left, b.n_temporal) if a.n_temporal < b.n_temporal else (right, a.n_temporal)
-            if (low, kind, n) not in tried:
-                wanted[low] = max(wanted.get(low, 0), n)
-        added = False
-        for k, n in wanted.items():
-            tried.add((k, kind, n))
+def _solve_some(factory, points: list, kinds: tuple[str, ...], workers: int | None,
+                progress: bool, options: dict[str, Any], failed: set) -> dict:
+    """kappa -> marginal tau of each kind for the ``points`` that converge (all at once through
+    the sweep runner, else one at a time); the others are added to ``failed``."""
+    try:
+        return dict(zip(points, _map(factory, points, kinds, workers, progress,
+                                     "tongue boundaries", options)))
+    except ConvergenceError:  # one at a time: keep the points that converge
+        out = {}
+        for k in points:
             try:
-                new = solve_kinds(factory(k), (kind,), {**options, "n_temporal": n})[kind]
+                out[k] = solve_kinds(factory(k), kinds, options)
             except ConvergenceError:
-                continue
-            if boundary_taus(new, cap).size > boundary_taus(solved[k][kind], cap).size:
-                solved[k] = {**solved[k], kind: new}
-                added = True
-        if not added:
-            return
+                failed.add(k)
+        return out
 
 
 def _map_axis(model: str, label: str, axis: object, physical: bool,

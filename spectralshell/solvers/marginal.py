@@ -114,7 +114,7 @@ import scipy.linalg as sla
 
 from .._threads import one_blas_thread
 from ..discretise.hill import HillMatrices, assemble
-from ..errors import ConvergenceError
+from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
 from ..results.records import MarginalTau
 from . import tridiagonal
@@ -460,21 +460,51 @@ def _matched(tau: np.ndarray, previous: np.ndarray, tol: float) -> np.ndarray:
     return tau[dist <= tol * np.maximum(1.0, tau)]
 
 
+def _tau_min_error(tau: np.ndarray, prev: np.ndarray, spread: float) -> float | None:
+    """The error estimate of tau_min: its change between the truncations (at least ``spread`` and
+    8 eps), the whole value where only the larger truncation has one, None where it has none."""
+    if tau.size and prev.size:
+        return float(max(abs(float(tau[0] - prev[0])), spread, 8 * EPS * max(1.0, tau[0])))
+    return float(tau[0]) if tau.size else None
+
+
+def unconfirmed(tau: np.ndarray, prev: np.ndarray, tol: float, tau_max: float) -> float:
+    """The smallest tau <= ``tau_max`` of either truncation (``tau``, ``prev``) with no partner
+    within ``tol`` (relative above 1) in the other, inf if every one has one (a partner may lie
+    just above ``tau_max``).
+
+    A real tau seen at one truncation only, or moving by more than ``tol`` between the two, is
+    not reported (:func:`_result`); the list is then complete only below it, whatever the
+    eigenvalue count proves (e.g. the fibre, m = 2, nu = 2e-4, kappa = 0.172, subharmonic: the
+    second tau is 0.7602 at N = 12 and 0.75999 from N = 17 on, while tau_min = 0.605133 settles
+    at N = 15)."""
+    out = np.inf
+    for a, b in ((_capped(tau, tau_max), prev), (_capped(prev, tau_max), tau)):
+        if not a.size:
+            continue
+        dist = (np.abs(a[:, None] - b[None, :]).min(axis=1) if b.size
+                else np.full(a.size, np.inf))
+        loose = a[dist > tol * np.maximum(1.0, a)]
+        if loose.size:
+            out = min(out, float(loose.min()))
+    return out
+
+
 def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_max,
             bound: float) -> MarginalTau:
-    tau, prev, spread = _capped(found.tau, tau_max), _capped(previous.tau, tau_max), found.spread
-    if tau.size and prev.size:
-        err = float(max(abs(float(tau[0] - prev[0])), spread, 8 * EPS * max(1.0, tau[0])))
-    elif tau.size:
-        err = float(tau[0])  # nothing to compare with: the whole value is uncertain
-    else:
-        err = None
-    kept = _matched(tau, prev, max(tol, err or 0.0))
+    """The answer of a pair of truncations: tau_min of ``found`` with its error estimate, the tau
+    that reappear in ``previous`` within max(tol, error), and ``complete_to``: the pair's
+    certified ``bound``, lowered to the smallest tau left out (:func:`unconfirmed`)."""
+    tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
+    err = _tau_min_error(tau, prev, found.spread)
+    match = max(tol, err or 0.0)
+    kept = _matched(tau, prev, match)
     if tau.size and (not kept.size or kept[0] != tau[0]):
         kept = np.concatenate([tau[:1], kept[kept > tau[0]]])
     return MarginalTau(kind=kind, tau=kept, tau_min=float(tau[0]) if tau.size else None,
                        n_temporal=n, n_previous=n_prev, error_estimate=err, method=found.method,
-                       complete_to=bound)
+                       complete_to=min(bound, unconfirmed(found.tau, previous.tau, match,
+                                                                     tau_max)))
 
 
 def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
@@ -482,28 +512,42 @@ def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
 
 
 def converged_pair(found: Truncation, previous: Truncation, tol: float,
-                   tau_max: float) -> bool:
+                   tau_max: float, every: bool = False) -> bool:
     """The convergence test of two successive truncations (the larger one ``found``): both have
     a tau_min <= tau_max, they differ by less than ``tol``, and the pair certifies that no smaller
     real tau exists (:func:`certified_bound` >= tau_min); or neither has one and the pair
-    certifies that none exists up to a finite ``tau_max``."""
-    return _passes(found, previous, tol, tau_max, certified_bound(found, previous))
+    certifies that none exists up to a finite ``tau_max``. With ``every``, also each other
+    tau <= tau_max reappears within ``tol`` and the pair certifies the list complete up to
+    ``tau_max`` (:func:`unconfirmed`)."""
+    return _passes(found, previous, tol, tau_max, certified_bound(found, previous), every)
 
 
 def _passes(found: Truncation, previous: Truncation, tol: float, tau_max: float,
-            bound: float) -> bool:
+            bound: float, every: bool = False) -> bool:
     """:func:`converged_pair` given the pair's :func:`certified_bound` ``bound``."""
     tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
+    if every and min(bound, unconfirmed(found.tau, previous.tau, tol, tau_max)) < tau_max:
+        return False
     if tau.size and prev.size:
         return abs(float(tau[0] - prev[0])) < tol and bound >= tau[0]
     return not tau.size and not prev.size and math.isfinite(tau_max) and bound >= tau_max
 
 
 def _not_converged(kind: str, found: Truncation, previous: Truncation, n: int, tol: float,
-                   tau_max: float, bound: float) -> ConvergenceError:
+                   tau_max: float, bound: float, every: bool = False) -> ConvergenceError:
     """Why the last pair of truncations failed :func:`converged_pair` (``bound``: its
     :func:`certified_bound`), and what to change."""
     tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
+    first = unconfirmed(found.tau, previous.tau, tol, tau_max)
+    if every and _passes(found, previous, tol, tau_max, bound):
+        why = (f"the marginal tau near {first:.6g} moves by more than tol between the last two "
+               "truncations, or appears in only one" if first <= bound else
+               "their eigenvalues near the real axis do not settle (an ill-conditioned Hill "
+               "pencil)")
+        return ConvergenceError(
+            f"{kind} tau_min has converged to tol={tol:g} by n_temporal={n}, but the list of "
+            f"every tau <= tau_max={tau_max:g} (every=True) is proved complete only up to "
+            f"{min(first, bound):.4g}: {why}; lower tau_max= below it, or relax tol=")
     if not tau.size and not prev.size:
         return ConvergenceError(
             f"{kind}: no marginal tau found up to n_temporal={n}, but that is proved only for "
@@ -535,7 +579,7 @@ def _not_converged(kind: str, found: Truncation, previous: Truncation, n: int, t
 def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                  n_temporal: int | None = None, n_max: int = N_MAX,
                  tau_max: float = np.inf, method: str = "auto",
-                 hint: float | None = None) -> MarginalTau:
+                 hint: float | None = None, every: bool = False) -> MarginalTau:
     """Marginal amplitudes tau of one Floquet kind, converged in the truncation N.
 
     Parameters
@@ -562,12 +606,19 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         where the shift-invert cover of a big truncation with finite ``tau_max`` starts
         (:func:`truncation_taus`); later truncations start from the previous one's shifts, or
         its tau_min. Only speed depends on it.
+    every : with ``n_temporal=None``, also raise N until every tau <= tau_max (finite) has
+        converged to ``tol`` and the list is complete up to tau_max (``complete_to`` >=
+        tau_max), not only tau_min: what a boundary tracer needs, whose curves follow the
+        larger tau too.
 
     Raises
     ------
     ConvergenceError : no pair of truncations up to N = ``n_max`` passes the test; the message
         says which part failed and what to change.
     """
+    if every and not math.isfinite(tau_max):
+        raise ParameterError(f"tau_max = {tau_max} is invalid with every=True: must be finite "
+                             "(every tau up to it is converged)")
     pencils = Pencils(system, kind)
     start = {"hint": hint, "plan": ()}  # continuation from one truncation to the next
 
@@ -600,8 +651,8 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         n = min(finer(n_prev), n_max)
         found = solve(n)
         bound = certified_bound(found, previous)  # once per pair: O(N^2) for Mathieu
-        if _passes(found, previous, tol, tau_max, bound):
+        if _passes(found, previous, tol, tau_max, bound, every):
             return _result(kind, found, previous, n, n_prev, tol, tau_max, bound)
         if n >= n_max:
-            raise _not_converged(kind, found, previous, n, tol, tau_max, bound)
+            raise _not_converged(kind, found, previous, n, tol, tau_max, bound, every)
         previous, n_prev = found, n

@@ -18,7 +18,7 @@ from ..discretise.hill import assemble
 from ..errors import ConvergenceError
 from ..models.base import HillSystem
 from ..results.records import Boundary, MarginalTau, Tip
-from .marginal import marginal_tau, solve_truncation
+from .marginal import ZERO_CLUSTER, marginal_tau, solve_truncation
 
 SystemFactory = Callable[[float], HillSystem]
 
@@ -74,6 +74,12 @@ def refine_tip(factory: SystemFactory, kind: str, lo: float, hi: float, tau_gues
     The tracked eigenvalue is the real tau nearest to ``tau_guess`` at the truncation that
     converges tau_min at the bracket's centre (plus 4, for margin).
 
+    The root is accepted as a tip only where the tracked tau is continuous there: no larger than
+    ``tau_guess`` and with |d tau/d kappa| <= TIP_SLOPE x the bracket's end slopes (or the
+    zero plateau); otherwise the tracked value jumped between branches (a finger narrower than
+    the grid step, e.g. the cochlea's k = 1 subharmonic finger near omega = 345 rad/s on a
+    10 rad/s grid, where the jump sat at tau = 0.68 above a bottom near 0.15).
+
     Raises
     ------
     ConvergenceError : the finger cannot be tracked across the bracket.
@@ -102,6 +108,16 @@ def refine_tip(factory: SystemFactory, kind: str, lo: float, hi: float, tau_gues
     kappa = lo if g_lo == 0.0 else hi if g_hi == 0.0 else brentq(slope, lo, hi, xtol=xtol, rtol=rtol)
     kappa_error = 2 * (xtol + rtol * abs(kappa))
     plateau = tracked(kappa) == 0.0
+    at = tracked(kappa)
+    if not plateau and (at > tau_guess + max(tol, 1e-9) or (  # a corner at tau = 0 may be steep
+            at > ZERO_CLUSTER and abs(slope(kappa)) > TIP_SLOPE * max(abs(g_lo), abs(g_hi)))):
+        # the tracked tau jumped between branches inside the bracket (a finger narrower than
+        # the grid step, one of whose sides the bracket misses): the root is that jump
+        raise ConvergenceError(
+            f"{kind} finger near kappa in [{lo:.6g}, {hi:.6g}]: the tau nearest {tau_guess:.6g} "
+            f"jumps to another branch inside the bracket (at kappa = {kappa:.10g}, tau = "
+            f"{at:.6g}, above the sampled minimum or with slope {slope(kappa):.3g}): the finger "
+            "is narrower than the grid step; refine the grid to locate its tip")
     if plateau:  # a multiple zero, merged by the QZ path: bisect its extent
         left = _bisect(lambda k: tracked(k) == 0.0, lo, kappa)
         right = _bisect(lambda k: tracked(k) != 0.0, kappa, hi)
@@ -116,6 +132,11 @@ def refine_tip(factory: SystemFactory, kind: str, lo: float, hi: float, tau_gues
     tau_error = max(float(res.error_estimate or 0.0), 8 * np.finfo(float).eps * max(tau, 1.0), spread)
     return Tip(kind=kind, kappa=float(kappa), tau=tau, kappa_error=float(kappa_error),
                tau_error=tau_error)
+
+
+#: A located tip's |d tau/d kappa| is at most this fraction of its bracket's end slopes
+#: (:func:`refine_tip`; Brent's root to 1e-14 in kappa leaves ~1e-12 of them at a smooth minimum).
+TIP_SLOPE = 1e-6
 
 
 def find_tips(factory: SystemFactory, kappas: np.ndarray, rows: list[dict[str, MarginalTau]],
