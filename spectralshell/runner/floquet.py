@@ -478,7 +478,11 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
         if not np.count_nonzero(system.forcing):
             raise ParameterError(f"parameters {dataclasses.asdict(p)} are invalid for Floquet "
                                  f"exponents of model {model!r}: nothing oscillates there")
-        seeds = natural_modes(model, **dataclasses.asdict(p)).gamma
+        try:
+            seeds = natural_modes(model, **dataclasses.asdict(p)).gamma
+        except ParameterError as exc:
+            raise ParameterError(f"{exc} (the Floquet exponents of model {model!r} are continued "
+                                 "from its natural modes)") from None
         result = hill_exponents(system, tau, seeds, **options)
     if count is not None and count < result.gamma.size:
         bounds = result.complete_in  # still proved: lo < Re gamma <= hi, lo the first dropped

@@ -42,7 +42,8 @@ Method
    exponents change by less than ``tol`` (mod i); the change is the error estimate, floored at
    the Newton steps. Step 2 runs at the first truncation only: at the next, each exponent is
    polished by Newton's method from its value at the previous one; step 3 runs where the
-   exponents have settled (an exponent it adds means one more truncation).
+   exponents have settled (an exponent it adds means one more truncation; a count unmatched at
+   two settled truncations raises).
 
 Cost
 ----
@@ -256,9 +257,9 @@ def _new(gamma: complex, found: Sequence[complex]) -> bool:
 
 
 def region(gamma: np.ndarray) -> tuple[float, float]:
-    """(re_lo, re_hi) of the counting region around the exponents ``gamma``: a margin of
-    1/2 + |Re| / 2 to the left, 1 to the right, and re_hi >= 1 (the slit must end inside)."""
-    lo, hi = float(gamma.real.min()), float(gamma.real.max())
+    """(re_lo, re_hi) of the counting region around the exponents ``gamma`` and 0: a margin of
+    1/2 + |Re| / 2 to the left, 1 to the right (the slit must end inside)."""
+    lo, hi = float(np.min(gamma.real, initial=0.0)), float(np.max(gamma.real, initial=0.0))
     return lo - 0.5 - 0.5 * abs(lo), max(hi + 1.0, 1.0)
 
 
@@ -384,23 +385,29 @@ def hill_exponents(system: HillSystem, tau: float, seeds: Sequence[complex], *,
         raise ConvergenceError(f"Floquet exponents need a truncation above n_temporal={n_max} "
                                f"here (resonant Fourier index ~{n - 8}): lower kappa or |tau|")
     previous: np.ndarray | None = None
-    change = math.inf
-    while True:  # the count (the costly part) only where the exponents have settled in N
+    change, miscounted = math.inf, False
+    while True:
         try:
             gamma, step = found(n, previous)
-            if previous is not None and len(gamma) == len(previous) and distance(gamma, previous) < tol:
-                gamma, bounds = counted(gamma, n)
-                change = distance(gamma, previous) if len(gamma) == len(previous) else math.inf
-                if change < tol:
-                    return Exponents(gamma=gamma, n_temporal=n,
-                                     error_estimate=max(change, step), complete_in=bounds)
-            elif previous is not None and len(gamma) == len(previous):
-                change = distance(gamma, previous)
         except ConvergenceError:  # an under-resolved truncation: the next one may settle it
             if n >= n_max:
                 raise
             previous = None
         else:
+            settled = previous is not None and len(gamma) == len(previous)
+            change = distance(gamma, previous) if settled else math.inf
+            if change < tol and previous is not None:  # the (costly) count once settled in N
+                try:
+                    gamma, bounds = counted(gamma, n)
+                except ConvergenceError:  # unmatched at two settled truncations: not a matter of N
+                    if miscounted or n >= n_max:
+                        raise
+                    miscounted = True
+                else:
+                    change = distance(gamma, previous) if len(gamma) == len(previous) else math.inf
+                    if change < tol:
+                        return Exponents(gamma=gamma, n_temporal=n,
+                                         error_estimate=max(change, step), complete_in=bounds)
             previous = gamma
         if n >= n_max:
             raise ConvergenceError(f"Floquet exponents did not converge to tol={tol:g} by "

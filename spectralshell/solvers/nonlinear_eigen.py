@@ -189,7 +189,7 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
     Notes
     -----
     The change of arg det T (the sign of slogdet: no overflow for large b) is summed over the
-    edges, each cut into ``n_start`` equal sub-intervals that are bisected until the phase turns by
+    edges, each cut into ``n_start`` equal sub-intervals that are refined until the phase turns by
     at most ``max_phase`` across each. A sampled phase cannot tell a turn theta from
     theta + 2 pi n (clustered eigenvalues near the contour alias that way); with ``dT`` each
     sub-interval must also agree to ``max_phase``/2 with the midpoint rule for the turn,
