@@ -18,6 +18,7 @@ Public API::
     ss.lp_coefficient(2)                                # lambda = lambda0 (1 + c eps^2), thesis 7.3
     ss.simulate({"params": {"kappa": 0.06, "nu": 0.002, "tau": 0.25},
                  "initial": {"shape": "2:0"}, "simulate": {"t_end": 200}})  # time stepping
+    ss.benchmark("sphere-release", radius=0.5)        # reference data for IB/FSI codes
     ss.plot.tongues(ss.tongues("mathieu", kappa="0:3:301", nu=0.1), ax=None)  # -> Axes
     ss.floquet("mathieu", kappa=0.25, nu=0.1).plot(ax=ax)  # results draw themselves too
 """
@@ -32,12 +33,12 @@ from .models import models  # registers the built-in models (light: no scipy)
 #: The public functions, defined in :mod:`spectralshell.api` and imported on first use
 #: (PEP 562), so that ``import spectralshell`` -- and every command-line start, ``--version``
 #: included -- does not pay for scipy and the solvers until a computation needs them.
-_LAZY = dict.fromkeys(("exponents", "floquet", "lp_coefficient", "natural_modes", "open_sweep",
+_LAZY = dict.fromkeys(("benchmark", "exponents", "floquet", "lp_coefficient", "natural_modes", "open_sweep",
                        "response", "run_scene", "simulate", "stability", "sweep", "tau_map",
                        "tongues"), ".api")
 
 __all__ = ["__version__", "floquet", "tongues", "exponents", "stability", "natural_modes", "tau_map",
-           "run_scene", "sweep", "open_sweep", "lp_coefficient", "simulate", "response", "models",
+           "run_scene", "sweep", "open_sweep", "lp_coefficient", "simulate", "response", "benchmark", "models",
            "SpectralShellError", "ParameterError", "ConvergenceError", "BackendUnavailable", "plot"]
 
 

@@ -24,7 +24,7 @@ if TYPE_CHECKING:  # lazy at run time: xarray costs ~0.35 s to import
 
 __all__ = ["floquet", "tongues", "tau_map", "exponents", "stability", "run_scene",
            "natural_modes", "response", "lp_coefficient", "lp_summary", "sweep", "sweep_summary",
-           "open_sweep", "simulate"]
+           "open_sweep", "simulate", "benchmark"]
 
 
 def _list_model_parameters(*functions: Callable[..., Any]) -> None:
@@ -119,3 +119,24 @@ def simulate(scene: str | Path | Mapping, *, progress: bool = False) -> Trajecto
     from .runner.simulate import simulate as run  # lazy: keeps `import spectralshell` light
 
     return run(scene, progress=progress)
+
+
+def benchmark(name: str, **params: Any) -> xr.Dataset:
+    """Reference data of a benchmark problem for IB / FSI codes -> ``xarray.Dataset``.
+
+    ``name``: a registered problem (``spectralshell benchmark list``; e.g. 'sphere-release');
+    ``params``: its physical inputs in cgs units (rho, mu, radius, sigma, and the initial shape
+    l, k, epsilon for sphere-release; defaults from the problem). The Dataset holds the time
+    series over ``t`` (s), each with its per-sample error bound ``<quantity>_error`` (units in
+    attrs), and attributes: the parameters and provenance (package and library versions,
+    scheme, resolution) as JSON, the exact and the fitted late-time growth rate (1/s) and
+    angular frequency (rad/s), and the one-page specification.
+    :mod:`spectralshell.runner.benchmark` computes it.
+
+    Raises
+    ------
+    ParameterError : an unknown problem or parameter, or a value out of range.
+    """
+    from .runner.benchmark import benchmark as run  # lazy: brings scipy and the solvers
+
+    return run(name, **params)

@@ -561,6 +561,80 @@ def cmd_simulate(args) -> int:
     return _report(args.json, traj.to_dict(), traj.summary, written)
 
 
+BENCHMARK_FLAGS = {"rho": "fluid density (g/cm^3)", "mu": "dynamic viscosity (g/(cm s))",
+                   "radius": "equilibrium radius R (cm)", "sigma": "membrane stiffness (dyn/cm)",
+                   "l": "degree of the initial shape", "k": "order of the initial shape",
+                   "epsilon": "initial amplitude A0 / R"}
+
+
+def _benchmark_params(args: argparse.Namespace) -> dict[str, Any]:
+    """The problem parameters given as flags (integers l, k; reals otherwise)."""
+    return {k: (parse_int if k in ("l", "k") else parse_real)(k, getattr(args, k))
+            for k in BENCHMARK_FLAGS if getattr(args, k, None) is not None}
+
+
+def cmd_benchmark(args) -> int:
+    """benchmark list | show NAME | write NAME --out DIR | score NAME FILE [--png FILE]."""
+    from .runner import benchmark as bench   # lazy: brings scipy and the solvers
+
+    if args.action == "list":
+        items = bench.listing()
+        return _report(args.json, {"problems": items},
+                       lambda: "\n".join(f"{i['name']}: {i['title']}" for i in items))
+    params = _benchmark_params(args)
+    if args.action == "show":
+        text = bench.specification_text(args.name, **params)
+        return _report(args.json, {"problem": args.name, "specification": text}, lambda: text)
+    if args.action == "write":
+        bench.benchmark_problem(args.name)
+        out = _make_dir(args.out)
+        for suffix in (".nc", ".csv"):
+            _check_output("output", out / f"{args.name}{suffix}", suffix)
+        ds = bench.benchmark(args.name, **params)
+        paths = [out / f"{args.name}{suffix}" for suffix in (".nc", ".csv")]
+        _atomic_write(paths[0], lambda p: bench.write_netcdf(ds, p))
+        _atomic_write(paths[1], lambda p: bench.write_csv(ds, p))
+        data = {"problem": args.name, "files": [str(p) for p in paths],
+                "samples": int(ds.sizes["t"]), "exact_growth_rate": ds.attrs["exact_growth_rate"],
+                "exact_frequency": ds.attrs["exact_frequency"]}
+        return _report(args.json, data, lambda: f"{args.name}: {data['samples']} samples",
+                       data["files"])
+    _check_output("--png", args.png, FIGURE_SUFFIXES)
+    bench.benchmark_problem(args.name)
+    result, ds, user = bench.score(args.name, args.file, **params)
+    written = []
+    if args.png:
+        from .plots.benchmark import score_figure
+
+        _atomic_write(args.png, lambda p: score_figure(ds, user, p))
+        written.append(args.png)
+    return _report(args.json, result.to_dict(), result.summary, written)
+
+
+def _benchmark_parser(sub) -> None:
+    """The `benchmark` command and its actions list, show, write, score."""
+    p = sub.add_parser("benchmark", help="benchmark problems for IB/FSI codes: specification, "
+                       "reference data, score of a run")
+    actions = p.add_subparsers(dest="action", required=True, parser_class=_Parser)
+    q = actions.add_parser("list", help="the registered problems")
+    q.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    for action, text in (("show", "the one-page specification of a problem"),
+                         ("write", "write reference data NAME.nc and NAME.csv to --out DIR"),
+                         ("score", "score your run (a CSV file) against the reference")):
+        q = actions.add_parser(action, help=text)
+        q.add_argument("name", help="problem name (see `spectralshell benchmark list`)")
+        if action == "write":
+            q.add_argument("--out", required=True, help="output directory (created if needed)")
+        if action == "score":
+            q.add_argument("file", help="your run: CSV with header t,<quantity>,... (t in s; "
+                                        "units as in `benchmark show`)")
+            q.add_argument("--png", help=f"write reference and your run to {FIGURE_FILE}")
+        for name, help_text in BENCHMARK_FLAGS.items():
+            q.add_argument(f"--{name}", metavar="X", help=help_text)
+        q.add_argument("--json", action="store_true", help="print exactly one JSON object")
+    p.set_defaults(func=cmd_benchmark)
+
+
 def _computation(sub, name: str, help: str, func, names: Sequence[str], configure, *,
                  skip: Sequence[str] = ()) -> None:
     """A computation subcommand ``name MODEL ...``: one sub-parser per model in ``names`` (from
@@ -740,6 +814,8 @@ def build_parser() -> argparse.ArgumentParser:
                                  "replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
     p.set_defaults(func=cmd_simulate)
+
+    _benchmark_parser(sub)
 
     p = sub.add_parser("plot", help="draw a stored sweep (.zarr or .nc) as PNG")
     p.add_argument("store", help="a sweep written by `spectralshell sweep --out`")

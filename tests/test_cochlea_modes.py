@@ -81,3 +81,38 @@ def test_units_and_errors(capsys):
     data = json.loads(capsys.readouterr().out)
     assert code == 0 and data["params"]["units"] == "s^-1" and len(data["modes"]) == 2
     assert data["params"]["zeta"] == pytest.approx(0.02 / np.sqrt(6e5 * (3.5 / np.pi)**3))
+
+
+def test_modes_just_above_the_cut_are_on_the_sheet_by_an_independent_count():
+    """zeta = 1e-2, alpha = 1.56, M = 20: the three least damped modes are nearly real decays
+    1e-8..1e-6 above the branch cut s < -zeta (thesis Fig 5.7 right). Each is on the principal
+    sheet and not on the cut, with a sheet margin millions of times its error: an
+    argument-principle count of det T at 30 digits (the mpmath residual, independent of the
+    double-precision continuation) on a circle around it that stays above the cut finds one
+    root. (The margin's error was once scaled by Re beta, which is small there while |beta|
+    is not: it came out ~1e-8, a hundredth of the margin.)"""
+    import mpmath
+
+    from spectralshell.models.cochlea import natural_mode_residual_mp, sheet_margin
+    from spectralshell.params.registry import make_params
+    from spectralshell.models.cochlea import mode_family
+    from spectralshell.solvers.continued_modes import continued_modes, margin_error
+
+    zeta, M = 1e-2, 20
+    family = mode_family(make_params("cochlea", dict(kappa=1.0, nu=zeta, alpha=1.56,
+                                                     n_spatial=M)))
+    modes = continued_modes(family, count=3)
+    s = modes.gamma / family.gamma_scale
+    error = modes.error / family.gamma_scale
+    assert np.all((s.real < -zeta) & (s.imag > 0) & (s.imag < 1e-6)) and not modes.on_cut.any()
+    for root, err in zip(s, error):
+        margin = sheet_margin(root, zeta, M)
+        assert margin > 1e6 * margin_error(family, root, err, margin)
+        radius = root.imag / 2
+        with mpmath.workdps(30):
+            theta = np.linspace(0.0, 2 * np.pi, 65)
+            dets = [complex(natural_mode_residual_mp(complex(root + radius * np.exp(1j * t)),
+                                                     zeta=zeta, alpha=1.56, n_spatial=M)[0])
+                    for t in theta]
+        winding = np.sum(np.angle(np.array(dets[1:]) / np.array(dets[:-1]))) / (2 * np.pi)
+        assert round(winding) == 1 and abs(winding - 1) < 1e-6

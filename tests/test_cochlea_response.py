@@ -77,3 +77,19 @@ def test_response_cli(capsys, tmp_path):
     assert code == 0 and data["kind"] == "tone" and len(data["x"]) == len(data["envelope"])
     assert max(data["envelope"]) == pytest.approx(1.0) and 0 < data["peak_cm"] < 3.5
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_parametric_tau_carries_its_error_in_the_spatial_modes(capsys):
+    """The response's tau has an error estimate covering the truncation in M: at least
+    |tau(M) - tau(M/2)| from two independent floquet solves (omega = 1000 rad/s, M = 16 and 8,
+    subharmonic), and tau is floquet's at M; the JSON and the text show it."""
+    res = api.response("cochlea", omega=1000.0, kind="subharmonic", n_spatial=16)
+    fine, coarse = (api.floquet("cochlea", omega=1000.0, n_spatial=M, kind="subharmonic")
+                    .subharmonic.tau_min for M in (16, 8))
+    assert abs(res.tau - fine) < 1e-9
+    assert res.tau_error >= abs(fine - coarse) > 0 and res.tau_error < 0.05
+    assert api.response("cochlea", omega=1000.0, kind="tone", n_spatial=16).tau_error is None
+    assert main(["response", "cochlea", "--omega", "1000", "--kind", "subharmonic",
+                 "--n-spatial", "16", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["tau_error"] == pytest.approx(res.tau_error)
+    assert "± " in res.summary().splitlines()[0]

@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from threadpoolctl import threadpool_limits
 
 import spectralshell as ss
+from spectralshell.models.cylinder import lambda0_squared
 from spectralshell.models.nonlinear_coefficients import NOT_NORMAL_MODES
 from spectralshell.params.registry import models
 
@@ -52,6 +53,18 @@ def _cochlea(draw, m_max: int = 6) -> dict:
     return {**common, "n_spatial": draw(st.integers(1, m_max))}
 
 
+def _cylinder(draw) -> dict:
+    """One mode (m, k R) of the cylinder: the coupled set (m^2 + k^2 > 1), or with nu > 0 the
+    decoupled torsion (m = 0) or axial (k = 0) component."""
+    m, k, nu = draw(st.integers(0, 60)), draw(st.one_of(st.just(0.0), _log(-2, 1.3))), draw(NU)
+    component = "coupled"
+    if nu > 0 and (m == 0) != (k == 0) and draw(st.booleans()):
+        component = "torsion" if m == 0 else "axial"
+    elif m * m + k * k <= 1.0:
+        k += 1.5
+    return {"m": m, "k": k, "kappa": draw(KAPPA), "nu": nu, "component": component}
+
+
 BUILDERS = {
     "mathieu": lambda draw: {"kappa": draw(KAPPA), "nu": draw(NU)},
     "sphere": lambda draw: {"m": draw(DEGREE), "kappa": draw(KAPPA), "nu": draw(NU),
@@ -59,6 +72,7 @@ BUILDERS = {
     "fibre": lambda draw: {"m": draw(DEGREE), "kappa": draw(KAPPA), "nu": draw(NU),
                            "forcing": draw(st.sampled_from(["both", "pressure", "tangential"]))},
     "cochlea": _cochlea,
+    "cylinder": _cylinder,
 }
 
 
@@ -66,6 +80,9 @@ def resonant_index(model: str, params: dict) -> float:
     """lambda0 of the inviscid limit: the Fourier index the truncation N must exceed, so the cost
     of a converged solve grows with it (closed forms: Mathieu, Rayleigh, Lamb, cochlea mode k)."""
     kappa, m = params["kappa"], params.get("m", 2)
+    if model == "cylinder":  # lambda0^2 = kappa (m^2 + k^2 - 1)/M(m, k); the tangential sets: none
+        coupled = params["component"] == "coupled"
+        return math.sqrt(lambda0_squared(m, params["k"], kappa)) if coupled else 0.0
     unit = {"mathieu": 1.0, "fibre": m * (m * m - 1) / 2, "sphere": m * (m + 1) * (m - 1) * (m + 2) / (2 * m + 1),
             "cochlea": (params.get("spatial_mode") or params.get("n_spatial") or 1) / 2}[model]
     return math.sqrt(kappa * unit)

@@ -151,3 +151,33 @@ def test_a_branch_missed_at_the_converging_truncation_is_filled_in():
                            n_temporal=60, kind="subharmonic").subharmonic.tau
     assert len(at) == 2 and reference.size == 2
     np.testing.assert_allclose(sorted(at), reference, atol=1e-10)
+
+
+def test_a_finger_narrower_than_the_grid_step_has_its_tip_located():
+    """Cochlea, single mode k = 1, alpha = 0, against omega: the subharmonic finger near
+    omega = 343 rad/s is narrower than a 10 rad/s grid step, so across [330, 350] the tau nearest
+    the sampled minimum (0.193 at 340) jumps between branches; refine_tip refuses that bracket
+    (it once returned a 'tip' at tau = 0.68 on the finger's side) and find_tips narrows it.
+    Oracle: independent floquet solves at the tip and 0.02 rad/s either side: the tip's tau is
+    the marginal tau there, and both neighbours lie higher."""
+    import functools
+
+    from spectralshell.runner import map_points
+    from spectralshell.runner.floquet import family_system
+    from spectralshell.solvers.tongues import find_tips, refine_tip
+
+    factory = functools.partial(family_system, "cochlea", {"alpha": 0.0, "spatial_mode": 1},
+                                "omega")
+    grid = np.array([330.0, 340.0, 350.0])
+    rows = map_points(factory, list(grid), ("subharmonic",), executor="serial", tol=1e-10)
+    with pytest.raises(ss.ConvergenceError, match="jumps"):
+        refine_tip(factory, "subharmonic", 330.0, 350.0, rows[1]["subharmonic"].tau_min)
+    (tip,), failures = find_tips(factory, grid, rows, ("subharmonic",))
+    assert not failures and tip.tau < rows[1]["subharmonic"].tau_min
+
+    def tau_min(omega):
+        return ss.floquet("cochlea", omega=omega, alpha=0.0, spatial_mode=1,
+                          kind="subharmonic").subharmonic.tau_min
+
+    assert abs(tau_min(tip.kappa) - tip.tau) < 1e-8
+    assert tau_min(tip.kappa - 0.02) > tip.tau and tau_min(tip.kappa + 0.02) > tip.tau

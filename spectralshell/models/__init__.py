@@ -6,7 +6,7 @@ build a :class:`Model` and :func:`register` it (README, "Adding a model").
 """
 
 from ..params.registry import Model, PhysicalInput, models, register, unregister
-from . import mathieu, sphere, fibre, cochlea  # noqa: F401, I001  (registers the built-in models, in this order)
+from . import mathieu, sphere, fibre, cochlea, cylinder  # noqa: F401, I001  (registers the built-in models, in this order)
 from .base import HillSystem, ModalSystem, ModeFamily, ResponseModel
 
 __all__ = ["Model", "PhysicalInput", "register", "unregister", "models", "HillSystem",

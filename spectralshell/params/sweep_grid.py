@@ -74,7 +74,8 @@ from .grid import parse_int_range, parse_range
 from .limits import SWEEP_BYTES, check_grid, check_points
 from .physical import (COCHLEA_SWEEP_UNITS, PHYSICAL_UNITS, TABLE_5_1, cochlea_sweep_params,
                        sphere_forced_params)
-from .registry import check_model, int_bounds, make_params, param_fields, param_names
+from .registry import (check_model, get_model, int_bounds, make_params, models, param_fields,
+                       param_names)
 from .scene import load_scene
 
 ASKS = ("tau_min",)
@@ -96,9 +97,10 @@ N_TEMPORAL_MAX = 400  # = solvers.marginal.N_MAX (a later stage: not importable 
 #: task and 1.8 % (processes) and 0.9 % (Dask) with batching; dearer models are far below.
 DEFAULT_CHUNK = 256
 TOL_SPATIAL = 1e-3  # = solvers.spatial_refinement.TOL_SPATIAL (a later stage: not importable here)
-#: The cgs quantities each model accepts in a sweep in place of its dimensionless parameters.
+#: The cgs quantities the built-in models with sweep rules of their own accept in a sweep in place
+#: of their dimensionless parameters (the sphere's beat rate, the cochlea's Table 5.1 defaults);
+#: any other model sweeps the quantities of its physical input (:func:`physical_names`).
 PHYSICAL_NAMES = {"sphere": tuple(PHYSICAL_UNITS), "cochlea": tuple(COCHLEA_SWEEP_UNITS)}
-PHYSICAL_MODELS = tuple(PHYSICAL_NAMES)
 PHYSICAL = tuple(PHYSICAL_UNITS)
 UNITS = {"kappa": "1", "nu": "1", "m": "1", "component": "", "kind": "", **PHYSICAL_UNITS}
 MODEL_UNITS = {"cochlea": {"alpha": "1", "n_spatial": "1", "spatial_mode": "1",
@@ -121,8 +123,25 @@ VARIABLE_LONG_NAMES = {"tau_min": "smallest marginal forcing amplitude tau <= ta
 _COCHLEA_DEFAULTS = {"rho": None, "length": None, "mu": "nu", "sigma": "kappa", "lambda_c": "alpha"}
 
 
+def physical_names(model: str) -> tuple[str, ...]:
+    """The cgs quantities a sweep of ``model`` may give in place of its dimensionless
+    parameters: PHYSICAL_NAMES for the sphere and the cochlea, else those of the model's
+    physical input (:class:`~spectralshell.params.registry.PhysicalInput`), else none."""
+    if model in PHYSICAL_NAMES:
+        return PHYSICAL_NAMES[model]
+    physical = get_model(model).physical if model in models() else None
+    return () if physical is None else tuple(physical.units)
+
+
+def physical_models() -> tuple[str, ...]:
+    """The registered models whose sweeps accept cgs quantities."""
+    return tuple(m for m in models() if physical_names(m))
+
+
 def units(model: str, name: str) -> str:
     """Units of parameter or axis ``name`` of ``model`` ('1': dimensionless)."""
+    if model not in MODEL_UNITS and model not in PHYSICAL_NAMES and name in physical_names(model):
+        return get_model(model).physical.units[name]
     return MODEL_UNITS.get(model, UNITS).get(name, "1")
 
 
@@ -229,6 +248,8 @@ class SweepSpec:
         merged = {**dict(self.fixed), **values}
         if not self.physical:
             return merged
+        if self.model not in PHYSICAL_NAMES:  # the model's own physical input
+            return get_model(self.model).physical.convert(merged)[0]
         return cochlea_sweep_params(merged) if self.model == "cochlea" else \
             sphere_forced_params(merged)
 
@@ -269,7 +290,7 @@ def _value_type(model: str, name: str) -> str:
 
 def allowed_grid_names(model: str) -> tuple[str, ...]:
     """Parameters a sweep of ``model`` may put in its grid."""
-    return param_names(model) + PHYSICAL_NAMES.get(model, ()) + ("kind",)
+    return param_names(model) + physical_names(model) + ("kind",)
 
 
 def _distinct(name: str, values: list) -> None:
@@ -351,15 +372,17 @@ def parse_axis(model: str, name: str, spec: object, max_points: int | None = Non
 
 def _check_physical(model: str, names: set[str]) -> bool:
     """Whether the sweep uses physical quantities; refuses an incomplete or mixed set."""
-    used = names & set(PHYSICAL_NAMES.get(model, PHYSICAL))
+    used = names & set(physical_names(model) or PHYSICAL)
     if not used:
         return False
-    if model not in PHYSICAL_MODELS:
+    if not physical_names(model):
         name = sorted(used)[0]
         raise ParameterError(f"{name} is not a parameter of model {model!r}: physical quantities "
-                             f"need model {' or '.join(repr(m) for m in PHYSICAL_MODELS)}")
+                             f"need model {' or '.join(repr(m) for m in physical_models())}")
     if model == "cochlea":
         return _check_cochlea_physical(names, used)
+    if model not in PHYSICAL_NAMES:  # its physical input checks each point (_validate_points)
+        return True
     for derived in ("kappa", "nu"):
         if derived in names:
             raise ParameterError(f"{derived} is given together with physical quantities "

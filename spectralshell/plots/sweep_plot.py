@@ -134,7 +134,7 @@ def _band_labels(ax, x: np.ndarray, y: np.ndarray, code: np.ndarray, labels: lis
                         ha="center", va="center", fontsize=7)
 
 
-def _edges(ds: xr.DataArray) -> np.ndarray:
+def cell_edges(ds: xr.DataArray) -> np.ndarray:
     """Cell edges around sorted axis values: geometric midpoints on a log axis, arithmetic
     otherwise (one value: a cell of +-10 %)."""
     v = np.asarray(ds.values, dtype=float)
@@ -171,7 +171,7 @@ def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
     found = mm["has_tau"].values
     values = mm["tau_min"].values
     tau_max = float(ds.attrs.get("tau_max", np.max(values[found], initial=0.0)))
-    xe, ye = _edges(ds[xname]), _edges(ds[yname])
+    xe, ye = cell_edges(ds[xname]), cell_edges(ds[yname])
     ax.pcolormesh(xe, ye, np.ma.masked_where(found, np.zeros(found.shape)),
                   cmap=ListedColormap([NONE_COLOUR]), shading="flat")
     mesh = ax.pcolormesh(xe, ye, np.ma.masked_where(~found, values), cmap=cmap, vmin=0.0,

@@ -46,3 +46,45 @@ def save(ds: xr.Dataset, path: str | Path, *,
     fig, ax = subplots(figsize=(7.5, 5.8))
     draw(ax, ds, boxes=boxes, min_cells=min_cells)
     return save_figure(fig, path, dpi=120)
+
+
+#: Colours of the unstable-pairs panel (:func:`draw_unstable_pairs`), by which kinds are unstable.
+PAIR_COLOURS = {"stable": "0.93", "harmonic": "tab:blue", "subharmonic": "tab:red",
+                "both": "tab:purple"}
+
+
+def draw_unstable_pairs(ax, ds: xr.Dataset, x: str, at: dict[str, float], tau: float) -> None:
+    """Which (x, m) of a tau-map sweep ``ds`` are unstable at forcing amplitude ``tau``, at the
+    grid values ``at`` of its other real axes: a cell per (x, m) coloured by the kinds whose
+    tau_min <= tau (harmonic, subharmonic, both, or stable), x horizontal, m vertical."""
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+    import numpy as np
+
+    from .sweep_plot import axis_label, cell_edges
+
+    cut = ds.sel(at)
+    unstable = (cut["has_tau"] & (cut["tau_min"] <= tau)).transpose("m", x, "kind")
+    harmonic = unstable.sel(kind="harmonic").values
+    subharmonic = unstable.sel(kind="subharmonic").values
+    code = np.where(harmonic & subharmonic, 3, np.where(subharmonic, 2, harmonic.astype(int)))
+    names = ("stable", "harmonic", "subharmonic", "both")
+    ax.pcolormesh(cell_edges(ds[x]), cell_edges(ds["m"]), code, vmin=-0.5, vmax=3.5,
+                  cmap=ListedColormap([PAIR_COLOURS[n] for n in names]))
+    ax.set_yticks(ds["m"].values)
+    ax.set_xlabel(axis_label(ds[x]))
+    ax.set_ylabel("m, azimuthal wavenumber")
+    where = ", ".join(f"{k} = {v:.4g}" for k, v in at.items())
+    ax.set_title(f"unstable (m, {x}) at τ = {tau:g} ({where})", fontsize=9)
+    ax.legend(handles=[Patch(color=PAIR_COLOURS[n], label=n) for n in names],
+              loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4, fontsize=7, frameon=False)
+
+
+def save_with_pairs(ds: xr.Dataset, path: str | Path, *, x: str, at: dict[str, float],
+                    tau: float) -> Path:
+    """:func:`draw` of the sweep beside :func:`draw_unstable_pairs` at ``at`` and ``tau``."""
+    fig, (left, right) = subplots(1, 2, figsize=(13.0, 5.8),
+                                  gridspec_kw={"width_ratios": [1.35, 1.0]})
+    draw(left, ds)
+    draw_unstable_pairs(right, ds, x, at, tau)
+    return save_figure(fig, path, dpi=120)

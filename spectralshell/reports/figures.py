@@ -86,6 +86,34 @@ def _cardiac_map(out: Path, *, progress: bool, workers: int | None, size: int = 
             write_npz(smallest, out / "fig-6.13.npz")]
 
 
+#: The cylinder figure: nu, the kappa of its unstable-pairs panel and the amplitude there.
+CYLINDER = {"nu": 2e-4, "kappa": 0.02, "tau": 0.45}
+
+
+def _cylinder_map(out: Path, *, progress: bool, workers: int | None, size: int = 40) -> list[Path]:
+    """The periodic cylinder (issue 30, thesis 8.1): minimum tau <= 1/2 over m = 1..6 and both
+    kinds against the axial wavenumber k R and kappa at nu = 2e-4, the critical (m, kind)
+    labelled; beside it, which (m, k R) are unstable at tau = 0.45 on the map's kappa nearest
+    0.02 (``CYLINDER``)."""
+    res = solve_tau_map("cylinder", x=("k", f"0.05:3:{size}"), y=("kappa", f"0.005:0.3:{size}"),
+                        m="1:6", nu=CYLINDER["nu"], tau_max=0.5, progress=progress,
+                        workers=workers)
+    kappa = float(res["kappa"].values[np.argmin(np.abs(res["kappa"].values - CYLINDER["kappa"]))])
+    png = tau_map.save_with_pairs(res, out / "fig-cylinder.png", x="k", at={"kappa": kappa},
+                                  tau=CYLINDER["tau"])
+    smallest = minimum_map(res, "k", "kappa")
+    cut = res.sel(kappa=kappa)
+    unstable = {kind: [[bool(h and t <= CYLINDER["tau"]) for h, t in zip(hr, tr)]
+                       for hr, tr in zip(cut["has_tau"].sel(kind=kind).transpose("m", "k").values,
+                                         cut["tau_min"].sel(kind=kind).transpose("m", "k").values)]
+                for kind in ("harmonic", "subharmonic")}
+    data = {**map_dict(smallest), "unstable_at": {"kappa": kappa, "tau": CYLINDER["tau"],
+                                                  "m": res["m"].values.tolist(),
+                                                  "k": res["k"].values.tolist(), **unstable}}
+    return [png, _write_json(out / "fig-cylinder.json", data),
+            write_npz(smallest, out / "fig-cylinder.npz")]
+
+
 def _natural_modes_against_zeta(out: Path, *, progress: bool, workers: int | None) -> list[Path]:
     """Fig 7.1: least-damped mode (decay rate, frequency) of m = 2, 3, 4 for zeta in [1e-3, 10]."""
     zeta = np.logspace(-3, 1, 161)
@@ -528,6 +556,9 @@ FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
                  _cardiac_map),
     "fig-7.1": ("sphere: decay rate and frequency of the least-damped natural mode against zeta",
                 _natural_modes_against_zeta),
+    "fig-cylinder": ("periodic cylinder (thesis 8.1): minimum tau over m = 1..6 against k R and "
+                     "kappa at nu = 2e-4, and the unstable (m, k R) at tau = 0.45",
+                     _cylinder_map),
     "fig-5.5": ("cochlea: convergence of tau_min in N and M at omega = 1600 rad/s (Figs 5.5-5.6)",
                 _cochlea_convergence),
     "fig-5.7": ("cochlea: zero contours of det T and the natural modes, zeta = 2e-5 and 1e-2",

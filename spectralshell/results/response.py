@@ -33,6 +33,8 @@ class ResponseResult(Result, Plottable):
     wkb_peak_x : the leading-order WKB peak (LeVeque, Peskin & Lax; models.cochlea.wkb_peak), or
         None (nu = 0 or alpha = 0, where it does not exist).
     tau : the marginal amplitude (parametric kinds), else None.
+    tau_error : its error estimate, ``max(|tau(M) - tau(M // 2)|, its error in N at M)``
+        (the truncations in spatial modes and in time), else None.
     length : BM length L (cm) when given physically, else None (then no cm values).
     physical : the cgs inputs, or None.
     """
@@ -52,6 +54,7 @@ class ResponseResult(Result, Plottable):
     physical: dict[str, float] | None
     provenance: dict[str, Any]
     warnings: tuple[str, ...] = ()
+    tau_error: float | None = None
 
     def to_cm(self, x):
         """Dimensionless x in cm (x L / pi), or None without a physical length."""
@@ -60,6 +63,7 @@ class ResponseResult(Result, Plottable):
     def to_dict(self) -> dict[str, Any]:
         out = {"model": self.model, "params": dict(self.params), "kind": self.kind,
                "response_frequency": self.response_frequency, "tau": self.tau,
+               "tau_error": self.tau_error,
                "peak_x": self.peak_x, "peak_error": self.peak_error, "wkb_peak_x": self.wkb_peak_x,
                "x": self.x.tolist(), "envelope": self.envelope.tolist(),
                "profile": self.profile.tolist()}
@@ -80,7 +84,9 @@ class ResponseResult(Result, Plottable):
         cm = "" if self.length is None else (
             f" = {self.to_cm(self.peak_x):.4g} ± {self.to_cm(self.peak_error):.1g} cm"
             + ("" if self.wkb_peak_x is None else f" (WKB {self.to_cm(self.wkb_peak_x):.4g} cm)"))
-        tau = "" if self.tau is None else f"  tau = {self.tau:.10g}"
+        tau = "" if self.tau is None else (
+            f"  tau = {self.tau:.10g}" + ("" if self.tau_error is None
+                                          else f" ± {self.tau_error:.1e} (in M and N)"))
         return (f"{self.model} {self.kind} response: {format_params(self.params)}{tau}\n"
                 f"  envelope peak at x = {self.peak_x:.6g} ± {self.peak_error:.1e} "
                 f"({100 * self.peak_x / np.pi:.3g} % of the way from the base, x = 0, to the "
@@ -94,13 +100,15 @@ class ResponseResult(Result, Plottable):
             rows.append(["envelope peak (cm)", f"{self.to_cm(self.peak_x):.4g}",
                          f"{self.to_cm(self.peak_error):.1e}"])
         if self.tau is not None:
-            rows.append(["tau", f"{self.tau:.10g}", ""])
+            rows.append(["tau", f"{self.tau:.10g}",
+                         "" if self.tau_error is None else f"{self.tau_error:.1e}"])
         rows.append(["response frequency (of the forcing)", f"{self.response_frequency:g}", ""])
         return ["", "value", "+-"], rows
 
     def to_xarray(self) -> xr.Dataset:
         """Over ``x`` (and x_cm, with a physical length): envelope and profile; scalars peak_x,
-        peak_error, wkb_peak_x, tau, length (NaN where there is none) and response_frequency;
+        peak_error, wkb_peak_x, tau, tau_error, length (NaN where there is none) and
+        response_frequency;
         kind and physical (JSON) in the attrs."""
         dims = ("x",)
         data = {"envelope": variable(dims, self.envelope, "max over time of |h(x, t)|, "
@@ -111,6 +119,8 @@ class ResponseResult(Result, Plottable):
                 "wkb_peak_x": variable((), or_nan(self.wkb_peak_x), "leading-order WKB peak x",
                                        "1"),
                 "tau": variable((), or_nan(self.tau), "marginal forcing amplitude tau", "1"),
+                "tau_error": variable((), or_nan(self.tau_error), "error estimate of tau (in the "
+                                      "spatial modes M and the truncation N)", "1"),
                 "length": variable((), or_nan(self.length), "membrane length L", "cm"),
                 "response_frequency": variable((), self.response_frequency, "angular frequency "
                                                "of the response / forcing frequency", "1")}

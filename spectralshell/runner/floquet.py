@@ -19,7 +19,7 @@ from ..models.base import HillSystem
 from ..models.registry import hill_system
 from ..params.grid import parse_int_range, parse_range
 from ..params.limits import RESULT_BYTES, SECONDS, check_grid, check_points
-from ..params.sweep_grid import PHYSICAL_NAMES, sweep_spec
+from ..params.sweep_grid import physical_names, sweep_spec
 from ..params.physical import physical_inputs
 from ..params.stiffness import amplitude_warnings, threshold_warnings
 from ..params.registry import (check_model, get_model, int_bounds, make_params, param_fields,
@@ -372,7 +372,7 @@ def _map_axis(model: str, label: str, axis: object, physical: bool,
               max_points: int | None) -> tuple[str, Any]:
     """(name, grid spec) of the map axis ``label`` = (name, grid): the name one of the model's
     real parameters, or with physical input one of the model's cgs quantities in a sweep."""
-    cgs = PHYSICAL_NAMES.get(model, ())
+    cgs = physical_names(model)
     names = tuple(cgs) if physical else tuple(
         f.name for f in param_fields(model) if f.type in (float, "float"))
     if not (isinstance(axis, (tuple, list)) and len(axis) == 2):
@@ -430,7 +430,7 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
     kinds = expand_kind(kind)
     require_positive("tol", tol)
     require_positive("tau_max", tau_max)
-    cgs = physical_inputs(physical, PHYSICAL_NAMES.get(model, ())) if physical is not None else {}
+    cgs = physical_inputs(physical, physical_names(model)) if physical is not None else {}
     (xname, xgrid), (yname, ygrid) = (_map_axis(model, label, axis, physical is not None,
                                                 max_points)
                                       for label, axis in (("x", x), ("y", y)))

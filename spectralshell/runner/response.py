@@ -38,8 +38,9 @@ def _peak(x: np.ndarray, env: np.ndarray, start: float) -> float:
 
 
 def _response_at(spec: Model, p, n_spatial: int, kind: str, options: dict[str, Any]):
-    """(x, envelope, profile, peak, tau, response frequency) of the model's response with
-    ``n_spatial`` spatial modes (its :class:`~spectralshell.models.base.ResponseModel`)."""
+    """(x, envelope, profile, peak, tau, tau's error estimate in N, response frequency) of the
+    model's response with ``n_spatial`` spatial modes (its
+    :class:`~spectralshell.models.base.ResponseModel`); tau and its error None for the tone."""
     from ..solvers.marginal_mode import marginal_mode
 
     shape = spec.response(p)
@@ -49,7 +50,7 @@ def _response_at(spec: Model, p, n_spatial: int, kind: str, options: dict[str, A
         h = basis @ shape.tone(n_spatial)
         env = np.abs(h)
         profile = (h * np.exp(-1j * np.angle(h[np.argmax(env)]))).real  # t_peak: phase of the peak
-        tau, freq, start = None, 1.0, shape.tone_start
+        tau, tau_error, freq, start = None, None, 1.0, shape.tone_start
     else:
         system = hill_system(shape.with_modes(n_spatial))
         m = solve_kinds(system, (kind,), options)[kind]
@@ -61,9 +62,10 @@ def _response_at(spec: Model, p, n_spatial: int, kind: str, options: dict[str, A
         field = mode.evaluate(np.linspace(0.0, period, RESPONSE_TIMES, endpoint=False)) @ basis.T
         env = np.abs(field).max(axis=0)
         profile = field[np.argmax(np.abs(field).max(axis=1))]
-        tau, freq, start = m.tau_min, GAMMA_OF_KIND[kind], shape.domain[0]
+        tau, tau_error = m.tau_min, m.error_estimate
+        freq, start = GAMMA_OF_KIND[kind], shape.domain[0]
     scale = env.max()
-    return x, env / scale, profile / scale, _peak(x, env, start), tau, freq
+    return x, env / scale, profile / scale, _peak(x, env, start), tau, tau_error, freq
 
 
 def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: int | None = None,
@@ -84,7 +86,8 @@ def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: 
     max_seconds : raises the limit on the estimated cost of the parametric kinds' solves (at M
         and M // 2; refused above it before anything runs, as for :func:`floquet`).
     **params : as for :func:`floquet` ('cochlea' parameters or cgs inputs with omega);
-        n_spatial defaults to RESPONSE_MODES; the peak's error estimate compares with n_spatial // 2.
+        n_spatial defaults to RESPONSE_MODES; the error estimates of the peak and of tau
+        compare with n_spatial // 2 (tau's also includes its error in N)
 
     Notes
     -----
@@ -109,8 +112,10 @@ def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: 
     elif max_seconds is not None:
         raise ParameterError(f"max_seconds = {max_seconds!r} is invalid for kind = 'tone': it "
                              "solves no marginal tau")
-    x, env, profile, peak, tau, freq = _response_at(spec, p, M, kind, options)
-    coarse = _response_at(spec, p, max(M // 2, 1), kind, options)[3]
+    x, env, profile, peak, tau, tau_error, freq = _response_at(spec, p, M, kind, options)
+    coarse = _response_at(spec, p, max(M // 2, 1), kind, options)
+    if tau is not None:  # the truncation in M, and in N at M
+        tau_error = max(abs(tau - coarse[4]), tau_error or 0.0)
     wkb = shape.wkb_peak(freq)
     warnings = [] if wkb is not None else [shape.wkb_note]
     low, high = shape.domain
@@ -119,8 +124,8 @@ def response(model: str, *, kind: str = "tone", tol: float = 1e-10, n_temporal: 
                         f"{'pi' if high == np.pi else f'{high:g}'}]")
     return ResponseResult(model=model, params={**dataclasses.asdict(p), "n_spatial": M}, kind=kind,
                           response_frequency=freq, x=x, envelope=env, profile=profile,
-                          peak_x=peak, peak_error=abs(peak - coarse) + (x[1] - x[0]) / 10,
-                          wkb_peak_x=wkb, tau=tau,
+                          peak_x=peak, peak_error=abs(peak - coarse[3]) + (x[1] - x[0]) / 10,
+                          wkb_peak_x=wkb, tau=tau, tau_error=tau_error,
                           length=None if physical is None else physical.get("length"),
                           physical=physical, provenance=provenance({"kind": kind, **options}),
                           warnings=tuple(warnings))

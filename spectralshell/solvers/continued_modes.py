@@ -63,12 +63,28 @@ def continued_modes(family: ModeFamily, *, count: int | None = None,
     if precision is not None:
         roots, steps, digits, double_error = _polish(family, roots, precision, unit)
     margin = np.array([np.inf if zeta == 0.0 else family.sheet_margin(r, zeta) for r in roots])
-    margin_err = steps / max(zeta, 1e-300) / np.maximum(margin, 1e-300)  # d(Re sqrt) ~ ds/(zeta sqrt)
+    margin_err = np.array([0.0 if zeta == 0.0 else margin_error(family, r, e, m)
+                           for r, e, m in zip(roots, steps, margin)])
     on_cut = margin <= margin_err
     if on_cut.any():
         warnings.append(f"{int(on_cut.sum())} mode(s) lie on the branch cut to within their error")
     return ContinuedModes(gamma=roots * scale, error=steps * scale, on_cut=on_cut, digits=digits,
                           double_error=double_error, warnings=tuple(warnings))
+
+
+def margin_error(family: ModeFamily, root: complex, error: float, margin: float) -> float:
+    """How far the sheet margin can move while the root moves by its ``error``: the largest
+    change of the margin over root + error e^{i theta}, theta = 0, pi/2, pi, 3 pi/2, times
+    sqrt 2 (first order: a real-valued function's change over a disk is |grad| error, and the
+    largest of four orthogonal directions is at least |grad| error / sqrt 2).
+
+    Model-agnostic; for the cochlea's margin min_k Re beta_k, beta_k = sqrt(s/zeta + k^2), it
+    is ~ error / (2 zeta |beta_k|) (d beta/ds = 1/(2 zeta beta)). Scaling by Re beta instead,
+    as before, made it huge near the cut (Re beta -> 0 while |beta| stays large) and flagged
+    modes there as on the cut although an argument-principle count puts them on the sheet."""
+    zeta = family.zeta
+    moved = [family.sheet_margin(root + error * d, zeta) for d in (1, 1j, -1, -1j)]
+    return float(np.sqrt(2.0) * max(abs(m - margin) for m in moved))
 
 
 def _continued(family: ModeFamily, start: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[str]]:

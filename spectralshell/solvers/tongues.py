@@ -139,10 +139,37 @@ def refine_tip(factory: SystemFactory, kind: str, lo: float, hi: float, tau_gues
 TIP_SLOPE = 1e-6
 
 
+#: Halvings of a finger's bracket at most when its tip cannot be tracked across it
+#: (:func:`narrowed_tip`): a grid step down to 1/256 of itself.
+TIP_HALVINGS = 8
+
+
+def narrowed_tip(factory: SystemFactory, kind: str, kappa: list[float], tau: list[float], *,
+                 tol: float = 1e-10, halvings: int = TIP_HALVINGS) -> Tip:
+    """The tip of the finger whose sampled minimum is ``tau[1]`` at ``kappa[1]`` between
+    ``kappa[0]`` and ``kappa[2]``: :func:`refine_tip` on that bracket; where the tracked tau jumps
+    between branches inside it (a finger narrower than the bracket), tau_min is solved at the
+    two half-interval midpoints and the search repeats on the three points around the smallest
+    of the five, up to ``halvings`` times."""
+    try:
+        return refine_tip(factory, kind, kappa[0], kappa[2], tau[1], tol=tol)
+    except ConvergenceError:
+        if halvings == 0:
+            raise
+    mid = [0.5 * (kappa[0] + kappa[1]), 0.5 * (kappa[1] + kappa[2])]
+    at = [marginal_tau(factory(k), kind, tol=tol).tau_min for k in mid]
+    five_k = [kappa[0], mid[0], kappa[1], mid[1], kappa[2]]
+    five_t = [tau[0], np.inf if at[0] is None else at[0], tau[1],
+              np.inf if at[1] is None else at[1], tau[2]]
+    i = 1 + int(np.argmin(five_t[1:4]))  # the ends lie above tau[1]: the minimum is inside
+    return narrowed_tip(factory, kind, five_k[i - 1:i + 2], five_t[i - 1:i + 2], tol=tol,
+                        halvings=halvings - 1)
+
+
 def find_tips(factory: SystemFactory, kappas: np.ndarray, rows: list[dict[str, MarginalTau]],
               kinds: tuple[str, ...], *, tol: float = 1e-10) -> tuple[list[Tip], list[str]]:
-    """Tips of every finger visible as an interior local minimum of tau_min(kappa) on the grid,
-    and a message for each one that could not be located."""
+    """Tips of every finger visible as an interior local minimum of tau_min(kappa) on the grid
+    (:func:`narrowed_tip`), and a message for each one that could not be located."""
     tips, failures = [], []
     for kind in kinds:
         tmin = np.array([r[kind].tau_min if r[kind].tau_min is not None else np.inf for r in rows])
@@ -150,8 +177,8 @@ def find_tips(factory: SystemFactory, kappas: np.ndarray, rows: list[dict[str, M
             # a neighbour without tau (none, or none below a tau_max cap) counts as +inf
             if np.isfinite(tmin[i]) and tmin[i] <= tmin[i - 1] and tmin[i] < tmin[i + 1]:
                 try:
-                    tips.append(refine_tip(factory, kind, float(kappas[i - 1]),
-                                           float(kappas[i + 1]), float(tmin[i]), tol=tol))
+                    tips.append(narrowed_tip(factory, kind, [float(k) for k in kappas[i - 1:i + 2]],
+                                             [float(t) for t in tmin[i - 1:i + 2]], tol=tol))
                 except ConvergenceError as exc:
                     failures.append(f"tip near kappa = {kappas[i]:.6g} ({kind}) not located: {exc}")
     return sorted(tips, key=lambda t: t.kappa), failures

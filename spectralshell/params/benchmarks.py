@@ -1,0 +1,165 @@
+"""Benchmark problems for immersed-boundary and FSI codes: their definitions and parameters.
+
+A :class:`BenchmarkProblem` names a problem, lists its physical inputs (cgs, with defaults), the
+quantities a code reports (with units) and holds its one-page specification text; the reference
+data are computed by :mod:`spectralshell.runner.benchmark`. Problems are registered in
+:data:`BENCHMARKS` only once their reference computation exists (issue 29: ``sphere-parametric``
+waits for the viscous sphere's Floquet exponents, the fibre problems for a fibre time stepper).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from .._validate import require_int_in_range, require_nonnegative, require_positive
+from ..errors import ParameterError
+from .physical import PHYSICAL_UNITS, PhysicalSphere
+
+#: sigma* = IB_SPRING_FACTOR sigma: thesis 6.4.1 (six springs per node, small spring length).
+IB_SPRING_FACTOR = math.log(3.0) / 2.0
+#: zeta of sphere-release: the range whose corners (l = 2..12) the tests check against the
+#: dispersion relation to 1e-8.
+ZETA_RANGE = (1e-3, 0.06)
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A reported time series: CSV column ``name``, its ``units`` and what it is."""
+
+    name: str
+    units: str
+    description: str
+
+
+@dataclass(frozen=True, kw_only=True)
+class BenchmarkProblem:
+    """A named benchmark problem.
+
+    name : registry key (the CLI's NAME). title : one line. inputs : {name: units} of the
+    parameters a user may change. defaults : their default values. quantities : the time
+    series of the reference (after the time column ``t`` in s). specification : the one-page
+    text (format fields: the parameters and derived values of :func:`specification`).
+    reference : how the reference data are computed (one paragraph).
+    """
+
+    name: str
+    title: str
+    inputs: Mapping[str, str]
+    defaults: Mapping[str, float]
+    quantities: tuple[Quantity, ...]
+    specification: str
+    reference: str
+
+
+SPHERE_RELEASE_SPEC = """\
+sphere-release: a viscous sphere released from rest with a small (l, k) shape
+
+Physical problem (cgs units). A closed elastic membrane of equilibrium radius R = {radius:g} cm
+is immersed in an unbounded incompressible Newtonian fluid of density rho = {rho:g} g/cm^3 and
+viscosity mu = {mu:g} g/(cm s), the same fluid inside and outside, fluid at rest at infinity. The
+membrane force per unit (unit-sphere) parameter area is F = sigma Delta_S X (thesis (6.2)), with
+stiffness sigma = {sigma:g} dyn/cm (= g/s^2); the membrane is massless and moves with the fluid
+(dX/dt = u(X)); the force enters the fluid as f = int F delta(x - X) dOmega (thesis (6.1)). At
+t = 0 the fluid is at rest and the membrane has the shape
+    r(theta, phi, 0) = R + A0 Yr_{{l,k}}(theta, phi),   A0 = epsilon R = {amplitude:g} cm,
+with l = {l}, k = {k}, theta the polar angle, phi the azimuth, and Yr_{{l,k}} the real orthonormal
+spherical harmonic (int Yr^2 dOmega = 1 over the unit sphere): Yr_{{l,0}} = Y_l^0,
+Yr_{{l,k}} = sqrt(2) Re Y_l^k and Yr_{{l,-k}} = sqrt(2) Im Y_l^k for k > 0 (Y_l^k with the
+Condon-Shortley phase). The membrane then oscillates and decays back to the sphere.
+
+Dimensionless form (thesis 7.2). Lengths in R, time in T = sqrt(rho R^3 / sigma) = {T:.10g} s,
+so that kappa = 1 and the only parameter is zeta = mu / sqrt(rho R sigma) = {zeta:.10g}
+(the viscosity nu of (6.3) with kappa = 1; references are offered for zeta in [0.001, 0.06],
+2 <= l <= 12). The problem is linear in epsilon: the reference is
+the linearised solution (epsilon -> 0) scaled to epsilon = {epsilon:g}; a nonlinear code should
+use a small epsilon (the thesis's IB runs: 0.05 of max |Yr|) and compare after scaling.
+
+Reported quantities (CSV columns after t in s):
+  amplitude    cm    A(t) = int (r(theta, phi, t) - R) Yr_{{l,k}} dOmega, the membrane's modal
+                     amplitude (the projection X^r of thesis 6.4.2 times R, linearised)
+  u_r_pole     cm/s  radial velocity of the membrane at the pole theta = 0 (left out when
+                     Yr_{{l,k}} vanishes there, k != 0)
+  u_r_equator  cm/s  radial velocity at theta = pi/2, phi = 0 (left out when Yr vanishes there)
+The pressure jump across the membrane is not reported: the time stepper's state holds the
+streamfunction and vorticity, not the pressure, and this package has no independently checked
+pressure field to derive it from.
+
+Exact late-time behaviour. After the continuous-spectrum transient of the unbounded fluid, A(t)
+decays as exp(gamma t) cos(omega_d t + phase) with gamma + i omega_d the least damped natural
+mode of degree l (the dispersion relation, thesis 7.2):
+  growth rate gamma = {growth_rate:.12g} 1/s, angular frequency omega_d = {frequency:.12g} rad/s
+  (dimensionless: {growth_rate_nd:.12g} and {frequency_nd:.12g} per T).
+The inviscid (Lamb) frequency for comparison: {lamb:.10g} rad/s. At very late times the
+algebraic tail of the continuous spectrum dominates the decayed mode; the reference covers
+the mode's decay by about exp(-{efolds:g}) after the transient.
+
+Immersed-boundary spring constant (thesis 6.4.1). A triangulated membrane whose nodes are joined
+by Hookean springs (force sigma* (X_i - X_j) per link) represents F = sigma Delta_S X with
+    sigma* = (ln 3 / 2) sigma = {sigma_star:.10g} dyn/cm,
+assuming: the spring length Delta s is small against R; the membrane is near its spherical
+equilibrium; the stiffness is uniform; every node has six neighbours (nodes with five or
+seven links, unavoidable on a sphere, make the force slightly non-uniform). The relation comes
+from a midpoint-rule quadrature of the force on one node's hexagonal patch near the pole; it
+is approximate, not exact in Delta s.
+
+Reference data: {reference}
+"""
+
+SPHERE_RELEASE = BenchmarkProblem(
+    name="sphere-release",
+    title="viscous sphere released from rest with a small (l, k) shape: decaying oscillation",
+    inputs={**{k: PHYSICAL_UNITS[k] for k in ("rho", "mu", "radius", "sigma")},
+            "l": "degree", "k": "order", "epsilon": "A0 / R"},
+    # Table 6.1, case 1 (the thesis's IB simulations of 6.4.2): zeta = 0.0424
+    defaults={"rho": 1.0, "mu": 0.006, "radius": 1.0, "sigma": 0.02, "l": 2, "k": 0,
+              "epsilon": 0.05},
+    quantities=(Quantity("amplitude", "cm", "modal amplitude A(t) of Yr_{l,k}"),
+                Quantity("u_r_pole", "cm/s", "radial membrane velocity at theta = 0"),
+                Quantity("u_r_equator", "cm/s",
+                         "radial membrane velocity at theta = pi/2, phi = 0")),
+    specification=SPHERE_RELEASE_SPEC,
+    reference=("the linearised equations are time-stepped per degree (radial Chebyshev "
+               "collocation inside and outside the sphere, reduced to an ODE, SBDF4; "
+               "runner/benchmark.py). The error bound of each sample is |fine - half the "
+               "steps| + |fine - 8 fewer radial nodes|; the late-time decay rate and frequency "
+               "fitted from the reference agree with the dispersion relation to 1e-8 (tests)."),
+)
+
+#: The registered problems, by name.
+BENCHMARKS: dict[str, BenchmarkProblem] = {p.name: p for p in (SPHERE_RELEASE,)}
+
+
+def benchmark_problem(name: str) -> BenchmarkProblem:
+    """The registered problem ``name``; ParameterError naming the known ones otherwise."""
+    if not isinstance(name, str) or name not in BENCHMARKS:
+        raise ParameterError(f"benchmark = {name!r} is unknown: expected one of "
+                             f"{', '.join(sorted(BENCHMARKS))}")
+    return BENCHMARKS[name]
+
+
+def benchmark_params(problem: BenchmarkProblem, values: Mapping[str, object]) -> dict[str, float]:
+    """The problem's defaults updated by ``values`` (None values ignored), each checked:
+    rho, radius, sigma, epsilon > 0, mu >= 0 with zeta = mu / sqrt(rho R sigma) in
+    :data:`ZETA_RANGE` (above it the least damped mode nears the fluid's continuous spectrum
+    and the radial resolution for 1e-11 exceeds the stepper's automatic limit; below it runs
+    grow as 1 / zeta), 2 <= l <= 12, -l <= k <= l."""
+    given = {k: v for k, v in values.items() if v is not None}
+    unknown = sorted(set(given) - set(problem.inputs))
+    if unknown:
+        raise ParameterError(f"{problem.name} parameter {unknown[0]} is unknown: expected "
+                             f"{', '.join(problem.inputs)}")
+    p = {**problem.defaults, **given}
+    out = {k: require_positive(k, p[k]) for k in ("rho", "radius", "sigma", "epsilon")}
+    out["mu"] = require_nonnegative("mu", p["mu"])
+    out["l"] = int(require_int_in_range("l", p["l"], 2, 12))
+    out["k"] = int(require_int_in_range("k", p["k"], -out["l"], out["l"]))
+    zeta = PhysicalSphere(rho=out["rho"], mu=out["mu"], radius=out["radius"],
+                          sigma=out["sigma"]).zeta
+    if not ZETA_RANGE[0] <= zeta <= ZETA_RANGE[1]:
+        raise ParameterError(f"mu = {out['mu']:g} is invalid: zeta = mu / sqrt(rho R sigma) = "
+                             f"{zeta:.4g} must be in [{ZETA_RANGE[0]:g}, {ZETA_RANGE[1]:g}] (the "
+                             "range where the reference is checked against the dispersion "
+                             "relation; smaller zeta runs longer)")
+    return out
