@@ -209,6 +209,10 @@ def _exponents(model, params, tau, n_temporal):
         with pytest.raises(ss.ParameterError, match=r"^parameters .* are invalid for Floquet exponents"):
             ss.exponents(model, tau=tau, n_temporal=n_temporal, **params)
         return
+    if model == "cylinder" and params["nu"] > 0:  # no natural-mode solver to continue from
+        with pytest.raises(ss.ParameterError, match=r"^model = 'cylinder' is invalid for Floquet exponents"):
+            ss.exponents(model, tau=tau, n_temporal=n_temporal, **params)
+        return
     if model == "cochlea" and params["nu"] > 0 and "spatial_mode" in params:  # no natural modes
         with pytest.raises(ss.ParameterError, match=r"^n_spatial = None is invalid .* continued from"):
             ss.exponents(model, tau=tau, n_temporal=n_temporal, **params)

@@ -16,6 +16,8 @@ decreasing Re gamma (the growth rate per unit time); multipliers are exp(2 pi ga
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.linalg as sla
 
@@ -103,7 +105,10 @@ def _unresolvable(tol: float, floor: float) -> ConvergenceError:
 
 
 def distance(a: np.ndarray, b: np.ndarray) -> float:
-    """Largest distance from a point of ``a`` to the nearest of ``b``, modulo i."""
+    """Largest distance from a point of ``a`` to the nearest of ``b``, modulo i (0 for an empty
+    ``a``, inf for an empty ``b``)."""
+    if not a.size or not b.size:
+        return 0.0 if not a.size else math.inf
     diff = a[:, None] - b[None, :]
     diff = diff.real + 1j * (diff.imag - np.round(diff.imag))
     return float(np.max(np.min(np.abs(diff), axis=1)))
