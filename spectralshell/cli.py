@@ -271,8 +271,10 @@ def cmd_tongues(args) -> int:
 def cmd_exponents(args) -> int:
     if args.tau is None:
         raise ParameterError("--tau is required: the forcing amplitude")
-    res = _api().exponents(args.model, tau=parse_real("tau", args.tau), **_solver(args),
-                        **_params(args, args.model))
+    count = None if args.count is None else require_int_in_range("count", parse_int("count", args.count), 1)
+    res = _api().exponents(args.model, tau=parse_real("tau", args.tau), count=count,
+                           **_solver(args),
+                           **_params(args, args.model))
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), res.summary)
 
@@ -697,6 +699,7 @@ def _tongues_options(p: argparse.ArgumentParser, model: str) -> None:
 def _exponents_options(p: argparse.ArgumentParser, model: str) -> None:
     _solver_flags(p)
     p.add_argument("--tau", help="forcing amplitude")
+    p.add_argument("--count", help="number of least-damped exponents listed (default: all found)")
 
 
 def _stability_options(p: argparse.ArgumentParser, model: str) -> None:

@@ -73,7 +73,7 @@ BAD_ARGV = [
     ("tol-negative", ["floquet", "mathieu", "--kappa", "1", "--tol", "-1e-8"]),
     ("n-temporal-zero", ["floquet", "mathieu", "--kappa", "1", "--n-temporal", "0"]),
     ("n-temporal-huge", ["floquet", "mathieu", "--kappa", "1", "--n-temporal", "100000"]),
-    ("exponents-viscous-sphere", ["exponents", "sphere", *SPHERE, "--tau", "0.3"]),
+    ("exponents-count-zero", ["exponents", "sphere", *SPHERE, "--tau", "0.3", "--count", "0"]),
     ("zeta-out-of-domain", ["modes", "sphere", "--m", "2", "--zeta", "1e-20"]),
     ("count-zero", ["modes", "sphere", "--m", "2", "--zeta", "0.1", "--count", "0"]),
     ("lp-m-too-large", ["lp", "--m", "9"]),

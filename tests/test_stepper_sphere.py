@@ -4,10 +4,9 @@ Independent oracles:
 * natural modes: the roots of the exact dispersion relation det D(gamma) = 0 (thesis (7.14)),
   Bessel functions, :func:`spectralshell.natural_modes` (solvers/modes.py; no radial grid);
 * Floquet: tau_min of the Hill solver (:func:`spectralshell.floquet`, exact Bessel D(s), Fourier in
-  time) and, above it, the Floquet exponent ``hill_exponent`` below: a root gamma of the truncated
-  Hill determinant det[D(gamma + i n) delta_nk - i tau G (delta_{n-1,k} - delta_{n+1,k})] built from
-  models/sphere.py's exact D(s) (api.exponents needs a polynomial D(s) and does not cover the
-  viscous sphere); for nu = 0, api.exponents of the Mathieu equation;
+  time) and, above it, the least damped Floquet exponent of :func:`spectralshell.exponents` (a
+  root of the truncated Hill determinant built from models/sphere.py's exact D(s),
+  solvers/hill_exponents.py); for nu = 0, api.exponents of the Mathieu equation;
 * Table 6.1: the kind predicted by :func:`spectralshell.stability`;
 * energy: the dissipation integral nu int |curl u|^2 dV evaluated on the stepped fields
   (derivations/sphere_energy.py) against the change of kinetic + elastic energy.
@@ -15,7 +14,6 @@ Independent oracles:
 
 import dataclasses
 
-import mpmath as mp
 import numpy as np
 import pytest
 import scipy.linalg as sla
@@ -24,7 +22,6 @@ from scipy.integrate import simpson
 import spectralshell as ss
 from spectralshell.discretise.sphere_stepping import degree_system, scene_blocks, shape_coefficients
 from spectralshell.errors import ConvergenceError, ParameterError
-from spectralshell.models.sphere import poloidal_unforced
 from spectralshell.params.physical import TABLE_6_1, sphere_forced_params
 from spectralshell.params.simulation import parse_expression
 from spectralshell.solvers.rate_fit import fit_rate
@@ -38,26 +35,9 @@ def exact_mode(m, zeta):
     return complex(ss.natural_modes("sphere", m=m, kappa=1.0, nu=zeta, count=1).gamma[0])
 
 
-def hill_exponent(m, kappa, nu, tau, guess, n_temporal=12):
-    """Floquet exponent near ``guess`` of the viscous sphere from the truncated Hill determinant
-    (exact D(s) of models/sphere.py), normalised by its diagonal: det(I + D^-1 C) = 0."""
-    q = kappa * (m - 1) * (m + 2)
-    K = 2 * n_temporal + 1
-
-    def f(gamma):
-        s = complex(gamma) + 1j * np.arange(-n_temporal, n_temporal + 1)
-        Dinv = np.linalg.inv(poloidal_unforced(s, m=m, kappa=kappa, nu=nu))
-        T = np.eye(2 * K, dtype=complex)
-        for j in range(K):
-            if j > 0:
-                T[2 * j:2 * j + 2, 2 * j - 2:2 * j] = -1j * tau * q * Dinv[j]
-            if j < K - 1:
-                T[2 * j:2 * j + 2, 2 * j + 2:2 * j + 4] = 1j * tau * q * Dinv[j]
-        return mp.mpc(np.linalg.det(T))
-
-    g0 = mp.mpc(guess)
-    root = mp.findroot(f, (g0, g0 + 1e-4), solver="secant", tol=1e-26, maxsteps=60)
-    return complex(root)
+def hill_exponent(m, kappa, nu, tau):
+    """The least damped Floquet exponent of the viscous sphere (:func:`spectralshell.exponents`)."""
+    return complex(ss.exponents("sphere", m=m, kappa=kappa, nu=nu, tau=tau).gamma[0])
 
 
 def monodromy_multipliers(system, dt):
@@ -233,7 +213,7 @@ def test_growth_above_tau_min_is_the_hill_exponent():
     mu = monodromy_multipliers(system, TWO_PI / 1024)
     lead = mu[np.argmax(np.abs(mu))]
     assert lead.real < 0 and abs(lead.imag) < 1e-9            # period doubling
-    hill = hill_exponent(m, kappa, nu, tau, np.log(abs(lead)) / TWO_PI + 0.5j)
+    hill = hill_exponent(m, kappa, nu, tau)
     assert abs(hill.imag - 0.5) < 1e-9
     assert abs(np.log(abs(lead)) / TWO_PI - hill.real) < 1e-9
     (fit,) = simulate(m, kappa, nu, tau, 120.0, dt=TWO_PI / 512).fits
@@ -257,8 +237,8 @@ def test_table_6_1_cases(case):
     (fit,) = simulate(m, kappa, nu, tau, 160.0, dt=TWO_PI / 512).fits
     assert fit.growth_rate > 0
     assert abs(fit.frequency % 1.0 - (0.0 if kind == "harmonic" else 0.5)) < 1e-9
-    guess = fit.growth_rate + (0.5j if kind == "subharmonic" else 0.0)
-    hill = hill_exponent(m, kappa, nu, tau, guess)
+    hill = hill_exponent(m, kappa, nu, tau)
+    assert abs(hill.imag - (0.0 if kind == "harmonic" else 0.5)) < 1e-9
     assert abs(fit.growth_rate - hill.real) < 1e-6
     stable = next(x["m"] for x in st.modes if not x["unstable"] and abs(x["m"] - m) == 1)
     (fit,) = simulate(stable, kappa, nu, tau, 160.0, dt=TWO_PI / 512).fits

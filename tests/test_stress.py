@@ -204,10 +204,17 @@ def test_floquet_fixed_truncation_slow(mp, n, kind):
 
 
 def _exponents(model, params, tau, n_temporal):
-    viscous = params.get("nu", 0.0) > 0 and model != "mathieu"
     still = model == "sphere" and params["nu"] == 0.0 and params["component"] == "toroidal"
-    if viscous or still:  # Hill's companion form needs a polynomial D(s): refused, naming why
-        with pytest.raises(ss.ParameterError, match=r"^(nu|component) = .* is invalid"):
+    if still:  # no restoring force: refused, naming why
+        with pytest.raises(ss.ParameterError, match=r"^parameters .* are invalid for Floquet exponents"):
+            ss.exponents(model, tau=tau, n_temporal=n_temporal, **params)
+        return
+    if model == "cylinder" and params["nu"] > 0:  # no natural-mode solver to continue from
+        with pytest.raises(ss.ParameterError, match=r"^model = 'cylinder' is invalid for Floquet exponents"):
+            ss.exponents(model, tau=tau, n_temporal=n_temporal, **params)
+        return
+    if model == "cochlea" and params["nu"] > 0 and "spatial_mode" in params:  # no natural modes
+        with pytest.raises(ss.ParameterError, match=r"^n_spatial = None is invalid .* continued from"):
             ss.exponents(model, tau=tau, n_temporal=n_temporal, **params)
         return
     res = attempt(lambda: ss.exponents(model, tau=tau, n_temporal=n_temporal, **params))
@@ -215,6 +222,9 @@ def _exponents(model, params, tau, n_temporal):
         return
     _finite_json(res)
     assert np.all(np.isfinite(res.gamma)) and np.all(np.abs(res.gamma.imag) <= 0.5 + 1e-12)
+    if res.complete_in is not None:  # a viscous model: the listed exponents lie in the counted range
+        lo, hi = res.complete_in
+        assert np.all((res.gamma.real > lo) & (res.gamma.real <= hi))
     assert math.isfinite(res.error_estimate)
     if n_temporal is None:
         assert res.error_estimate <= 1e-10

@@ -19,7 +19,9 @@ Two forms, with identical finite spectra (packing in :mod:`spectralshell.discret
   (The thesis's blocks are these multiplied by -i/kappa, a row scaling that leaves tau unchanged.)
 * ``"two-sided"``: complex, k = -N..N (harmonic) or -N-1..N (subharmonic), s = b,
   lower = i G, upper = -i G, no self-coupling. An independent check of the packing, and, being
-  bipartite for both kinds, the form of the fast subharmonic solver.
+  bipartite for both kinds, the form of the fast subharmonic solver. With a ``shift`` g the
+  blocks are D(g + s_k): the pencil at the Floquet exponent gamma = g + i GAMMA[kind], whose
+  singular points in g at a given tau are the exponents (:mod:`spectralshell.solvers.hill_exponents`).
 """
 
 from __future__ import annotations
@@ -86,6 +88,18 @@ class HillMatrices:
         indptr = np.searchsorted(rows[order], np.arange(K + 1))
         return sp.bsr_matrix((data[order], cols[order], indptr), shape=(K * s,) * 2).tocsr()
 
+    def dense(self, tau: float) -> np.ndarray:
+        """A - tau B as a dense (K s, K s) array."""
+        K, s, _ = self.diag.shape
+        out = np.zeros((K, s, K, s), dtype=np.result_type(self.diag, self.lower, 1j * tau))
+        k = np.arange(K)
+        out[k, :, k, :] = self.diag
+        out[k[1:], :, k[:-1], :] = -tau * self.lower
+        out[k[:-1], :, k[1:], :] = -tau * self.upper
+        if self.self_coupling is not None:
+            out[k, :, k, :] -= tau * self.self_coupling
+        return out.reshape(K * s, K * s)
+
     def block_range(self, n_temporal: int) -> slice:
         """Block positions of the truncation ``n_temporal`` <= N inside this one: the leading
         blocks n = 0..n_temporal (real form) or the central ones (two-sided form)."""
@@ -130,8 +144,10 @@ def _rotation_kron(G: np.ndarray) -> np.ndarray:
     return out
 
 
-def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real") -> HillMatrices:
-    """Assemble the truncated Hill pencil of ``system`` for one Floquet ``kind``.
+def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real", *,
+             shift: complex = 0.0) -> HillMatrices:
+    """Assemble the truncated Hill pencil of ``system`` for one Floquet ``kind``; with a
+    ``shift`` g (two-sided form only) at the exponent g + i GAMMA[kind] instead.
 
     Notes
     -----
@@ -143,12 +159,16 @@ def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real")
         raise ValueError(f"form = {form!r} is invalid: must be one of {FORMS}")
     if int(n_temporal) < 1:
         raise ValueError(f"n_temporal = {n_temporal!r} is invalid: must be an integer >= 1")
+    if shift != 0 and form != "two-sided":
+        raise ValueError(f"shift = {shift!r} is invalid for form = {form!r}: must be 0 (the real "
+                         "form holds only the marginal exponents)")
     b = system.block_size
     G = np.asarray(system.forcing, dtype=float)
     self_coupling = None
     if form == "two-sided":
         k = two_sided_indices(kind, n_temporal)
-        diag = np.asarray(system.unforced(frequencies(kind, k)), dtype=complex)
+        s_k = frequencies(kind, k)
+        diag = np.asarray(system.unforced(s_k + shift if shift != 0 else s_k), dtype=complex)
         lower = np.full((len(k) - 1, b, b), 1j * G)
         upper = -lower
     else:

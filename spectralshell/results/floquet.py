@@ -191,12 +191,14 @@ class ExponentsResult(Result):
     error_estimate: float
     provenance: dict[str, Any]
     warnings: tuple[str, ...] = ()
+    complete_in: tuple[float, float] | None = None
 
     @classmethod
     def build(cls, *, model, params, tau, exponents: Exponents, options) -> "ExponentsResult":
         return cls(model=model, params=params, tau=tau, gamma=exponents.gamma,
                    n_temporal=exponents.n_temporal, error_estimate=exponents.error_estimate,
-                   provenance=provenance(options), warnings=tuple(amplitude_warnings(tau)))
+                   provenance=provenance(options), warnings=tuple(amplitude_warnings(tau)),
+                   complete_in=exponents.complete_in)
 
     @property
     def multipliers(self) -> np.ndarray:
@@ -207,14 +209,22 @@ class ExponentsResult(Result):
         return {"model": self.model, "params": dict(self.params), "tau": self.tau,
                 "exponents": [{"re": float(g.real), "im": float(g.imag)} for g in self.gamma],
                 "n_temporal": self.n_temporal, "error_estimate": self.error_estimate,
+                "complete_in": None if self.complete_in is None else list(self.complete_in),
                 "warnings": list(self.warnings), "provenance": self.provenance}
 
     def summary(self) -> str:
-        """The parameters and N, then each exponent gamma with its multiplier."""
+        """The parameters and N, then each exponent gamma with its multiplier, and where the
+        list is proved complete."""
         head = (f"{self.model}: {format_params(self.params)}  tau = {self.tau:g}   "
                 f"(N = {self.n_temporal}, error <= {self.error_estimate:.1e})")
-        return "\n".join([head, *(f"  gamma = {g_re} {g_im}i   multiplier = {q_re} {q_im}i"
-                                  for g_re, g_im, q_re, q_im in self._cells())])
+        lines = [head, *(f"  gamma = {g_re} {g_im}i   multiplier = {q_re} {q_im}i"
+                         for g_re, g_im, q_re, q_im in self._cells())]
+        if self.complete_in is not None:
+            lo, hi = self.complete_in
+            lines.append(f"  every exponent with {lo:.4g} < Re gamma <= {hi:.4g} is listed "
+                         "(argument-principle count; the fluid's continuous spectrum on the "
+                         "negative real axis excluded)")
+        return "\n".join(lines)
 
     def _cells(self) -> list[tuple[str, str, str, str]]:
         """Re and Im of each gamma and of its multiplier, as the summary prints them."""

@@ -173,11 +173,16 @@ class Exponents(Record):
     gamma : complex exponents, Im in (-1/2, 1/2], sorted by decreasing Re.
     n_temporal : truncation N (Fourier indices -N..N).
     error_estimate : max |change| of the exponents between N and the previous truncation.
+    complete_in : (lo, hi): every exponent with lo < Re gamma <= hi is listed, proved by a count
+        (models with a non-polynomial D(s); the fluid's continuous spectrum on the negative
+        real axis excluded); None where every exponent of the truncation is listed (Hill's
+        companion form).
     """
 
     gamma: np.ndarray
     n_temporal: int
     error_estimate: float
+    complete_in: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

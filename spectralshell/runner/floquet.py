@@ -24,15 +24,17 @@ from ..params.sweep_grid import physical_names, sweep_spec
 from ..params.physical import physical_inputs
 from ..params.stiffness import amplitude_warnings, threshold_warnings
 from ..params.registry import (check_model, get_model, int_bounds, make_params, param_fields,
-                               physical_values)
+                               physical_values, require_capability)
 from ..params.scene import Plan, plan
 from ..results.spatial import SpatialFloquetResult
 from ..results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
                               certification_warnings, provenance, resolution_warnings)
 from ..solvers.cost import CostEstimate, spatial_cost
 from ..solvers.exponents import floquet_exponents
+from ..solvers.hill_exponents import hill_exponents
 from ..solvers.marginal import N_MAX
 from ..solvers.spatial_refinement import TOL_SPATIAL, spatial_error
+from .modes import natural_modes
 from .solve import solve_kinds, spatial_point, spatial_system
 from .progress import progress_bar
 from ..solvers.tongues import (BOUNDARY_DTAU, BOUNDARY_MIN_DKAPPA, BOUNDARY_TAU_MAX, boundary_taus,
@@ -447,25 +449,47 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
 
 
 def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,
-              **params: Any) -> ExponentsResult:
+              count: int | None = None, **params: Any) -> ExponentsResult:
     """Floquet characteristic exponents gamma at forcing amplitude ``tau``.
 
-    Re gamma is the growth rate per unit time; Im gamma is folded into (-1/2, 1/2]. Verified
-    against the monodromy matrix of ``scipy.integrate.solve_ivp`` in the tests.
+    Re gamma is the growth rate per unit time; Im gamma is folded into (-1/2, 1/2]; the list
+    is sorted by decreasing Re gamma, and ``count`` keeps that many (the least damped).
+
+    Notes
+    -----
+    A model with a matrix-polynomial D(s) (Mathieu, the inviscid reductions, the inviscid
+    cochlea): every exponent of Hill's companion-form eigenproblem
+    (:mod:`spectralshell.solvers.exponents`), verified against the monodromy matrix of
+    ``scipy.integrate.solve_ivp`` in the tests. A viscous model (non-polynomial D(s)): the
+    natural modes (tau = 0) continued in tau as roots of the truncated Hill determinant, their
+    number in a region of the strip proved by the argument principle (``complete_in``)
+    (:mod:`spectralshell.solvers.hill_exponents`).
     """
     model = check_model(model)
     tau = require_real("tau", tau)
+    if count is not None:
+        count = require_int_in_range("count", count, 1)
     options = solver_options(tol, n_temporal)
     p, system = _system(model, params)
-    if system.polynomial is None:  # Hill's companion form needs a matrix polynomial D(s)
-        if getattr(p, "nu", 0.0):
-            raise ParameterError(f"nu = {p.nu!r} is invalid for Floquet exponents of model {model!r}: "
-                                 "must be 0 (the viscous load is not polynomial in s); use "
-                                 "floquet/stability for the marginal tau of the viscous model")
-        raise ParameterError(f"parameters {dataclasses.asdict(p)} are invalid for Floquet exponents "
-                             f"of model {model!r}: its D(s) is not a matrix polynomial in s with "
-                             "an invertible leading coefficient there (nothing oscillates)")
-    result = floquet_exponents(system, tau, **options)
+    if system.polynomial is not None:
+        result = floquet_exponents(system, tau, **options)
+    else:
+        require_capability(model, "Floquet exponents of a non-polynomial D(s) (continued from "
+                           "the natural modes)", "modal_system", "mode_family")
+        if not np.count_nonzero(system.forcing):
+            raise ParameterError(f"parameters {dataclasses.asdict(p)} are invalid for Floquet "
+                                 f"exponents of model {model!r}: nothing oscillates there")
+        try:
+            seeds = natural_modes(model, **dataclasses.asdict(p)).gamma
+        except ParameterError as exc:
+            raise ParameterError(f"{exc} (the Floquet exponents of model {model!r} are continued "
+                                 "from its natural modes)") from None
+        result = hill_exponents(system, tau, seeds, **options)
+    if count is not None and count < result.gamma.size:
+        bounds = result.complete_in  # still proved: lo < Re gamma <= hi, lo the first dropped
+        if bounds is not None:
+            bounds = (float(result.gamma[count].real), bounds[1])
+        result = dataclasses.replace(result, gamma=result.gamma[:count], complete_in=bounds)
     return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
                                  exponents=result, options=options)
 

@@ -16,12 +16,15 @@ decreasing Re gamma (the growth rate per unit time); multipliers are exp(2 pi ga
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.linalg as sla
 
 from ..errors import ConvergenceError
 from ..models.base import HillSystem
 from ..results.records import Exponents
+from .marginal import coarser
 
 N_MAX = 200
 SIZE_MAX = 6000  # largest dense companion-form eigenproblem attempted
@@ -47,7 +50,7 @@ def companion(system: HillSystem) -> tuple[np.ndarray, np.ndarray]:
     return C0, C1
 
 
-def _fold(gamma: np.ndarray) -> np.ndarray:
+def fold(gamma: np.ndarray) -> np.ndarray:
     """Im gamma into (-1/2, 1/2]; within 1e-12 of -1/2 counts as +1/2 (a subharmonic exponent)."""
     imag = gamma.imag - np.ceil(gamma.imag - 0.5)
     imag = np.where(np.abs(imag + 0.5) <= 1e-12, 0.5, imag)
@@ -82,9 +85,15 @@ def _exponents_at(system: HillSystem, tau: float, n: int) -> tuple[np.ndarray, f
         chosen.append(g)
         if len(chosen) == d:
             break
-    gamma = _fold(np.array(chosen))
+    gamma = fold(np.array(chosen))
     floor = ROUNDING * EPS * float(np.max(np.abs(values)))
     return gamma[np.lexsort((gamma.imag, -gamma.real))], floor
+
+
+def first_truncation(system: HillSystem, tau: float) -> int:
+    """The first truncation N tried: the resonant index, widened by the forcing's reach
+    2 |tau| sqrt(max |G|), plus 8."""
+    return int(np.ceil(system.n_resonant + 2 * abs(tau) * np.sqrt(abs(system.forcing).max()))) + 8
 
 
 def _unresolvable(tol: float, floor: float) -> ConvergenceError:
@@ -95,8 +104,11 @@ def _unresolvable(tol: float, floor: float) -> ConvergenceError:
         f"{floor:.2g}")
 
 
-def _distance(a: np.ndarray, b: np.ndarray) -> float:
-    """Largest distance from a point of ``a`` to the nearest of ``b``, modulo i."""
+def distance(a: np.ndarray, b: np.ndarray) -> float:
+    """Largest distance from a point of ``a`` to the nearest of ``b``, modulo i (0 for an empty
+    ``a``, inf for an empty ``b``)."""
+    if not a.size or not b.size:
+        return 0.0 if not a.size else math.inf
     diff = a[:, None] - b[None, :]
     diff = diff.real + 1j * (diff.imag - np.round(diff.imag))
     return float(np.max(np.min(np.abs(diff), axis=1)))
@@ -117,11 +129,11 @@ def floquet_exponents(system: HillSystem, tau: float, *, tol: float = 1e-10,
     ConvergenceError : not converged by N = 200.
     NotImplementedError : the model's D(s) is not a matrix polynomial.
     """
-    start = int(np.ceil(system.n_resonant + 2 * abs(tau) * np.sqrt(abs(system.forcing).max()))) + 8
+    start = first_truncation(system, tau)
     if n_temporal is not None:
-        n_prev = max(1, n_temporal - max(2, n_temporal // 4))
+        n_prev = coarser(n_temporal)
         gamma, floor = _exponents_at(system, tau, n_temporal)
-        change = _distance(gamma, _exponents_at(system, tau, n_prev)[0])
+        change = distance(gamma, _exponents_at(system, tau, n_prev)[0])
         return Exponents(gamma=gamma, n_temporal=n_temporal, error_estimate=max(change, floor))
     if start >= N_MAX:  # the resonant Fourier index alone exceeds the limit: nothing to converge
         raise ConvergenceError(f"Floquet exponents need a truncation above n_temporal={N_MAX} here "
@@ -133,7 +145,7 @@ def floquet_exponents(system: HillSystem, tau: float, *, tol: float = 1e-10,
     while n < N_MAX:
         n = min(n + max(6, n // 2), N_MAX)
         gamma, floor = _exponents_at(system, tau, n)
-        change = _distance(gamma, previous)
+        change = distance(gamma, previous)
         if change < tol and floor < tol:
             return Exponents(gamma=gamma, n_temporal=n, error_estimate=max(change, floor))
         if floor >= tol:

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
@@ -45,6 +46,25 @@ DUPLICATE_RTOL = 1e-8
 _FLOOR = 64 * np.finfo(float).eps
 
 Matrix = Callable[[complex], np.ndarray]
+
+
+@runtime_checkable
+class StructuredMatrix(Protocol):
+    """A matrix function T(s) that evaluates the phase of det T and tr(T^{-1} T') itself, at
+    many points s at once and with its own derivative T' (e.g. from a block LU that uses a
+    sparsity the dense matrix hides). Calling it gives the dense matrix. Where a solver here is
+    given one, it uses these methods instead of dense solves and determinants (and the ``dT``
+    passed with it is not called for them)."""
+
+    def __call__(self, s: complex) -> np.ndarray: ...
+
+    def phases(self, s: np.ndarray) -> np.ndarray:
+        """det T(s) / |det T(s)| at each point (0 where singular)."""
+        ...
+
+    def log_derivatives(self, s: np.ndarray) -> np.ndarray:
+        """tr(T(s)^{-1} T'(s)) at each point."""
+        ...
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -69,6 +89,9 @@ class NonlinearEigenvalues:
 
 
 def _log_derivative(T: Matrix, dT: Matrix, s: complex) -> complex:
+    """tr(T(s)^{-1} T'(s)) = d/ds log det T(s)."""
+    if isinstance(T, StructuredMatrix):
+        return complex(T.log_derivatives(np.array([s], dtype=complex))[0])
     return complex(np.trace(np.linalg.solve(T(s), dT(s))))
 
 
@@ -149,27 +172,33 @@ def nonlinear_eigenvalues(T: Matrix, dT: Matrix, seeds: Iterable[complex], *, to
                                 singular_ratio=np.array(ratios), seeds_tried=tried, failed=failed)
 
 
-def _phase(T: Matrix, s: complex) -> complex:
-    """det T(s) / |det T(s)| (the sign of slogdet: no overflow for large b); 0 if singular."""
-    return complex(np.linalg.slogdet(T(s))[0])
+def _phases(T: Matrix, s: np.ndarray) -> np.ndarray:
+    """det T(s) / |det T(s)| at each point (the sign of slogdet: no overflow for large b); 0
+    where singular."""
+    if isinstance(T, StructuredMatrix):
+        return T.phases(np.asarray(s, dtype=complex))
+    return np.array([np.linalg.slogdet(T(x))[0] for x in s], dtype=complex)
 
 
 def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | None = None,
                      n_start: int = 16, n_max: int = 1024, max_phase: float = 0.5,
-                     min_width: float = 1e-14) -> int:
+                     min_width: float = 1e-14, pieces: int | None = None) -> int:
     """Number of eigenvalues (with multiplicity) inside the closed polygon ``vertices``
     (counter-clockwise) from the winding number of det T along it.
 
     Notes
     -----
     The change of arg det T (the sign of slogdet: no overflow for large b) is summed over the
-    edges, each cut into ``n_start`` equal sub-intervals that are bisected until the phase turns by
+    edges, each cut into ``n_start`` equal sub-intervals that are refined until the phase turns by
     at most ``max_phase`` across each. A sampled phase cannot tell a turn theta from
     theta + 2 pi n (clustered eigenvalues near the contour alias that way); with ``dT`` each
     sub-interval must also agree to ``max_phase``/2 with the midpoint rule for the turn,
     Im(ds tr(T^{-1} T')) at its midpoint, which follows the full turn. The count is repeated with
     ``n_start`` doubled until two successive values agree. An eigenvalue at distance d from the
-    contour turns the phase by ~pi over a length ~d, so refinement finds it.
+    contour turns the phase by ~pi over a length ~d, so refinement finds it. A sub-interval is
+    refined into ``pieces`` equal parts, all of a level's new points evaluated together (default
+    4 for a :class:`StructuredMatrix`, whose batched phases cost little more than one, so that
+    fewer levels reach a nearby eigenvalue; 2, a bisection, otherwise).
     It needs T only continuous up to the contour (and dT only at the midpoints): an edge may run along a branch cut, evaluated as its limit from one side (for
     a principal square root in T, points x + 0j with a positive-zero imaginary part give the limit
     from Im s > 0), and a vertex may sit on a branch point, where tr(T^{-1} T') is infinite.
@@ -181,31 +210,43 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
         by ``n_max`` sub-intervals per edge.
     """
     v = [complex(z) for z in vertices]
+    if pieces is None:
+        pieces = 4 if isinstance(T, StructuredMatrix) else 2
+    cuts = np.linspace(0.0, 1.0, pieces + 1)
     edges = list(zip(v, v[1:] + v[:1]))
     n, previous = n_start, None
     while n <= n_max:
         total = 0.0
-        for a, b in edges:
-            t = np.linspace(0.0, 1.0, n + 1)
-            phases = [_phase(T, a + (b - a) * x) for x in t]
-            stack = [(t[j], t[j + 1], phases[j], phases[j + 1]) for j in range(n)]
-            while stack:
-                lo, hi, p_lo, p_hi = stack.pop()
+        t = np.linspace(0.0, 1.0, n + 1)
+        phases = _phases(T, np.concatenate([a + (b - a) * t for a, b in edges]))
+        phases = phases.reshape(len(edges), n + 1)
+        pending = [(a, b, t[j], t[j + 1], p[j], p[j + 1]) for (a, b), p in zip(edges, phases)
+                   for j in range(n)]
+        while pending:  # sub-intervals refined level by level, each level's phases in one batch
+            split = []
+            for a, b, lo, hi, p_lo, p_hi in pending:
                 if p_lo == 0 or p_hi == 0:
                     raise ConvergenceError(f"det T vanishes on the contour near s = {a + (b - a) * lo!r}")
-                mid = 0.5 * (lo + hi)
                 turn = float(np.angle(p_hi / p_lo))
                 agrees = abs(turn) <= max_phase
                 if agrees and dT is not None:
-                    estimate = ((b - a) * (hi - lo) * _log_derivative(T, dT, a + (b - a) * mid)).imag
+                    estimate = ((b - a) * (hi - lo) * _log_derivative(T, dT, a + (b - a) * 0.5 * (lo + hi))).imag
                     agrees = abs(turn - estimate) <= max_phase / 2
                 if agrees:
                     total += turn
                     continue
                 if hi - lo < min_width:
                     raise ConvergenceError(f"an eigenvalue lies on the contour near s = {a + (b - a) * lo!r}")
-                p_mid = _phase(T, a + (b - a) * mid)
-                stack += [(lo, mid, p_lo, p_mid), (mid, hi, p_mid, p_hi)]
+                split.append((a, b, lo, hi, p_lo, p_hi))
+            if not split:
+                break
+            inner = np.array([[lo + (hi - lo) * c for c in cuts[1:-1]] for _, _, lo, hi, _, _ in split])
+            middle = _phases(T, np.concatenate([a + (b - a) * x for (a, b, *_), x in zip(split, inner)]))
+            middle = middle.reshape(len(split), pieces - 1)
+            pending = []
+            for (a, b, lo, hi, p_lo, p_hi), x, p in zip(split, inner, middle):
+                x, p = np.concatenate([[lo], x, [hi]]), np.concatenate([[p_lo], p, [p_hi]])
+                pending += [(a, b, x[j], x[j + 1], p[j], p[j + 1]) for j in range(pieces)]
         value = total / (2 * np.pi)
         if previous is not None and abs(value - previous) < 1e-6 and abs(value - round(value)) < 1e-6:
             return int(round(value))

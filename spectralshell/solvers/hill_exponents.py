@@ -1,0 +1,415 @@
+"""Floquet exponents gamma at a forcing amplitude tau for models whose D(s) is not a matrix
+polynomial (a viscous fluid: the sphere, the fibre, the viscous cochlea).
+
+Problem
+-------
+gamma is a Floquet exponent at amplitude tau when (2) of :mod:`spectralshell.models.base`,
+D(gamma + i n) u_n = i tau G (u_{n-1} - u_{n+1}), has a non-zero solution: the infinite block
+tridiagonal Hill operator is singular (thesis (2.4)-(2.6) with gamma free). Truncated at N it is
+the two-sided pencil of :func:`spectralshell.discretise.hill.assemble` at a ``shift`` g,
+T_N(g) = A(g) - tau B, with gamma = g + i GAMMA[kind]: a nonlinear eigenproblem in g (D depends
+on s through Bessel ratios of sqrt(s / nu)), solved by the Newton/continuation/winding machinery
+of :mod:`spectralshell.solvers.nonlinear_eigen`. D(s) is taken analytic off the cut
+s in (-inf, 0] (principal square roots; true of every viscous model of the package). The
+companion-form route of :mod:`spectralshell.solvers.exponents` needs a polynomial D and does
+not apply.
+
+Method
+------
+1. Seeds: at tau = 0, T_N(g) is block diagonal and singular exactly at g = s_j - i GAMMA - i n,
+   s_j the natural modes (det D(s_j) = 0), which the caller supplies (one per conjugate pair).
+2. Each pair is followed from tau = 0 to tau (:func:`~spectralshell.solvers.nonlinear_eigen.
+   continue_roots`) in the window ``kind`` whose locking line (Im gamma = 0 harmonic, 1/2
+   subharmonic) lies nearer its folded frequency. In that window the index set is symmetric, so
+   det T_N(conj g) = conj det T_N(g) exactly: a pair that meets the line there has locked to the
+   forcing and splits into two exponents on the line (one of which crosses Re gamma = 0 at
+   tau_min of that kind).
+3. Completeness: the argument principle (:func:`~spectralshell.solvers.nonlinear_eigen.
+   count_by_winding`) counts the zeros of det T_N (harmonic window, g = gamma) in the region
+   R = {re_lo <= Re gamma <= re_hi, -1/4 <= Im gamma <= 3/4}, a period of the exponents, minus
+   the band |Im gamma| < w, Re gamma < w along the cut of D(s_0) (the fluid's continuous
+   spectrum, with the interior fluid's poles on it; exponents there are not counted and not
+   listed, except within w of the branch point gamma = 0, which are listed: at the harmonic
+   tau_min an exponent passes through it). The half-width w is SLIT, or half the smallest
+   |Im gamma| of an exponent found nearer the cut (just below a harmonic tau_min a pair
+   approaches the cut from both sides): a conjugate pair inside the band would pass the
+   contour on one side within a sampling step and alias its phase by 2 pi. When the count exceeds the
+   exponents found in R, deflated Newton searches from a grid of seeds over R (and next to the
+   branch point, where a harmonic exponent is born at the cut); a count still larger
+   raises. The result states R (``complete_in``): every exponent of the truncation in it is
+   listed.
+4. Convergence: N is raised (N -> N + max(6, N // 2)) from the resonant index + 8 until the
+   exponents change by less than ``tol`` (mod i); the change is the error estimate, floored at
+   the Newton steps. Step 2 runs at the first truncation only: at the next, each exponent is
+   polished by Newton's method from its value at the previous one; step 3 runs where the
+   exponents have settled (an exponent it adds means one more truncation; a count unmatched at
+   two settled truncations raises).
+
+Cost
+----
+T_N(g) is block tridiagonal (K = 2N + 1 or 2N + 2 blocks of size b; the couplings do not depend
+on g). The phase of det T_N (for the count) and tr(T_N^{-1} T_N') (the Newton step) come from
+its block LU (:mod:`spectralshell.solvers.block_tridiagonal`) in O(K b^3) rather than dense
+O((K b)^3), with D evaluated at all the points of a step (the count's points of one refinement
+level) in one vectorised call. ``dense=True`` runs the dense linear algebra instead: the
+reference that ``validation/bench_exponents.py`` times and compares. Measured at tau = 0.3 (one
+thread): sphere (m = 3, kappa = 0.02, nu = 0.006) 0.27 s against 0.39 s dense, cochlea (M = 8)
+0.94 s against 5.6 s dense, the exponents equal to 3e-16; the first, all-dense version of this
+module took 1.2 s and 60 s.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from ..discretise.fourier import GAMMA, KINDS, frequencies, two_sided_indices
+from ..discretise.hill import HillMatrices, assemble
+from ..errors import ConvergenceError
+from ..models.base import HillSystem
+from ..results.records import Exponents
+from .exponents import N_MAX, distance, first_truncation, fold
+from .block_tridiagonal import log_det_phase_and_derivative
+from .marginal import coarser, finer
+from .nonlinear_eigen import DUPLICATE_RTOL, Matrix, continue_roots, count_by_winding, newton
+
+#: Im gamma of the counting region: one period of the exponents, both locking lines inside.
+STRIP = (-0.25, 0.75)
+#: Half-width of the band around the cut that R leaves out: D(s_0) has poles on the cut (the
+#: interior fluid's, s = -nu j^2), which a contour along the cut itself would run through.
+SLIT = 1e-6
+#: An exponent with Re gamma < 0 and |Im gamma| below this lies on the cut (to rounding).
+ON_CUT = 1e-12
+#: The continuation starts at this fraction of tau, from the natural modes polished there.
+START_FRACTION = 1e-3
+#: Relative step of the 4-point derivative D'(s) ~ [D(s+h) - D(s-h) - i D(s+ih) + i D(s-ih)] / 4h.
+DERIVATIVE_STEP = 1e-3
+#: A harmonic exponent is born at the branch point gamma = 0 (a real one crossing from the
+#: cut); Newton's method is always tried from here.
+BRANCH_SEED = complex(1e-3, 0.0)
+#: Where a continued branch is lost (a pair meeting its locking line is a double root there),
+#: Newton's method restarts at tau from the branch, its mirror image and the points this far
+#: beyond |Im g| on either side along the line; the count then checks nothing was missed.
+LOST_REACH = 1e-3
+#: Seeds per unit length of the region's edges in the search for exponents the count says are
+#: missing.
+SEARCH_DENSITY = 8
+
+
+@dataclass(frozen=True, eq=False)
+class HillPencil:
+    """T(g) = A(g) - tau B of the two-sided truncation N at shift g (window ``kind``) as a
+    structured matrix function (:class:`~spectralshell.solvers.nonlinear_eigen.StructuredMatrix`):
+    the phase of det T and tr(T^{-1} T') at many g at once from the block LU of
+    :mod:`spectralshell.solvers.block_tridiagonal` (O(N b^3)); calling it gives the dense
+    matrix, :meth:`derivative` the dense T'(g)."""
+
+    system: HillSystem
+    hill: HillMatrices  # the two-sided truncation at shift 0 (its couplings and frequencies)
+    tau: float
+
+    @cached_property
+    def _couplings(self) -> tuple[np.ndarray, np.ndarray]:
+        """(L, U): the constant off-diagonal blocks -tau lower, -tau upper of T."""
+        return -self.tau * self.hill.lower, -self.tau * self.hill.upper
+
+    @cached_property
+    def _frequencies(self) -> np.ndarray:
+        return frequencies(self.hill.kind, two_sided_indices(self.hill.kind, self.hill.n_temporal))
+
+    def __call__(self, g: complex) -> np.ndarray:
+        return assemble(self.system, self.hill.kind, self.hill.n_temporal, "two-sided",
+                        shift=g).dense(self.tau)
+
+    def _blocks(self, g: np.ndarray, derivative: bool) -> tuple[np.ndarray, np.ndarray | None]:
+        """D(s_k + g_j) and (if ``derivative``) D'(s_k + g_j), each (P, K, b, b), from one call
+        of D: D' by the 4-point formula [D(s+h) - D(s-h) - i D(s+ih) + i D(s-ih)] / 4h (error
+        ~h^4); next to the cut, where s +- ih would straddle it, the central difference along it."""
+        s = (np.asarray(g, dtype=complex)[:, None] + self._frequencies[None, :]).ravel()
+        b = self.system.block_size
+        shape = (len(g), len(self._frequencies), b, b)
+        if not derivative:
+            return self.system.unforced(s).reshape(shape), None
+        h = DERIVATIVE_STEP * np.maximum(1.0, np.abs(s))
+        along = (s.real < 0) & (np.abs(s.imag) <= 2 * h)
+        hi = np.where(along, 0.0, h)
+        values = self.system.unforced(np.concatenate([s, s + h, s - h, s + 1j * hi, s - 1j * hi]))
+        values = values.reshape(5, len(s), b, b)
+        h = h[:, None, None]
+        d = np.where(along[:, None, None], (values[1] - values[2]) / (2 * h),
+                     (values[1] - values[2] - 1j * (values[3] - values[4])) / (4 * h))
+        return values[0].reshape(shape), d.reshape(shape)
+
+    def derivative(self, g: complex) -> np.ndarray:
+        """T'(g) as a dense block diagonal matrix, blockdiag D'(s_k + g)."""
+        d = self._blocks(np.array([g]), True)[1][0]
+        k, b = len(d), self.system.block_size
+        out = np.zeros((k, b, k, b), dtype=complex)
+        out[np.arange(k), :, np.arange(k), :] = d
+        return out.reshape(k * b, k * b)
+
+    def phases(self, g: np.ndarray) -> np.ndarray:
+        """det T(g) / |det T(g)| at each g."""
+        return log_det_phase_and_derivative(self._blocks(g, False)[0], *self._couplings)[0]
+
+    def log_derivatives(self, g: np.ndarray) -> np.ndarray:
+        """tr(T(g)^{-1} T'(g)) = d/dg log det T(g) at each g."""
+        diag, d = self._blocks(g, True)
+        out = log_det_phase_and_derivative(diag, *self._couplings, d)[1]
+        assert out is not None
+        return out
+
+
+def pencil_family(system: HillSystem, kind: str, n_temporal: int, dense: bool = False
+                  ) -> Callable[[float], tuple[Matrix, Matrix]]:
+    """tau -> (T, dT): the :class:`HillPencil` T(g) at tau and its derivative in g; with
+    ``dense`` as plain matrix functions (dense LAPACK solves and determinants of the whole
+    truncation, O((N b)^3): the reference for the block LU)."""
+
+    hill = assemble(system, kind, n_temporal, "two-sided")
+
+    def at(tau: float) -> tuple[Matrix, Matrix]:
+        pencil = HillPencil(system, hill, tau)
+        return (pencil.__call__ if dense else pencil), pencil.derivative
+
+    return at
+
+
+def window(gamma: complex) -> tuple[str, complex]:
+    """(kind, g): the window whose locking line lies nearer gamma's folded frequency, and the
+    shift g = gamma - i GAMMA[kind] - i n with Im g in [-1/4, 1/4]."""
+    offset = gamma.imag - math.floor(gamma.imag)  # in [0, 1)
+    kind = "subharmonic" if 0.25 <= offset < 0.75 else "harmonic"
+    g = gamma - 1j * GAMMA[kind]
+    return kind, complex(g.real, g.imag - round(g.imag))
+
+
+def _followed(system: HillSystem, tau: float, seeds: Sequence[complex], n_temporal: int,
+              tol: float, dense: bool) -> tuple[np.ndarray, float]:
+    """Every exponent continued from the natural modes ``seeds`` (one per conjugate pair) to
+    ``tau`` at truncation N: (folded exponents, largest Newton step)."""
+    out, steps = [], [0.0]
+    for kind in KINDS:
+        start = [g for k, g in map(window, seeds) if k == kind]
+        start = [g if g.imag >= 0 else g.conjugate() for g in start]
+        if not start:
+            continue
+        family = pencil_family(system, kind, n_temporal, dense)
+        if tau == 0.0:
+            roots, err, ok = np.array(start), np.zeros(len(start)), np.ones(len(start), bool)
+            roots = roots.astype(complex)
+        else:
+            tau0 = START_FRACTION * abs(tau)
+            T, dT = family(math.copysign(tau0, tau))
+            polished = [newton(T, dT, g, tol=tol) for g in start]
+            if any(p is None for p in polished):
+                raise ConvergenceError("a natural mode is not a root of the truncated Hill "
+                                       f"determinant at n_temporal={n_temporal}: raise n_temporal=")
+            roots, err, ok = continue_roots(
+                lambda t: family(math.copysign(t, tau)), tau0, abs(tau),
+                [p[0] for p in polished], tol=tol, conjugate_symmetric=True)
+        found: list[complex] = []
+        for g, e in zip(roots[ok], err[ok]):
+            found += [g] if abs(g.imag) <= e else [g, g.conjugate()]
+            steps.append(float(e))
+        T, dT = family(tau)
+        for g in roots[~ok]:  # lost where a pair met the line (a double root) or two merged
+            reach = abs(g.imag) + LOST_REACH
+            _newton_from(T, dT, (g, g.conjugate(), complex(g.real + reach),
+                                 complex(g.real - reach)), found, steps, tol)
+        out += [g + 1j * GAMMA[kind] for g in found]
+    return fold(np.array(out, dtype=complex)), max(steps)
+
+
+def _polished(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int, tol: float,
+              dense: bool) -> tuple[np.ndarray, float]:
+    """The exponents ``gamma`` of a neighbouring truncation refined at truncation N by Newton's
+    method, each in its window: (folded exponents, largest Newton step). One that does not
+    converge to a new root is left out (the count then finds it missing)."""
+    out, steps = [], [0.0]
+    for kind in KINDS:
+        T, dT = pencil_family(system, kind, n_temporal, dense)(tau)
+        found: list[complex] = []
+        _newton_from(T, dT, [g for k, g in map(window, gamma) if k == kind], found, steps, tol)
+        out += [g + 1j * GAMMA[kind] for g in found]
+    return fold(np.array(out, dtype=complex)), max(steps)
+
+
+def _newton_from(T: Matrix, dT: Matrix, seeds: Sequence[complex], found: list[complex],
+                 steps: list[float], tol: float) -> None:
+    """Deflated Newton's method from each seed; a new root is appended to ``found`` and its
+    last step to ``steps``."""
+    for seed in seeds:
+        got = newton(T, dT, seed, known=found, tol=tol)
+        if got is not None and _new(got[0], found):
+            found.append(got[0])
+            steps.append(got[1])
+
+
+def _new(gamma: complex, found: Sequence[complex]) -> bool:
+    """gamma differs (mod i) from every exponent in ``found``."""
+    return not found or distance(np.array([gamma]), np.array(found)) > \
+        DUPLICATE_RTOL * max(abs(gamma), 1.0)
+
+
+def region(gamma: np.ndarray) -> tuple[float, float]:
+    """(re_lo, re_hi) of the counting region around the exponents ``gamma`` and 0: a margin of
+    1/2 + |Re| / 2 to the left, 1 to the right (the slit must end inside)."""
+    lo, hi = float(np.min(gamma.real, initial=0.0)), float(np.max(gamma.real, initial=0.0))
+    return lo - 0.5 - 0.5 * abs(lo), max(hi + 1.0, 1.0)
+
+
+def slit_width(gamma: Sequence[complex]) -> float:
+    """Half-width w of the band around the cut that R leaves out (module notes, step 3)."""
+    near = [abs(g.imag) for g in gamma if g.real < 0 and ON_CUT < abs(g.imag) < SLIT]
+    return min([SLIT] + [0.5 * y for y in near])
+
+
+def _contour(re_lo: float, re_hi: float, slit: float) -> list[complex]:
+    """The counter-clockwise boundary of R slit along [re_lo, w] with half-width w = ``slit``
+    (module notes, step 3): the slit ends w to the right of the branch point, so that the
+    contour misses an exponent at gamma = 0 (the harmonic tau_min)."""
+    bottom, top = STRIP
+    path = [complex(re_hi, bottom), complex(re_hi, top), complex(re_lo, top)]
+    if re_lo < 0:
+        path += [complex(re_lo, slit), complex(slit, slit), complex(slit, -slit),
+                 complex(re_lo, -slit)]
+    return path + [complex(re_lo, bottom)]
+
+
+def _in_strip(gamma: np.ndarray) -> np.ndarray:
+    """The copy (mod i) of each exponent with Im gamma in R's period [-1/4, 3/4)."""
+    im = gamma.imag - np.floor(gamma.imag - STRIP[0])  # the copy in [-1/4, 3/4)
+    return gamma.real + 1j * im
+
+
+def _in_slit(gamma: complex, slit: float) -> bool:
+    """gamma lies in the band of half-width ``slit`` that R leaves out (it is not counted)."""
+    return gamma.real < slit and abs(gamma.imag) < slit
+
+
+def _on_cut(gamma: complex, slit: float) -> bool:
+    """gamma lies in the band, not within ``slit`` of the branch point (it is not listed)."""
+    return _in_slit(gamma, slit) and gamma.real < -slit
+
+
+def _counted(found: Sequence[complex], slit: float) -> int:
+    """How many of ``found`` the winding count sees (those outside the band)."""
+    return sum(not _in_slit(g, slit) for g in found)
+
+
+def _completed(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int,
+               tol: float, dense: bool) -> tuple[np.ndarray, tuple[float, float]]:
+    """``gamma`` with any exponent the winding count finds missing in R added (module notes,
+    step 3), and R's real extent."""
+    re_lo, re_hi = region(gamma)
+    T, dT = pencil_family(system, "harmonic", n_temporal, dense)(tau)
+    slit = slit_width(gamma)
+    found = [g for g in _in_strip(gamma) if not _on_cut(g, slit)]
+    bottom, top = STRIP
+    grid = np.linspace(re_lo, re_hi, max(3, int(SEARCH_DENSITY * (re_hi - re_lo))))
+    searched = [complex(x, y) for y in np.linspace(bottom, top, SEARCH_DENSITY + 1)[1:-1]
+                for x in grid]
+    count = count_by_winding(T, _contour(re_lo, re_hi, slit))
+    for seed in [BRANCH_SEED] + searched:  # the branch seed always: the count misses its root
+        if seed != BRANCH_SEED and _counted(found, slit) >= count:
+            break
+        out = newton(T, dT, seed, known=found, tol=tol)
+        if out is not None:
+            g = complex(_in_strip(np.array([out[0]]))[0])
+            if _new(g, found) and re_lo < g.real < re_hi and not _on_cut(g, slit):
+                found.append(g)
+    if _counted(found, slit) != count:
+        raise ConvergenceError(
+            f"the argument principle counts {count} Floquet exponents with Re gamma in "
+            f"[{re_lo:.4g}, {re_hi:.4g}] at n_temporal={n_temporal}, but {_counted(found, slit)} were "
+            "found: give n_temporal= or a nearby tau")
+    return fold(np.array(found, dtype=complex)), (re_lo, re_hi)
+
+
+def hill_exponents(system: HillSystem, tau: float, seeds: Sequence[complex], *,
+                   tol: float = 1e-10, n_temporal: int | None = None,
+                   n_max: int = N_MAX, dense: bool = False) -> Exponents:
+    """Floquet exponents gamma at forcing amplitude ``tau`` of a model with non-polynomial
+    D(s), continued from its natural modes ``seeds`` (tau = 0; one per conjugate pair) and
+    counted complete in a region (module notes).
+
+    Returns
+    -------
+    Exponents : gamma folded to Im in (-1/2, 1/2], decreasing Re; ``complete_in`` the Re gamma
+        range of the counting region; ``error_estimate`` the change from the previous
+        truncation (floored at the Newton steps).
+
+    ``dense``: dense linear algebra on the whole truncation instead of the block LU (the
+    reference it is checked against; O((N b)^3)).
+
+    Raises
+    ------
+    ConvergenceError : an exponent lost in the continuation, a count the search cannot match,
+        or no convergence to ``tol`` by ``n_max``.
+    """
+    seeds = [complex(s) for s in seeds]
+    if not seeds:
+        raise ConvergenceError("no natural mode to continue the Floquet exponents from")
+
+    def found(n: int, near: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+        """The exponents at truncation n, polished from those of a neighbouring truncation
+        (``near``) or continued from the seeds: (exponents, largest Newton step)."""
+        if near is None:
+            return _followed(system, tau, seeds, n, tol, dense)
+        return _polished(system, tau, near, n, tol, dense)
+
+    def counted(gamma: np.ndarray, n: int) -> tuple[np.ndarray, tuple[float, float]]:
+        gamma, bounds = _completed(system, tau, gamma, n, tol, dense)
+        return gamma[np.lexsort((gamma.imag, -gamma.real))], bounds
+
+    if n_temporal is not None:
+        smaller = found(coarser(n_temporal))[0]
+        gamma, step = found(n_temporal, smaller)
+        gamma, bounds = counted(gamma, n_temporal)
+        if len(gamma) != len(smaller):  # the count added some: look for them at the coarser N
+            smaller = found(coarser(n_temporal), gamma)[0]
+        if len(gamma) != len(smaller):
+            raise ConvergenceError(
+                f"Floquet exponents at n_temporal={n_temporal}: the comparison truncation "
+                f"n_temporal={coarser(n_temporal)} finds {len(smaller)} exponents, this one "
+                f"{len(gamma)}, so no error estimate exists: raise n_temporal=")
+        return Exponents(gamma=gamma, n_temporal=n_temporal,
+                         error_estimate=max(distance(gamma, smaller), step), complete_in=bounds)
+    n = first_truncation(system, tau)
+    if n >= n_max:
+        raise ConvergenceError(f"Floquet exponents need a truncation above n_temporal={n_max} "
+                               f"here (resonant Fourier index ~{n - 8}): lower kappa or |tau|")
+    previous: np.ndarray | None = None
+    change, miscounted = math.inf, False
+    while True:
+        try:
+            gamma, step = found(n, previous)
+        except ConvergenceError:  # an under-resolved truncation: the next one may settle it
+            if n >= n_max:
+                raise
+            previous = None
+        else:
+            settled = previous is not None and len(gamma) == len(previous)
+            change = distance(gamma, previous) if settled else math.inf
+            if change < tol and previous is not None:  # the (costly) count once settled in N
+                try:
+                    gamma, bounds = counted(gamma, n)
+                except ConvergenceError:  # unmatched at two settled truncations: not a matter of N
+                    if miscounted or n >= n_max:
+                        raise
+                    miscounted = True
+                else:
+                    change = distance(gamma, previous) if len(gamma) == len(previous) else math.inf
+                    if change < tol:
+                        return Exponents(gamma=gamma, n_temporal=n,
+                                         error_estimate=max(change, step), complete_in=bounds)
+            previous = gamma
+        if n >= n_max:
+            raise ConvergenceError(f"Floquet exponents did not converge to tol={tol:g} by "
+                                   f"n_temporal={n_max} (last change {change:.3g}); relax tol=")
+        n = min(finer(n), n_max)

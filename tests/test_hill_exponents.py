@@ -1,0 +1,150 @@
+"""Floquet exponents of the viscous models (solvers/hill_exponents.py): roots of the truncated
+Hill determinant continued from the natural modes, counted complete by the argument principle.
+
+Oracles: the natural modes from the dispersion relations (tau = 0; solvers/modes.py, an
+independent root finder on a scalar function of beta), the marginal solver's tau_min (an
+eigenproblem in tau at fixed gamma = 0 or i/2: there the largest Re gamma must vanish), the
+stepped monodromy matrix of the sphere (tests/test_stepper_sphere.py), and smoothness in tau.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import spectralshell as ss
+from spectralshell.cli import main
+from spectralshell.errors import ParameterError
+from spectralshell.models.registry import hill_system
+from spectralshell.params.registry import make_params
+from spectralshell.solvers.exponents import distance
+from spectralshell.solvers.hill_exponents import _contour, count_by_winding, pencil_family, slit_width
+
+SPHERE = dict(m=3, kappa=0.02, nu=0.006)          # thesis Table 6.1 case 1 (subharmonic)
+SPHERE_HARMONIC = dict(m=2, kappa=0.21, nu=0.002)  # the first harmonic tongue, tau_min ~ 0.54
+FIBRE = dict(m=3, kappa=0.02, nu=2e-4)
+COCHLEA = dict(kappa=0.5, nu=1e-3, alpha=1.0, n_spatial=4)
+
+
+def pairs(gamma):
+    """Both members of each natural-mode pair, folded into Im in (-1/2, 1/2]."""
+    g = np.concatenate([gamma, np.conj(gamma)])
+    return g.real + 1j * (g.imag - np.ceil(g.imag - 0.5))
+
+
+@pytest.mark.parametrize("model,params", [("sphere", SPHERE), ("fibre", FIBRE),
+                                          ("cochlea", COCHLEA)])
+def test_tau_zero_gives_the_natural_modes(model, params):
+    """At tau = 0 the exponents are the natural modes (and their conjugates), to 1e-10."""
+    res = ss.exponents(model, tau=0.0, **params)
+    modes = pairs(ss.natural_modes(model, **params).gamma)
+    assert len(res.gamma) == len(modes)
+    assert distance(res.gamma, modes) < 1e-10 and distance(modes, res.gamma) < 1e-10
+
+
+@pytest.mark.parametrize("model,params,kind", [("sphere", SPHERE, "subharmonic"),
+                                               ("fibre", FIBRE, "subharmonic"),
+                                               ("sphere", SPHERE_HARMONIC, "harmonic"),
+                                               ("cochlea", COCHLEA, "subharmonic")])
+def test_largest_growth_rate_vanishes_at_tau_min(model, params, kind):
+    """At the marginal solver's tau_min the least damped exponent has Re gamma = 0 (1e-10) and
+    Im gamma = 0 (harmonic) or 1/2 (subharmonic); just below it all decay, just above one grows
+    with that Im gamma."""
+    tau_min = getattr(ss.floquet(model, kind=kind, tol=1e-13, **params), kind).tau_min
+    lock = 0.5 if kind == "subharmonic" else 0.0
+    at = ss.exponents(model, tau=tau_min, **params)
+    assert abs(at.gamma[0].real) < 1e-10 and abs(at.gamma[0].imag - lock) < 1e-10
+    below = ss.exponents(model, tau=0.98 * tau_min, **params)
+    above = ss.exponents(model, tau=1.02 * tau_min, **params)
+    assert below.gamma[0].real < -1e-6
+    assert above.gamma[0].real > 1e-6 and abs(above.gamma[0].imag - lock) < 1e-10
+
+
+def test_exponents_are_continuous_in_tau():
+    """Smooth in tau: second differences over three nearby amplitudes are O(h^2)."""
+    h, tau = 1e-3, 0.2
+    g = [ss.exponents("sphere", tau=t, **SPHERE).gamma for t in (tau - h, tau, tau + h)]
+    assert all(len(x) == len(g[0]) for x in g)
+    assert distance(g[1], g[0]) < 10 * h and distance(g[2], g[1]) < 10 * h
+    second = np.max(np.abs(g[0] - 2 * g[1] + g[2]))
+    assert second < 100 * h ** 2
+
+
+def test_list_is_complete_in_the_stated_region():
+    """The argument principle over the stated region (at the result's truncation) counts exactly
+    the exponents listed there."""
+    res = ss.exponents("sphere", tau=0.3, **SPHERE)
+    lo, hi = res.complete_in
+    system = hill_system(make_params("sphere", SPHERE))
+    T, _ = pencil_family(system, "harmonic", res.n_temporal)(0.3)
+    assert count_by_winding(T, _contour(lo, hi, slit_width(res.gamma))) == len(res.gamma)
+    assert np.all((res.gamma.real > lo) & (res.gamma.real <= hi))
+
+
+def test_count_keeps_the_least_damped_and_narrows_the_claim():
+    """count = 2: the two largest Re gamma; complete_in then starts at the first dropped one."""
+    every = ss.exponents("sphere", tau=0.3, **SPHERE)
+    two = ss.exponents("sphere", tau=0.3, count=2, **SPHERE)
+    np.testing.assert_array_equal(two.gamma, every.gamma[:2])
+    assert two.complete_in == (every.gamma[2].real, every.complete_in[1])
+    with pytest.raises(ParameterError, match="count"):
+        ss.exponents("sphere", tau=0.3, count=0, **SPHERE)
+
+
+def test_cli_exponents_sphere_json(capsys):
+    """The command of the issue: JSON with the exponents, the error estimate and complete_in."""
+    rc = main(["exponents", "sphere", "--m", "3", "--kappa", "0.02", "--nu", "0.006",
+               "--tau", "0.3", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 0 and out["n_temporal"] >= 1 and out["error_estimate"] < 1e-10
+    assert len(out["exponents"]) == 4 and len(out["complete_in"]) == 2
+    lead = out["exponents"][0]
+    assert lead["re"] < 0 and abs(lead["im"] - 0.5) < 1e-12   # stable: tau_min = 0.355
+    assert main(["exponents", "sphere", "--m", "3", "--kappa", "0.02", "--nu", "0.006",
+                 "--tau", "0.3", "--count", "2", "--json"]) == 0
+    assert len(json.loads(capsys.readouterr().out)["exponents"]) == 2
+
+
+@pytest.mark.parametrize("model,params,n", [("sphere", SPHERE, 12), ("fibre", FIBRE, 12),
+                                            ("cochlea", dict(COCHLEA, n_spatial=8), 9)])
+def test_block_lu_matches_dense_lapack(model, params, n):
+    """The block LU's phase of det T and tr(T^{-1} T') equal dense LAPACK's (numpy slogdet and
+    solve of the assembled matrix) at points off the real axis, near a root and in both windows."""
+    system = hill_system(make_params(model, params))
+    g = np.array([0.1 + 0.05j, -0.3 + 0.2j, -0.7 - 0.21j, 0.02 + 1e-5j])
+    for kind in ("harmonic", "subharmonic"):
+        T, dT = pencil_family(system, kind, n)(0.3)
+        phases, logd = T.phases(g), T.log_derivatives(g)
+        for x, p, d in zip(g, phases, logd):
+            sign, _ = np.linalg.slogdet(T(x))
+            assert abs(p - sign) < 1e-10
+            ref = np.trace(np.linalg.solve(T(x), dT(x)))
+            assert abs(d - ref) < 1e-10 * max(1.0, abs(ref))
+
+
+@pytest.mark.parametrize("argv,tau", [
+    (["fibre", "--m", "3", "--kappa", "0.02", "--nu", "2e-4"], "0.3"),
+    (["cochlea", "--kappa", "0.5", "--nu", "1e-3", "--alpha", "1", "--n-spatial", "4"], "0.45")])
+def test_cli_exponents_fibre_and_cochlea(capsys, argv, tau):
+    """The command for the other viscous models, with --count, above the marginal solver's
+    subharmonic tau_min: the least damped exponent grows, locked to Im gamma = 1/2."""
+    assert main(["exponents", *argv, "--tau", tau, "--count", "1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    (gamma,) = out["exponents"]
+    assert out["error_estimate"] < 1e-10 and abs(gamma["im"] - 0.5) < 1e-12 and gamma["re"] > 0
+    params = {k: float(v) for k, v in out["params"].items() if isinstance(v, (int, float))}
+    params = {k: int(v) if k in ("m", "n_spatial") else v for k, v in params.items()}
+    assert ss.floquet(argv[0], kind="subharmonic", **params).subharmonic.tau_min < float(tau)
+
+
+@pytest.mark.parametrize("argv", [
+    ["--count", "0"], ["--count", "2.5"], ["--tau", "x"], ["--nu", "-1"]])
+def test_cli_exponents_bad_input_exits_2_with_one_line(capsys, argv):
+    """Bad input: exit status 2 and a one-line message naming the parameter."""
+    base = {"--m": "3", "--kappa": "0.02", "--nu": "0.006", "--tau": "0.3"}
+    base.update(dict(zip(argv[::2], argv[1::2])))
+    rc = main(["exponents", "sphere", *[x for kv in base.items() for x in kv]])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and len(err.splitlines()) == 1 and argv[0].lstrip("-") in err
