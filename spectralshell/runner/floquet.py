@@ -307,6 +307,8 @@ def tongues(model: str, *, kappa: str | Mapping[str, Any] | Sequence[float] | np
                                                 "boundaries": boundaries, **options}))
 
 
+#: The boundary solves (every=True) stop at N = 2 x the grid's largest N plus this.
+BOUNDARY_N_MARGIN = 8
 #: Rounds of bisection at most when tracing boundaries (each halves the unresolved intervals:
 #: from a grid step of 1/300 of the range down to BOUNDARY_MIN_DKAPPA takes 5).
 BOUNDARY_ROUNDS = 12
@@ -324,13 +326,15 @@ def trace_boundaries(factory, grid: np.ndarray, rows: list, tips: list, kinds: t
     A curve follows every tau up to that cap, not only tau_min: each added kappa, and each grid
     point whose list is not complete up to the cap (``complete_to``), is solved with
     ``every=True`` (:func:`~spectralshell.solvers.marginal.marginal_tau`), which raises N until
-    every tau below the cap has converged. A point where that does not converge keeps its grid
+    every tau below the cap has converged, up to twice the grid's largest N. A point where that does not converge keeps its grid
     row (its curve may end there); an added kappa where it does not is left out, its interval
     unrefined."""
     cap = options.get("tau_max") if options.get("tau_max") is not None else BOUNDARY_TAU_MAX
     wanted = {**options, "tau_max": cap}
-    if options.get("n_temporal") is None:
-        wanted["every"] = True
+    if options.get("n_temporal") is None:  # up to twice the grid's largest N (a bound on the
+        # cost where the larger tau never settle, e.g. the cochlea at M = 64: N = 400, ~100 s)
+        deepest = max((row[kind].n_temporal for row in rows for kind in kinds), default=0)
+        wanted.update(every=True, n_max=min(N_MAX, 2 * deepest + BOUNDARY_N_MARGIN))
     min_dkappa = BOUNDARY_MIN_DKAPPA * float(grid.max() - grid.min())
     solved, failed = dict(zip(grid.tolist(), rows)), set()
     short = [k for k, row in solved.items()
