@@ -100,7 +100,7 @@ def write_per_chunk(chunk: int) -> float:
         for c in plan:
             where = region(spec, c)
             shape = tuple(s.stop - s.start if s.start is not None else 2 for s in where)
-            store.write(where, {k: v.reshape(shape) for k, v in _payload(int(np.prod(shape))).items()})
+            store.write(c, {k: v.reshape(shape) for k, v in _payload(int(np.prod(shape))).items()})
         return (time.perf_counter() - t0) / len(plan)
 
 

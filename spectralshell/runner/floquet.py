@@ -31,10 +31,8 @@ from ..results.floquet import (ExponentsResult, FloquetResult, StabilityResult, 
                               certification_warnings, provenance, resolution_warnings)
 from ..solvers.cost import CostEstimate, spatial_cost
 from ..solvers.exponents import floquet_exponents
-from ..solvers.hill_exponents import hill_exponents
 from ..solvers.marginal import N_MAX
 from ..solvers.spatial_refinement import TOL_SPATIAL, spatial_error
-from .modes import natural_modes
 from .solve import solve_kinds, spatial_point, spatial_system
 from .progress import progress_bar
 from ..solvers.tongues import (BOUNDARY_DTAU, BOUNDARY_MIN_DKAPPA, BOUNDARY_TAU_MAX, boundary_taus,
@@ -469,6 +467,9 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
     number in a region of the strip proved by the argument principle (``complete_in``)
     (:mod:`spectralshell.solvers.hill_exponents`).
     """
+    from ..solvers.hill_exponents import hill_exponents  # lazy: only the viscous models' path
+    from .modes import natural_modes
+
     model = check_model(model)
     tau = require_real("tau", tau)
     if count is not None:
