@@ -7,9 +7,12 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from ._canvas import save_figure, subplots
 from ..errors import ParameterError
-from .sweep_plot import colour_label, draw_map, picture_axes
+from ..results.maps import unstable_at
+from .sweep_plot import axis_label, cell_edges, colour_label, draw_map, picture_axes
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -59,12 +62,8 @@ def draw_unstable_pairs(ax, ds: xr.Dataset, x: str, at: dict[str, float], tau: f
     tau_min <= tau (harmonic, subharmonic, both, or stable), x horizontal, m vertical."""
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
-    import numpy as np
 
-    from .sweep_plot import axis_label, cell_edges
-
-    cut = ds.sel(at)
-    unstable = (cut["has_tau"] & (cut["tau_min"] <= tau)).transpose("m", x, "kind")
+    unstable = unstable_at(ds, x, at, tau)
     harmonic = unstable.sel(kind="harmonic").values
     subharmonic = unstable.sel(kind="subharmonic").values
     code = np.where(harmonic & subharmonic, 3, np.where(subharmonic, 2, harmonic.astype(int)))

@@ -18,7 +18,7 @@ from ..runner.progress import tracked
 from ..params.physical import CARDIAC, TABLE_6_1, PhysicalSphere, bpm_to_rad_per_s
 from ..models.sphere import lambda0_squared
 from ..plots import degree_stability, ince_strutt, natural_modes, tau_map
-from ..results.maps import map_dict, minimum_map, write_npz
+from ..results.maps import map_dict, minimum_map, unstable_at, write_npz
 
 
 def _write_json(path: Path, data) -> Path:
@@ -102,11 +102,8 @@ def _cylinder_map(out: Path, *, progress: bool, workers: int | None, size: int =
     png = tau_map.save_with_pairs(res, out / "fig-cylinder.png", x="k", at={"kappa": kappa},
                                   tau=CYLINDER["tau"])
     smallest = minimum_map(res, "k", "kappa")
-    cut = res.sel(kappa=kappa)
-    unstable = {kind: [[bool(h and t <= CYLINDER["tau"]) for h, t in zip(hr, tr)]
-                       for hr, tr in zip(cut["has_tau"].sel(kind=kind).transpose("m", "k").values,
-                                         cut["tau_min"].sel(kind=kind).transpose("m", "k").values)]
-                for kind in ("harmonic", "subharmonic")}
+    pairs = unstable_at(res, "k", {"kappa": kappa}, CYLINDER["tau"])
+    unstable = {kind: pairs.sel(kind=kind).values.tolist() for kind in KINDS}
     data = {**map_dict(smallest), "unstable_at": {"kappa": kappa, "tau": CYLINDER["tau"],
                                                   "m": res["m"].values.tolist(),
                                                   "k": res["k"].values.tolist(), **unstable}}
@@ -235,15 +232,22 @@ def _cochlea_peaks(out: Path, *, progress: bool, **_) -> list[Path]:
     return [png, _write_json(out / "fig-5.9.json", data)]
 
 
+KINDS = ("harmonic", "subharmonic")
+#: The cochlea's Ince-Strutt figures: every tau <= 1 to 1e-8 (drawing accuracy).
+COCHLEA_DIAGRAM = {"tol": 1e-8, "tau_max": 1.0}
+
+
 def _traced(factory, grid: np.ndarray, options: dict, name: str, desc: str, *, progress: bool,
-            workers: int | None) -> tuple[tuple, dict]:
+            workers: int | None, trace: bool = True) -> tuple[list, tuple, dict]:
     """The Ince-Strutt diagram of the family ``factory`` over ``grid`` (the parameter ``name``)
-    through :func:`spectralshell.runner.floquet.ince_strutt`: (boundaries, tips as
+    through :func:`spectralshell.runner.floquet.ince_strutt`: (its rows, (boundaries, tips as
     (kind, x, tau)) for :func:`spectralshell.plots.cochlea.save_traced`, and its JSON record
-    (grid, every tau per kind, tips with errors, boundaries, tips not located)."""
+    (grid, every tau per kind, tips with errors, boundaries, tips not located)); with
+    ``trace`` False only the grid is solved (no tips, no boundaries)."""
     from ..runner.floquet import ince_strutt
 
-    rows, tips, failures, boundaries = ince_strutt(factory, grid, KINDS, options, workers=workers,
+    rows, tips, failures, boundaries = ince_strutt(factory, grid, KINDS, options, tips=trace,
+                                                   boundaries=trace, workers=workers,
                                                    progress=progress, desc=desc)
     record = {name: grid.tolist(),
               "tau": {kind: [r[kind].tau.tolist() for r in rows] for kind in KINDS},
@@ -252,12 +256,7 @@ def _traced(factory, grid: np.ndarray, options: dict, name: str, desc: str, *, p
               "boundaries": [{"kind": b.kind, name: b.kappa.tolist(), "tau": b.tau.tolist()}
                              for b in boundaries],
               "tip_failures": failures}
-    return (boundaries, [(t.kind, t.kappa, t.tau) for t in tips]), record
-
-
-KINDS = ("harmonic", "subharmonic")
-#: The cochlea's Ince-Strutt figures: every tau <= 1 to 1e-8 (drawing accuracy).
-COCHLEA_DIAGRAM = {"tol": 1e-8, "tau_max": 1.0}
+    return rows, (boundaries, [(t.kind, t.kappa, t.tau) for t in tips]), record
 
 
 def _cochlea_uniform(out: Path, *, progress: bool, workers: int | None = None,
@@ -275,9 +274,9 @@ def _cochlea_uniform(out: Path, *, progress: bool, workers: int | None = None,
     for k in range(1, 7):
         factory = functools.partial(family_system, "cochlea", {"alpha": 0.0, "spatial_mode": k},
                                     "omega")
-        (boundaries, tips), data[k] = _traced(factory, omegas, COCHLEA_DIAGRAM, "omega",
-                                              f"fig-5.12 k = {k}", progress=progress,
-                                              workers=workers)
+        _, (boundaries, tips), data[k] = _traced(factory, omegas, COCHLEA_DIAGRAM, "omega",
+                                                 f"fig-5.12 k = {k}", progress=progress,
+                                                 workers=workers)
         panels.append((f"k = {k}, α = 0", boundaries, KINDS, tips, {}))
     png = cochlea_plots.save_traced(panels, out / "fig-5.12.png", columns=2,
                                     xlabel="forcing frequency ω (rad/s)",
@@ -305,9 +304,9 @@ def _cochlea_wavenumber(out: Path, *, progress: bool, workers: int | None = None
     for omega in (500.0, 1000.0):
         d = cochlea_forced(**base, omega=omega)
         factory = functools.partial(wavenumber_system, kappa=d["kappa"], nu=d["nu"])
-        (boundaries, tips), record = _traced(factory, k_grid, COCHLEA_DIAGRAM, "k",
-                                             f"fig-5.11, ω = {omega:g}", progress=progress,
-                                             workers=workers)
+        _, (boundaries, tips), record = _traced(factory, k_grid, COCHLEA_DIAGRAM, "k",
+                                                f"fig-5.11, ω = {omega:g}", progress=progress,
+                                                workers=workers)
         at_integers = map_points(factory, list(integers), KINDS, executor="serial",
                                  **COCHLEA_DIAGRAM)
         tau_min = {int(k): min((r[kind].tau_min for kind in KINDS if r[kind].tau_min is not None),
@@ -334,31 +333,29 @@ def _cochlea_graded(out: Path, *, progress: bool, workers: int | None = None,
     alpha = 1.56, at M = 5, 10 and 64 spatial modes (the thesis: 250), N converged to 1e-8
     (:data:`COCHLEA_DIAGRAM`): the three panels show the convergence in M. M = 5 and 10 are
     traced (:func:`_traced`); at M = 64 the pairs of truncations prove the list of tau complete
-    only up to ~0.35 (a forest of fingers whose eigenvalues near the real axis do not settle
+    only up to 0.27-0.4 (the title states the lowest over the grid; a forest of fingers whose eigenvalues near the real axis do not settle
     up to N = 400), so a curve cannot be followed through, and the panel shows the tau of the
     grid as points."""
     import functools
 
     from ..plots import cochlea as cochlea_plots
-    from ..runner import map_points
     from ..runner.floquet import family_system
 
     omegas = np.linspace(400.0, 1600.0, 61)
     panels, data = [], {}
     for M in (5, 10, 64):
         factory = functools.partial(family_system, "cochlea", {"n_spatial": M}, "omega")
-        title, desc = f"α = 1.56, M = {M}", f"fig-5.14 M = {M}"
+        title = f"α = 1.56, M = {M}"
+        rows, (boundaries, tips), data[M] = _traced(factory, omegas, COCHLEA_DIAGRAM, "omega",
+                                                    f"fig-5.14 M = {M}", progress=progress,
+                                                    workers=workers, trace=M < 64)
         if M < 64:
-            (boundaries, tips), data[M] = _traced(factory, omegas, COCHLEA_DIAGRAM, "omega", desc,
-                                                  progress=progress, workers=workers)
             panels.append((title, boundaries, KINDS, tips, {}))
             continue
-        rows = map_points(factory, list(omegas), KINDS, executor="serial", progress=progress,
-                          desc=desc, **COCHLEA_DIAGRAM)
-        data[M] = {"omega": omegas.tolist(), "tau": {kind: [r[kind].tau.tolist() for r in rows]
-                                                     for kind in KINDS},
-                   "complete_to": {kind: [r[kind].complete_to for r in rows] for kind in KINDS}}
-        panels.append((title + " (points: the list is complete only up to ~0.35)",
+        complete = {kind: [r[kind].complete_to for r in rows] for kind in KINDS}
+        data[M]["complete_to"] = complete
+        lowest = min(min(c) for c in complete.values())
+        panels.append((f"{title} (points: the list is complete only up to {lowest:.2g})",
                        {kind: (np.concatenate([np.full(r[kind].tau.size, w)
                                                for r, w in zip(rows, omegas)]),
                                np.concatenate([r[kind].tau for r in rows])) for kind in KINDS}))

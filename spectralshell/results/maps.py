@@ -72,6 +72,13 @@ def minimum_map(ds: xr.Dataset, x: str, y: str) -> xr.Dataset:
     return xr.Dataset(data, coords={x: ds[x], y: ds[y]}, attrs=dict(ds.attrs))
 
 
+def unstable_at(ds: xr.Dataset, x: str, at: dict[str, float], tau: float) -> xr.DataArray:
+    """Whether each (m, x, kind) of a tau-map sweep ``ds`` is unstable at forcing amplitude
+    ``tau`` (a marginal tau_min <= tau), at the grid values ``at`` of its other real axes."""
+    cut = ds.sel(at)
+    return (cut["has_tau"] & (cut["tau_min"] <= tau)).transpose("m", x, "kind")
+
+
 def map_dict(mm: xr.Dataset) -> dict[str, Any]:
     """JSON form of a :func:`minimum_map`: axes with units, tau_min rows (None where no
     instability), the category values attaining it, the largest error estimate, provenance."""

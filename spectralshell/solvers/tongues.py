@@ -107,23 +107,24 @@ def refine_tip(factory: SystemFactory, kind: str, lo: float, hi: float, tau_gues
 
     kappa = lo if g_lo == 0.0 else hi if g_hi == 0.0 else brentq(slope, lo, hi, xtol=xtol, rtol=rtol)
     kappa_error = 2 * (xtol + rtol * abs(kappa))
-    plateau = tracked(kappa) == 0.0
     at = tracked(kappa)
-    if not plateau and (at > tau_guess + max(tol, 1e-9) or (  # a corner at tau = 0 may be steep
-            at > ZERO_CLUSTER and abs(slope(kappa)) > TIP_SLOPE * max(abs(g_lo), abs(g_hi)))):
+    plateau = at == 0.0
+    steep = 0.0 if plateau or at <= ZERO_CLUSTER else abs(tau_slope(factory, kind, kappa, at, n))
+    if not plateau and (at > tau_guess + max(tol, 1e-9)  # a corner at tau = 0 may be steep
+                        or steep > TIP_SLOPE * max(abs(g_lo), abs(g_hi))):
         # the tracked tau jumped between branches inside the bracket (a finger narrower than
         # the grid step, one of whose sides the bracket misses): the root is that jump
         raise ConvergenceError(
             f"{kind} finger near kappa in [{lo:.6g}, {hi:.6g}]: the tau nearest {tau_guess:.6g} "
             f"jumps to another branch inside the bracket (at kappa = {kappa:.10g}, tau = "
-            f"{at:.6g}, above the sampled minimum or with slope {slope(kappa):.3g}): the finger "
+            f"{at:.6g}, above the sampled minimum or with slope {steep:.3g}): the finger "
             "is narrower than the grid step; refine the grid to locate its tip")
     if plateau:  # a multiple zero, merged by the QZ path: bisect its extent
         left = _bisect(lambda k: tracked(k) == 0.0, lo, kappa)
         right = _bisect(lambda k: tracked(k) != 0.0, kappa, hi)
         kappa, kappa_error = 0.5 * (left + right), max(kappa_error, 0.5 * (right - left))
     res = marginal_tau(factory(kappa), kind, tol=tol, method="dense")  # every tau, not the least
-    tau = float(res.tau[np.argmin(np.abs(res.tau - tracked(kappa)))])
+    tau = float(res.tau[np.argmin(np.abs(res.tau - (tracked(kappa) if plateau else at)))])
     # On a plateau the tip's tau is the merged zero; its error covers the converged solver's
     # nearest tau. Elsewhere tau inherits the kappa error through the finger's slope (one-sided
     # at a corner tip).
