@@ -82,9 +82,18 @@ Reported quantities (CSV columns after t in s):
   u_r_pole     cm/s  radial velocity of the membrane at the pole theta = 0 (left out when
                      Yr_{{l,k}} vanishes there, k != 0)
   u_r_equator  cm/s  radial velocity at theta = pi/2, phi = 0 (left out when Yr vanishes there)
-The pressure jump across the membrane is not reported: the time stepper's state holds the
-streamfunction and vorticity, not the pressure, and this package has no independently checked
-pressure field to derive it from.
+  pressure_jump          dyn/cm^2  P(t) = int (p_in - p_out - 2 sigma / R) Yr_{{l,k}} dOmega,
+                                   the modal amplitude of the pressure jump across the membrane
+                                   (inside minus outside, the equilibrium jump 2 sigma / R left out)
+  pressure_jump_pole     dyn/cm^2  p_in - p_out - 2 sigma / R at theta = 0 (left out as u_r_pole)
+  pressure_jump_equator  dyn/cm^2  the same at theta = pi/2, phi = 0 (left out as u_r_equator)
+The pressure jump of the linearised problem is fixed by the normal stress balance at the
+membrane (thesis (6.17), Laplace's law for the perturbed sphere): the viscous normal stress
+2 mu du_r/dr does not jump (the velocity is continuous and divergence free on both sides), so
+    p_in - p_out - 2 sigma / R = sigma (l - 1)(l + 2) A(t) Yr_{{l,k}} / R^2,
+in phase with the amplitude ((l - 1)(l + 2) sigma / R^2 = {jump_factor:.10g} dyn/cm^3). An IB code
+spreads the jump over its kernel's width: compare the difference of pressures sampled just
+inside and just outside the membrane, or the jump of a fit on either side.
 
 Exact late-time behaviour. After the continuous-spectrum transient of the unbounded fluid, A(t)
 decays as exp(gamma t) cos(omega_d t + phase) with gamma + i omega_d the least damped natural
@@ -118,7 +127,13 @@ SPHERE_RELEASE = BenchmarkProblem(
     quantities=(Quantity("amplitude", "cm", "modal amplitude A(t) of Yr_{l,k}"),
                 Quantity("u_r_pole", "cm/s", "radial membrane velocity at theta = 0"),
                 Quantity("u_r_equator", "cm/s",
-                         "radial membrane velocity at theta = pi/2, phi = 0")),
+                         "radial membrane velocity at theta = pi/2, phi = 0"),
+                Quantity("pressure_jump", "dyn/cm^2",
+                         "modal amplitude of p_in - p_out - 2 sigma / R over Yr_{l,k}"),
+                Quantity("pressure_jump_pole", "dyn/cm^2",
+                         "p_in - p_out - 2 sigma / R at theta = 0"),
+                Quantity("pressure_jump_equator", "dyn/cm^2",
+                         "p_in - p_out - 2 sigma / R at theta = pi/2, phi = 0")),
     specification=SPHERE_RELEASE_SPEC,
     reference=("the linearised equations are time-stepped per degree (radial Chebyshev "
                "collocation inside and outside the sphere, reduced to an ODE, SBDF4; "

@@ -48,7 +48,7 @@ SAMPLES_PER_PERIOD = 32
 FIT_START = 4.0          # periods of transient (continuous spectrum) before the fit window
 EFOLDS = 12.0            # the fit window: the mode's decay by e^-EFOLDS
 SCORE_EFOLDS = 3.0       # score's fit of a user's series (and of the reference, alike)
-POINTS = {"u_r_pole": (0.0, 0.0), "u_r_equator": (math.pi / 2, 0.0)}   # (theta, phi)
+POINTS = {"pole": (0.0, 0.0), "equator": (math.pi / 2, 0.0)}   # (theta, phi)
 
 
 def real_harmonic(l: int, k: int, theta: float, phi: float) -> float:
@@ -60,6 +60,24 @@ def real_harmonic(l: int, k: int, theta: float, phi: float) -> float:
     if k == 0:
         return value
     return math.sqrt(2.0) * value * (math.cos(a * phi) if k > 0 else math.sin(a * phi))
+
+
+def pressure_jump_factor(p: dict[str, Any]) -> float:
+    """(l - 1)(l + 2) sigma / R^2 in dyn/cm^3: the jump p_in - p_out - 2 sigma / R per cm of
+    membrane amplitude in the linearised problem (thesis (6.17) in cgs units; the viscous normal
+    stress does not jump)."""
+    return (p["l"] - 1) * (p["l"] + 2) * p["sigma"] / p["radius"] ** 2
+
+
+def _at_points(name: str, modal: tuple[np.ndarray, np.ndarray], l: int, k: int) -> dict:
+    """{name_pole, name_equator: (values, bounds)} of a modal series (values, bounds) times
+    Yr_{l,k} at the POINTS where it does not vanish."""
+    out = {}
+    for where, (theta, phi) in POINTS.items():
+        y = real_harmonic(l, k, theta, phi)
+        if abs(y) > 1e-12:
+            out[f"{name}_{where}"] = (y * modal[0], abs(y) * modal[1])
+    return out
 
 
 def _run(system, initial, step: float, every: int, steps: int) -> np.ndarray:
@@ -99,11 +117,11 @@ def _sphere_release(p: dict[str, Any]) -> dict[str, Any]:
     bound = np.abs(f - c_time) + np.abs(f - c_space)
     fit = fit_rate(times, f[:, 0], window=(t_a, t_b))
     R = p["radius"]
-    series = {"amplitude": (R * f[:, 0], R * bound[:, 0])}
-    for name, (theta, phi) in POINTS.items():
-        y = real_harmonic(l, k, theta, phi)
-        if abs(y) > 1e-12:
-            series[name] = (R / T * y * f[:, 1], R / T * abs(y) * bound[:, 1])
+    jump = pressure_jump_factor(p)
+    pressure = (jump * R * f[:, 0], jump * R * bound[:, 0])
+    series = {"amplitude": (R * f[:, 0], R * bound[:, 0]),
+              **_at_points("u_r", (R / T * f[:, 1], R / T * bound[:, 1]), l, k),
+              "pressure_jump": pressure, **_at_points("pressure_jump", pressure, l, k)}
     params = {**p, "T": T, "zeta": zeta, "sigma_star": IB_SPRING_FACTOR * p["sigma"],
               "lamb_frequency": phys.lamb_frequency(l)}
     provenance = {**stamp(), "scheme": SCHEME, "dt": step * T, "samples_every": every,
@@ -157,7 +175,8 @@ def specification_text(name: str, **params: Any) -> str:
         **p, amplitude=p["epsilon"] * p["radius"], T=T, zeta=phys.zeta,
         growth_rate=exact.real / T, frequency=exact.imag / T, growth_rate_nd=exact.real,
         frequency_nd=exact.imag, lamb=phys.lamb_frequency(p["l"]), efolds=EFOLDS,
-        sigma_star=IB_SPRING_FACTOR * p["sigma"], reference=problem.reference)
+        sigma_star=IB_SPRING_FACTOR * p["sigma"], jump_factor=pressure_jump_factor(p),
+        reference=problem.reference)
 
 
 def score_window(ds) -> tuple[float, float]:
