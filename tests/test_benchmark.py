@@ -262,7 +262,19 @@ def test_parameters_are_validated():
         ss.benchmark("sphere-release", l=2, k=3)
     with pytest.raises(ParameterError, match="unknown"):
         ss.benchmark("sphere-release", omega=3.0)
-    assert set(BENCHMARKS) == {"sphere-release"}      # only problems that have a reference
+    # only problems that have a reference
+    assert set(BENCHMARKS) == {"sphere-release", "sphere-parametric"}
+
+
+def test_ib_spring_factor_is_the_patch_integral():
+    """sigma* / sigma = half the integral of sec xi over |xi| < pi/6 (thesis 6.4.1's midpoint
+    rule on a hexagonal patch), by quadrature; stated in every problem's specification."""
+    from scipy.integrate import quad
+
+    integral, _ = quad(lambda xi: 1.0 / math.cos(xi), -math.pi / 6, math.pi / 6)
+    assert IB_SPRING_FACTOR == pytest.approx(integral / 2, rel=1e-12)
+    for problem in BENCHMARKS.values():
+        assert "sigma* = (ln 3 / 2) sigma" in problem.specification
 
 
 def test_cli_write_and_score(tmp_path, capsys):

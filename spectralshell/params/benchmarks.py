@@ -3,8 +3,8 @@
 A :class:`BenchmarkProblem` names a problem, lists its physical inputs (cgs, with defaults), the
 quantities a code reports (with units) and holds its one-page specification text; the reference
 data are computed by :mod:`spectralshell.runner.benchmark`. Problems are registered in
-:data:`BENCHMARKS` only once their reference computation exists (issue 29: ``sphere-parametric``
-waits for the viscous sphere's Floquet exponents, the fibre problems for a fibre time stepper).
+:data:`BENCHMARKS` only once their reference computation exists (issue 29: the fibre problems
+wait for a fibre time stepper).
 """
 
 from __future__ import annotations
@@ -22,6 +22,11 @@ IB_SPRING_FACTOR = math.log(3.0) / 2.0
 #: zeta of sphere-release: the range whose corners (l = 2..12) the tests check against the
 #: dispersion relation to 1e-8.
 ZETA_RANGE = (1e-3, 0.06)
+#: nu = mu / (rho R^2 omega) of sphere-parametric: the range its tests cover (growth rates of
+#: the stepped runs against the Floquet exponents to 1e-8).
+NU_RANGE = (1e-3, 6e-3)
+#: sphere-parametric's relative distance of tau from tau_min: tau = (1 -+ margin) tau_min.
+MARGIN_RANGE = (0.02, 0.5)
 
 
 @dataclass(frozen=True)
@@ -51,7 +56,25 @@ class BenchmarkProblem:
     quantities: tuple[Quantity, ...]
     specification: str
     reference: str
+    l_max: int = 12
 
+
+#: The last part of every sphere specification: the IB spring constant and the reference.
+IB_SPRING_SPEC = """\
+Immersed-boundary spring constant (thesis 6.4.1). A triangulated membrane whose nodes are joined
+by Hookean springs (force sigma* (X_i - X_j) per link) represents F = sigma Delta_S X with
+    sigma* = (ln 3 / 2) sigma = {sigma_star:.10g} dyn/cm,
+assuming: the spring length Delta s is small against R; the membrane is near its spherical
+equilibrium; the stiffness is uniform; every node has six neighbours (nodes with five or
+seven links, unavoidable on a sphere, make the force slightly non-uniform). The relation comes
+from a midpoint-rule quadrature of the force on one node's hexagonal patch near the pole; it
+is approximate, not exact in Delta s (the factor is half the patch integral of sec xi over
+|xi| < pi/6, ln(sqrt 3); re-derived, and checked by quadrature in the tests). It does not
+involve the fluid, and with a stiffness K(t) varying in time alone it holds at every instant:
+sigma*(t) = (ln 3 / 2) K(t).
+
+Reference data: {reference}
+"""
 
 SPHERE_RELEASE_SPEC = """\
 sphere-release: a viscous sphere released from rest with a small (l, k) shape
@@ -104,17 +127,7 @@ The inviscid (Lamb) frequency for comparison: {lamb:.10g} rad/s. At very late ti
 algebraic tail of the continuous spectrum dominates the decayed mode; the reference covers
 the mode's decay by about exp(-{efolds:g}) after the transient.
 
-Immersed-boundary spring constant (thesis 6.4.1). A triangulated membrane whose nodes are joined
-by Hookean springs (force sigma* (X_i - X_j) per link) represents F = sigma Delta_S X with
-    sigma* = (ln 3 / 2) sigma = {sigma_star:.10g} dyn/cm,
-assuming: the spring length Delta s is small against R; the membrane is near its spherical
-equilibrium; the stiffness is uniform; every node has six neighbours (nodes with five or
-seven links, unavoidable on a sphere, make the force slightly non-uniform). The relation comes
-from a midpoint-rule quadrature of the force on one node's hexagonal patch near the pole; it
-is approximate, not exact in Delta s.
-
-Reference data: {reference}
-"""
+""" + IB_SPRING_SPEC
 
 SPHERE_RELEASE = BenchmarkProblem(
     name="sphere-release",
@@ -142,8 +155,80 @@ SPHERE_RELEASE = BenchmarkProblem(
                "fitted from the reference agree with the dispersion relation to 1e-8 (tests)."),
 )
 
+SPHERE_PARAMETRIC_SPEC = """\
+sphere-parametric: the viscous sphere with a periodic stiffness, just below and just above the
+onset of parametric resonance
+
+Physical problem (cgs units). The membrane and fluid of sphere-release (radius R = {radius:g} cm,
+density rho = {rho:g} g/cm^3, viscosity mu = {mu:g} g/(cm s), F = K Delta_S X, the membrane
+massless and moving with the fluid), with a stiffness that varies in time, uniformly over the
+membrane (thesis (6.3f)):
+    K(t) = sigma (1 + 2 tau sin(omega t)),  sigma = {sigma:g} dyn/cm, omega = {omega:g} rad/s
+(forcing period 2 pi / omega = {forcing_period:.10g} s; tau < 1/2 keeps K > 0). At t = 0 the
+fluid is at rest and the membrane has the shape r = R + A0 Yr_{{l,k}}(theta, phi),
+A0 = epsilon R = {amplitude:g} cm, l = {l}, k = {k} (Yr_{{l,k}} as in sphere-release). Two runs:
+    tau_below = (1 - {margin:g}) tau_min = {tau_below:.12g}
+    tau_above = (1 + {margin:g}) tau_min = {tau_above:.12g}
+where tau_min = {tau_min:.12g} is the smallest forcing amplitude at which degree l resonates
+(the tip of its lowest, {kind}, tongue; the Floquet stability of thesis chapter 6). The order
+k does not matter (the linear problem depends on l only).
+
+Dimensionless form (thesis (6.4)-(6.5)). Lengths in R, time in 1 / omega:
+kappa = sigma / (rho R^3 omega^2) = {kappa:.10g}, nu = mu / (rho R^2 omega) = {nu:.10g},
+K(t) = kappa (1 + 2 tau sin t) (references are offered for nu in [0.001, 0.006] and l = 2..6).
+The problem is linear in epsilon: the reference is the linearised solution scaled to
+epsilon = {epsilon:g}; a nonlinear code sees the linear growth until the amplitude is large
+(thesis 6.4.2: nonlinear effects then bend the growth), so compare early and scale.
+
+Reported quantities (CSV columns after t in s):
+  amplitude_below  cm  A(t) = int (r(theta, phi, t) - R) Yr_{{l,k}} dOmega at tau_below
+  amplitude_above  cm  the same at tau_above
+over {periods} forcing periods.
+
+Exact Floquet quantities. After the transient (the other Floquet solutions and the fluid's
+continuous spectrum decay), A(t) = c exp(g t) p(t): p is periodic with the period
+{shape_period:.10g} s (twice the forcing period for a subharmonic response, which oscillates
+at omega / 2; the forcing period for a harmonic one) and
+g = omega Re gamma, gamma the least stable Floquet exponent of degree l (Hill's method on the
+exact fluid equations, thesis (6.28)-(6.30); spectralshell exponents sphere):
+  tau_below: g = {rate_below:.12g} 1/s ({rate_below_nd:.12g} omega), growth per forcing
+             period exp(2 pi g / omega) = {growth_below:.12g} (decay)
+  tau_above: g = {rate_above:.12g} 1/s ({rate_above_nd:.12g} omega), growth per forcing
+             period {growth_above:.12g} (growth)
+A code must see decay below and growth above, at these rates. The periodic eigen-shape p(t)
+(the radial component, max |p| = 1, t from a forcing phase of 0) is in the reference's
+attribute 'floquet' (JSON: per run tau, gamma, growth rate, growth per period, eigen-shape
+samples shape_t in s and shape), with each exponent's error estimate.
+
+""" + IB_SPRING_SPEC
+
+SPHERE_PARAMETRIC = BenchmarkProblem(
+    name="sphere-parametric",
+    title="viscous sphere with K(t) = sigma (1 + 2 tau sin omega t) just below and above "
+          "tau_min: Floquet growth",
+    inputs={**{k: PHYSICAL_UNITS[k] for k in ("rho", "mu", "radius", "sigma", "omega")},
+            "l": "degree", "k": "order", "epsilon": "A0 / R",
+            "margin": "tau = (1 -+ margin) tau_min"},
+    # Table 6.1, case 2 (kappa = 0.06, nu = 0.002; l = 2 resonates, Fig 6.6b)
+    defaults={"rho": 1.0, "mu": 0.01, "radius": 0.5, "sigma": 3.0, "omega": 20.0, "l": 2,
+              "k": 0, "epsilon": 0.05, "margin": 0.1},
+    quantities=(Quantity("amplitude_below", "cm", "modal amplitude A(t) of Yr_{l,k} at "
+                         "tau_below"),
+                Quantity("amplitude_above", "cm", "modal amplitude A(t) of Yr_{l,k} at "
+                         "tau_above")),
+    specification=SPHERE_PARAMETRIC_SPEC,
+    reference=("Floquet exponents by Hill's method (truncation raised until they change by less "
+               "than 1e-10; the list proved complete by the argument principle); the eigen-shape "
+               "is the null vector of the truncated Hill matrix. The series are time-stepped as "
+               "in sphere-release (SBDF4, 512 steps per forcing period, radial resolution for "
+               "1e-11), error bound per sample |fine - twice the step| + |fine - 8 fewer radial "
+               "nodes|; the growth rates fitted from them (whole periods from period 40) agree "
+               "with the Floquet exponents to 1e-8 in units of omega (tests)."),
+    l_max=6,
+)
+
 #: The registered problems, by name.
-BENCHMARKS: dict[str, BenchmarkProblem] = {p.name: p for p in (SPHERE_RELEASE,)}
+BENCHMARKS: dict[str, BenchmarkProblem] = {p.name: p for p in (SPHERE_RELEASE, SPHERE_PARAMETRIC)}
 
 
 def benchmark_problem(name: str) -> BenchmarkProblem:
@@ -156,25 +241,44 @@ def benchmark_problem(name: str) -> BenchmarkProblem:
 
 def benchmark_params(problem: BenchmarkProblem, values: Mapping[str, object]) -> dict[str, float]:
     """The problem's defaults updated by ``values`` (None values ignored), each checked:
-    rho, radius, sigma, epsilon > 0, mu >= 0 with zeta = mu / sqrt(rho R sigma) in
+    rho, radius, sigma, epsilon, omega > 0, mu >= 0, 2 <= l <= problem.l_max, -l <= k <= l,
+    margin in :data:`MARGIN_RANGE`; sphere-release: zeta = mu / sqrt(rho R sigma) in
     :data:`ZETA_RANGE` (above it the least damped mode nears the fluid's continuous spectrum
     and the radial resolution for 1e-11 exceeds the stepper's automatic limit; below it runs
-    grow as 1 / zeta), 2 <= l <= 12, -l <= k <= l."""
+    grow as 1 / zeta); sphere-parametric: nu = mu / (rho R^2 omega) in :data:`NU_RANGE`."""
     given = {k: v for k, v in values.items() if v is not None}
     unknown = sorted(set(given) - set(problem.inputs))
     if unknown:
         raise ParameterError(f"{problem.name} parameter {unknown[0]} is unknown: expected "
                              f"{', '.join(problem.inputs)}")
     p = {**problem.defaults, **given}
-    out = {k: require_positive(k, p[k]) for k in ("rho", "radius", "sigma", "epsilon")}
+    out = {k: require_positive(k, p[k])
+           for k in ("rho", "radius", "sigma", "epsilon", "omega") if k in p}
     out["mu"] = require_nonnegative("mu", p["mu"])
-    out["l"] = int(require_int_in_range("l", p["l"], 2, 12))
+    out["l"] = int(require_int_in_range("l", p["l"], 2, problem.l_max))
     out["k"] = int(require_int_in_range("k", p["k"], -out["l"], out["l"]))
-    zeta = PhysicalSphere(rho=out["rho"], mu=out["mu"], radius=out["radius"],
-                          sigma=out["sigma"]).zeta
-    if not ZETA_RANGE[0] <= zeta <= ZETA_RANGE[1]:
+    phys = PhysicalSphere(rho=out["rho"], mu=out["mu"], radius=out["radius"],
+                          sigma=out["sigma"], omega=out.get("omega"))
+    if "omega" in out:
+        out["margin"] = _in_range("margin", p["margin"], MARGIN_RANGE)
+        nu = phys.forced()["nu"]
+        if not NU_RANGE[0] <= nu <= NU_RANGE[1]:
+            raise ParameterError(f"mu = {out['mu']:g} is invalid: nu = mu / (rho R^2 omega) = "
+                                 f"{nu:.4g} must be in [{NU_RANGE[0]:g}, {NU_RANGE[1]:g}] (the "
+                                 "range where the reference is checked against the Floquet "
+                                 "exponents)")
+    elif not ZETA_RANGE[0] <= phys.zeta <= ZETA_RANGE[1]:
         raise ParameterError(f"mu = {out['mu']:g} is invalid: zeta = mu / sqrt(rho R sigma) = "
-                             f"{zeta:.4g} must be in [{ZETA_RANGE[0]:g}, {ZETA_RANGE[1]:g}] (the "
-                             "range where the reference is checked against the dispersion "
+                             f"{phys.zeta:.4g} must be in [{ZETA_RANGE[0]:g}, {ZETA_RANGE[1]:g}] "
+                             "(the range where the reference is checked against the dispersion "
                              "relation; smaller zeta runs longer)")
     return out
+
+
+def _in_range(name: str, value: object, bounds: tuple[float, float]) -> float:
+    """A real ``value`` in the closed interval ``bounds``; ParameterError naming it otherwise."""
+    x = require_positive(name, value)
+    if not bounds[0] <= x <= bounds[1]:
+        raise ParameterError(f"{name} = {x:g} is invalid: must be in [{bounds[0]:g}, "
+                             f"{bounds[1]:g}]")
+    return x

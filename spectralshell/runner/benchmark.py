@@ -27,15 +27,19 @@ from scipy.special import lpmv
 from .._version import stamp
 from ..discretise.sphere_stepping import N_STEP, scene_blocks
 from ..errors import ParameterError, SpectralShellError
+from ..models.registry import hill_system
 from ..params.benchmarks import (BENCHMARKS, IB_SPRING_FACTOR, benchmark_params,
                                  benchmark_problem)
 from ..params.physical import PhysicalSphere
+from ..params.registry import make_params
 from ..results.benchmark import (ERROR_SUFFIX, BenchmarkScore, QuantityScore, attrs_json,
                                  read_series, reference_columns, write_csv, write_netcdf)
 from ..results.notebook import dataset, json_attr, variable
+from ..solvers.marginal_mode import floquet_mode
 from ..solvers.oscillation_fit import fit_damped_oscillation
 from ..solvers.rate_fit import fit_rate
 from ..solvers.stepper import integrate
+from .floquet import exponents, floquet
 from .modes import natural_modes
 
 if TYPE_CHECKING:
@@ -49,6 +53,13 @@ FIT_START = 4.0          # periods of transient (continuous spectrum) before the
 EFOLDS = 12.0            # the fit window: the mode's decay by e^-EFOLDS
 SCORE_EFOLDS = 3.0       # score's fit of a user's series (and of the reference, alike)
 POINTS = {"pole": (0.0, 0.0), "equator": (math.pi / 2, 0.0)}   # (theta, phi)
+STEPPING = ("IMEX time stepping of the radial Chebyshev system of degree l "
+            "(discretise/sphere_stepping.py); bound from 2 dt and n - 8 nodes")
+# sphere-parametric (time unit 1 / omega, forcing period 2 pi)
+STEPS_PER_PERIOD = 512   # SBDF4: the fitted growth rate to ~1e-10 (2.9e-10 .. 1e-9 at 256)
+PERIODS = 120            # the run: 120 forcing periods
+FIT_FROM_PERIOD = 40     # the fit (and score) window: period 40 to the end
+SHAPE_POINTS = 64        # samples of the periodic eigen-shape over its period
 
 
 def real_harmonic(l: int, k: int, theta: float, phi: float) -> float:
@@ -80,15 +91,17 @@ def _at_points(name: str, modal: tuple[np.ndarray, np.ndarray], l: int, k: int) 
     return out
 
 
-def _run(system, initial, step: float, every: int, steps: int) -> np.ndarray:
-    """(times, (samples, 2)): X^Y and dX^Y/dt of the run at the saved times; dX^Y/dt is the
-    X^Y row of L y, the reduced ODE's right-hand side (collocation systems: M = I)."""
+def _run(system, initial, step: float, every: int, steps: int) -> tuple[np.ndarray, np.ndarray]:
+    """(times, (samples, q)): X^Y at the saved times and, unforced, dX^Y/dt (the X^Y row of
+    L y, the reduced ODE's right-hand side; collocation systems: M = I); q = 2, or 1 forced."""
     if system.radial != "collocation":
         raise SpectralShellError(f"the reference needs the collocation system, not "
                                  f"{system.radial!r} (n_radial = {system.n_inner})")
     row = system.membrane.start
 
     def observe(y):
+        if system.forcing is not None:
+            return np.array([y[row, 0]])
         return np.array([y[row, 0], (system.L[row] @ y)[0]])
 
     run = integrate(system, initial, scheme=SCHEME, dt=step, t_end=steps * step, every=every,
@@ -96,25 +109,36 @@ def _run(system, initial, step: float, every: int, steps: int) -> np.ndarray:
     return run.times, run.values
 
 
+def _stepped(shape: dict, kappa: float, nu: float, tau: float, step: float, every: int,
+             steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+    """The degree of ``shape`` stepped from rest (dimensionless) at the resolution for TOL ->
+    (times, values of :func:`_run`, their error bound |fine - step 2h| + |fine - (n - 8) radial
+    nodes|, provenance of the resolution)."""
+    (fine,) = scene_blocks(shape=shape, twist={}, kappa=kappa, nu=nu, tau=tau, tol=TOL)
+    (coarse,) = scene_blocks(shape=shape, twist={}, kappa=kappa, nu=nu, tau=tau,
+                             n_radial=fine.system.n_inner - N_STEP)
+    times, f = _run(fine.system, fine.initial, step, every, steps)
+    _, c_time = _run(fine.system, fine.initial, 2 * step, every // 2, steps // 2)
+    _, c_space = _run(coarse.system, coarse.initial, step, every, steps)
+    resolution = {"n_radial": fine.system.n_inner, "n_radial_check": coarse.system.n_inner,
+                  "exterior_scale": fine.system.exterior_scale,
+                  "spatial_error": fine.system.spatial_error}
+    return times, f, np.abs(f - c_time) + np.abs(f - c_space), resolution
+
+
 def _sphere_release(p: dict[str, Any]) -> dict[str, Any]:
     """Dimensionless runs and fits of sphere-release -> physical series, bounds and metadata."""
     phys = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"])
     T, zeta, l, k = phys.time_scale, phys.zeta, p["l"], p["k"]
     exact = complex(natural_modes("sphere", m=l, kappa=1.0, nu=zeta, count=1).gamma[0])
-    shape = {(l, k): p["epsilon"]}
-    (fine,) = scene_blocks(shape=shape, twist={}, kappa=1.0, nu=zeta, tau=0.0, tol=TOL)
-    (coarse,) = scene_blocks(shape=shape, twist={}, kappa=1.0, nu=zeta, tau=0.0,
-                             n_radial=fine.system.n_inner - N_STEP)
     period = 2 * math.pi / exact.imag
     t_a = FIT_START * period
     t_b = t_a + EFOLDS / -exact.real
     step = DT_FACTOR / abs(exact)
     every = 2 * max(1, round(period / SAMPLES_PER_PERIOD / step / 2))
     steps = math.ceil((t_b + period) / (every * step)) * every
-    times, f = _run(fine.system, fine.initial, step, every, steps)
-    _, c_time = _run(fine.system, fine.initial, 2 * step, every // 2, steps // 2)
-    _, c_space = _run(coarse.system, coarse.initial, step, every, steps)
-    bound = np.abs(f - c_time) + np.abs(f - c_space)
+    times, f, bound, resolution = _stepped({(l, k): p["epsilon"]}, 1.0, zeta, 0.0, step, every,
+                                           steps)
     fit = fit_rate(times, f[:, 0], window=(t_a, t_b))
     R = p["radius"]
     jump = pressure_jump_factor(p)
@@ -125,28 +149,108 @@ def _sphere_release(p: dict[str, Any]) -> dict[str, Any]:
     params = {**p, "T": T, "zeta": zeta, "sigma_star": IB_SPRING_FACTOR * p["sigma"],
               "lamb_frequency": phys.lamb_frequency(l)}
     provenance = {**stamp(), "scheme": SCHEME, "dt": step * T, "samples_every": every,
-                  "n_radial": fine.system.n_inner, "n_radial_check": coarse.system.n_inner,
-                  "exterior_scale": fine.system.exterior_scale,
-                  "spatial_error": fine.system.spatial_error,
-                  "method": "IMEX time stepping of the radial Chebyshev system of degree l "
-                            "(discretise/sphere_stepping.py); bound from 2 dt and n - 8 nodes"}
+                  **resolution, "method": STEPPING}
+    rate = (exact.real / T, exact.imag / T)
     return {"t": times * T, "series": series, "params": params, "provenance": provenance,
-            "exact": (exact.real / T, exact.imag / T), "fitted": (fit.growth_rate / T,
-                                                                  fit.frequency / T),
-            "fit_window": (t_a * T, t_b * T)}
+            "exact": dict.fromkeys(series, rate), "fitted": {},
+            "score_window": (t_a * T, t_a * T + SCORE_EFOLDS / -rate[0]),
+            "attrs": {"exact_growth_rate": rate[0], "exact_frequency": rate[1],
+                      "fitted_growth_rate": fit.growth_rate / T,
+                      "fitted_frequency": fit.frequency / T, "fit_window": [t_a * T, t_b * T]}}
+
+
+def tau_min(kappa: float, nu: float, l: int) -> tuple[float, str]:
+    """(tau_min, kind): the smallest marginal forcing amplitude of degree l over both kinds
+    (tip of the lowest tongue; :func:`spectralshell.runner.floquet.floquet`)."""
+    result = floquet("sphere", m=l, kappa=kappa, nu=nu)
+    tips = [(m.tau_min, kind) for kind in ("subharmonic", "harmonic")
+            if (m := getattr(result, kind)) is not None and m.tau_min is not None]
+    if not tips:
+        raise ParameterError(f"degree l = {l} is invalid at kappa = {kappa:.6g}, nu = {nu:.6g}: "
+                             "it has no resonance tongue")
+    return min(tips)
+
+
+def _parametric_taus(p: dict[str, Any]) -> tuple[float, float, float, str, dict[str, float]]:
+    """(kappa, nu, tau_min, kind, {below, above: tau}) of sphere-parametric; ParameterError when
+    (1 + margin) tau_min reaches 1/2."""
+    kappa_nu = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"],
+                              omega=p["omega"]).forced()
+    kappa, nu = kappa_nu["kappa"], kappa_nu["nu"]
+    tip, kind = tau_min(kappa, nu, p["l"])
+    if (1 + p["margin"]) * tip >= 0.5:
+        raise ParameterError(f"margin = {p['margin']:g} is invalid here: tau_min = {tip:.6g} "
+                             f"(degree {p['l']}), so (1 + margin) tau_min must stay below 1/2 "
+                             "(K(t) > 0)")
+    return kappa, nu, tip, kind, {"below": (1 - p["margin"]) * tip,
+                                  "above": (1 + p["margin"]) * tip}
+
+
+def _floquet_case(system, kappa: float, nu: float, l: int, tau: float,
+                  omega: float) -> dict[str, Any]:
+    """The least stable Floquet exponent of degree l at tau (physical rate and growth per
+    forcing period) and the periodic eigen-shape p(t) over one period of the solution."""
+    result = exponents("sphere", m=l, kappa=kappa, nu=nu, tau=tau, count=1)
+    gamma = complex(result.gamma[0])
+    mode = floquet_mode(system, tau, gamma, result.n_temporal)
+    period = 4 * math.pi if mode.kind == "subharmonic" else 2 * math.pi
+    phase = np.linspace(0.0, period, SHAPE_POINTS, endpoint=False)
+    shape = mode.evaluate(phase)[:, 0]
+    return {"tau": tau, "gamma_real": gamma.real, "gamma_imag": gamma.imag,
+            "growth_rate": gamma.real * omega, "frequency": (gamma.imag % 1.0) * omega,
+            "growth_per_period": math.exp(2 * math.pi * gamma.real),
+            "error_estimate": result.error_estimate, "n_temporal": result.n_temporal,
+            "kind": mode.kind, "shape_t": list(phase / omega),
+            "shape": list(shape / np.max(np.abs(shape)))}
+
+
+def _sphere_parametric(p: dict[str, Any]) -> dict[str, Any]:
+    """Floquet exponents, eigen-shapes and stepped runs of sphere-parametric below and above
+    tau_min -> physical series, bounds and metadata."""
+    omega, R, l, k = p["omega"], p["radius"], p["l"], p["k"]
+    kappa, nu, tip, kind, taus = _parametric_taus(p)
+    system = hill_system(make_params("sphere", {"m": l, "kappa": kappa, "nu": nu}))
+    step = 2 * math.pi / STEPS_PER_PERIOD
+    every = STEPS_PER_PERIOD // SAMPLES_PER_PERIOD
+    steps = PERIODS * STEPS_PER_PERIOD
+    window = (FIT_FROM_PERIOD * 2 * math.pi, steps * step)
+    series, floquet_cases, exact, fitted, resolution = {}, {}, {}, {}, {}
+    for case, tau in taus.items():
+        case_data = _floquet_case(system, kappa, nu, l, tau, omega)
+        times, f, bound, resolution[case] = _stepped({(l, k): p["epsilon"]}, kappa, nu, tau,
+                                                     step, every, steps)
+        fit = fit_rate(times, f[:, 0], period=2 * math.pi, window=window)
+        name = f"amplitude_{case}"
+        series[name] = (R * f[:, 0], R * bound[:, 0])
+        floquet_cases[case] = case_data
+        exact[name] = (case_data["growth_rate"], case_data["frequency"])
+        fitted[name] = (fit.growth_rate * omega, fit.frequency * omega)
+    params = {**p, "kappa": kappa, "nu": nu, "tau_min": tip, "kind": kind,
+              "tau_below": taus["below"], "tau_above": taus["above"],
+              "sigma_star": IB_SPRING_FACTOR * p["sigma"], "forcing_period": 2 * math.pi / omega}
+    provenance = {**stamp(), "scheme": SCHEME, "dt": step / omega, "samples_every": every,
+                  "resolution": resolution, "method": STEPPING,
+                  "floquet": "Hill's method on the exact fluid (solvers/hill_exponents.py), "
+                             "eigen-shape the null vector of the truncated Hill matrix"}
+    return {"t": times / omega, "series": series, "params": params, "provenance": provenance,
+            "exact": exact, "fitted": fitted,
+            "score_window": (window[0] / omega, window[1] / omega),
+            "attrs": {"forcing_frequency": omega, "floquet": json_attr(floquet_cases)}}
 
 
 #: The reference computation of each registered problem.
-COMPUTE = {"sphere-release": _sphere_release}
+COMPUTE = {"sphere-release": _sphere_release, "sphere-parametric": _sphere_parametric}
 assert set(COMPUTE) == set(BENCHMARKS)
 
 
 def benchmark(name: str, **params: Any) -> xr.Dataset:
     """Reference data of benchmark ``name`` at the given physical parameters (cgs; defaults
-    from the problem) -> ``xarray.Dataset`` over ``t`` (s): each quantity and its per-sample
-    error bound ``<quantity>_error`` (units in attrs); attributes: problem, title, params and
-    provenance (JSON: package and library versions, scheme, resolution), exact and fitted
-    late-time growth rate (1/s) and angular frequency (rad/s), fit window (s), specification."""
+    from the problem) -> ``xarray.Dataset`` over ``t`` (s): each quantity (attrs: units, the
+    exact growth rate (1/s) and angular frequency (rad/s) its late part follows and, where
+    fitted, the same fitted from it) and its per-sample error bound ``<quantity>_error``;
+    attributes: problem, title, params and provenance (JSON: package and library versions,
+    scheme, resolution), the window where score fits (s), the specification and the problem's
+    own (sphere-release: the exact and fitted decay; sphere-parametric: the Floquet data)."""
     problem = benchmark_problem(name)
     p = benchmark_params(problem, params)
     ref = COMPUTE[name](p)
@@ -154,52 +258,78 @@ def benchmark(name: str, **params: Any) -> xr.Dataset:
     data = {}
     for q, (values, bound) in ref["series"].items():
         data[q] = variable(("t",), values, units[q].description, units[q].units)
+        rates = {"exact": ref["exact"][q], **({"fitted": ref["fitted"][q]} if q in ref["fitted"]
+                                              else {})}
+        for which, (rate, frequency) in rates.items():
+            data[q][2].update({f"{which}_growth_rate": rate, f"{which}_frequency": frequency})
         data[q + ERROR_SUFFIX] = variable(("t",), bound, f"error bound of {q}", units[q].units)
     attrs = {"title": f"spectralshell benchmark {name}: {problem.title}", "problem": name,
              "params": json_attr(ref["params"]), "provenance": json_attr(ref["provenance"]),
-             "exact_growth_rate": ref["exact"][0], "exact_frequency": ref["exact"][1],
-             "fitted_growth_rate": ref["fitted"][0], "fitted_frequency": ref["fitted"][1],
-             "fit_window": list(ref["fit_window"]),
+             "score_window": list(ref["score_window"]), **ref["attrs"],
              "specification": specification_text(name, **params)}
     return dataset(data, {"t": variable(("t",), ref["t"], "time t", "s")}, attrs)
+
+
+def _release_fields(p: dict[str, Any]) -> dict[str, Any]:
+    """The specification's values of sphere-release."""
+    phys = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"])
+    T = phys.time_scale
+    exact = complex(natural_modes("sphere", m=p["l"], kappa=1.0, nu=phys.zeta, count=1).gamma[0])
+    return {"T": T, "zeta": phys.zeta, "growth_rate": exact.real / T,
+            "frequency": exact.imag / T, "growth_rate_nd": exact.real, "frequency_nd": exact.imag,
+            "lamb": phys.lamb_frequency(p["l"]), "efolds": EFOLDS,
+            "jump_factor": pressure_jump_factor(p)}
+
+
+def _parametric_fields(p: dict[str, Any]) -> dict[str, Any]:
+    """The specification's values of sphere-parametric (tau_min and both exponents)."""
+    kappa, nu, tip, kind, taus = _parametric_taus(p)
+    out = {"kappa": kappa, "nu": nu, "tau_min": tip, "kind": kind,
+           "forcing_period": 2 * math.pi / p["omega"], "periods": PERIODS,
+           "shape_period": (4 if kind == "subharmonic" else 2) * math.pi / p["omega"]}
+    for case, tau in taus.items():
+        gamma = complex(exponents("sphere", m=p["l"], kappa=kappa, nu=nu, tau=tau,
+                                  count=1).gamma[0])
+        out.update({f"tau_{case}": tau, f"rate_{case}": gamma.real * p["omega"],
+                    f"rate_{case}_nd": gamma.real,
+                    f"growth_{case}": math.exp(2 * math.pi * gamma.real)})
+    return out
+
+
+FIELDS = {"sphere-release": _release_fields, "sphere-parametric": _parametric_fields}
 
 
 def specification_text(name: str, **params: Any) -> str:
     """The one-page specification of problem ``name`` at the given (or default) parameters."""
     problem = benchmark_problem(name)
     p = benchmark_params(problem, params)
-    phys = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"])
-    T = phys.time_scale
-    exact = complex(natural_modes("sphere", m=p["l"], kappa=1.0, nu=phys.zeta, count=1).gamma[0])
     return problem.specification.format(
-        **p, amplitude=p["epsilon"] * p["radius"], T=T, zeta=phys.zeta,
-        growth_rate=exact.real / T, frequency=exact.imag / T, growth_rate_nd=exact.real,
-        frequency_nd=exact.imag, lamb=phys.lamb_frequency(p["l"]), efolds=EFOLDS,
-        sigma_star=IB_SPRING_FACTOR * p["sigma"], jump_factor=pressure_jump_factor(p),
-        reference=problem.reference)
+        **p, **FIELDS[name](p), amplitude=p["epsilon"] * p["radius"],
+        sigma_star=IB_SPRING_FACTOR * p["sigma"], reference=problem.reference)
 
 
 def score_window(ds) -> tuple[float, float]:
-    """(t_a, t_b) in s where score fits a user's series: from the start of the reference's fit
-    window over SCORE_EFOLDS e-folds of the exact mode (longer windows let the algebraic tail
-    bias the fit)."""
-    t_a = float(ds.attrs["fit_window"][0])
-    return t_a, t_a + SCORE_EFOLDS / -float(ds.attrs["exact_growth_rate"])
+    """(t_a, t_b) in s where score fits a user's series (and the reference alike): sphere-release
+    from the start of the reference's fit window over SCORE_EFOLDS e-folds of the exact mode
+    (longer windows let the algebraic tail bias the fit); sphere-parametric from period
+    FIT_FROM_PERIOD to the end."""
+    return tuple(float(v) for v in ds.attrs["score_window"])
 
 
-def _fit(t: np.ndarray, x: np.ndarray, window: tuple[float, float], guess: complex):
+def _fit(t: np.ndarray, x: np.ndarray, window: tuple[float, float], guess: complex,
+         forcing: float | None):
     """(rate, frequency, error) of x in the window, or (None, None, None) if it cannot be fitted."""
     inside = (t >= window[0]) & (t <= window[1])
     try:
-        return fit_damped_oscillation(t[inside], x[inside], guess=guess)
+        return fit_damped_oscillation(t[inside], x[inside], guess=guess, forcing=forcing)
     except SpectralShellError:
         return None, None, None
 
 
-def _score_quantity(ds, name: str, t_user: np.ndarray, x_user: np.ndarray,
-                    guess: complex) -> QuantityScore:
+def _score_quantity(ds, name: str, t_user: np.ndarray, x_user: np.ndarray) -> QuantityScore:
     """Errors of one user series against the reference (interpolated by a cubic spline onto
-    the reference times inside the user's range) and its fitted rate and frequency."""
+    the reference times inside the user's range) and its fitted rate and frequency (a damped
+    cosine, or forced a Floquet solution, started from the exact values)."""
     t_ref = ds["t"].values
     inside = (t_ref >= t_user[0]) & (t_ref <= t_user[-1])
     if inside.sum() < 2 or t_user.size < 4:
@@ -208,10 +338,14 @@ def _score_quantity(ds, name: str, t_user: np.ndarray, x_user: np.ndarray,
                              "times (or it has fewer than 4 samples)")
     ref = ds[name].values[inside]
     diff = CubicSpline(t_user, x_user)(t_ref[inside]) - ref
-    t_a, t_b = score_window(ds)
-    rate, frequency, error = _fit(t_user, x_user, (t_a, t_b), guess)
-    ref_fit = _fit(t_ref, ds[name].values, (t_a, t_b), guess)
-    return QuantityScore(name=name, units=ds[name].attrs.get("units", ""),
+    attrs = ds[name].attrs
+    guess = complex(attrs["exact_growth_rate"], attrs["exact_frequency"])
+    forcing = ds.attrs.get("forcing_frequency")
+    window = score_window(ds)
+    rate, frequency, error = _fit(t_user, x_user, window, guess, forcing)
+    ref_fit = _fit(t_ref, ds[name].values, window, guess, forcing)
+    return QuantityScore(name=name, units=attrs.get("units", ""),
+                         exact_growth_rate=float(guess.real), exact_frequency=float(guess.imag),
                          reference_growth_rate=ref_fit[0], reference_frequency=ref_fit[1],
                          relative_l2=float(np.linalg.norm(diff) / np.linalg.norm(ref)),
                          max_error=float(np.max(np.abs(diff))),
@@ -236,11 +370,11 @@ def score(name: str, path: str | Path, *, reference: xr.Dataset | None = None,
     if not scored:
         raise ParameterError(f"user data {str(path)!r} has no quantity column: expected one of "
                              f"{', '.join(known)}")
-    guess = complex(ds.attrs["exact_growth_rate"], ds.attrs["exact_frequency"])
     result = BenchmarkScore(problem=name, params=attrs_json(ds, "params"),
-                            exact_growth_rate=float(guess.real), exact_frequency=float(guess.imag),
+                            exact_growth_rate=ds.attrs.get("exact_growth_rate"),
+                            exact_frequency=ds.attrs.get("exact_frequency"),
                             fit_window=score_window(ds),
-                            quantities=tuple(_score_quantity(ds, c, t_user, columns[c], guess)
+                            quantities=tuple(_score_quantity(ds, c, t_user, columns[c])
                                              for c in scored))
     return result, ds, (t_user, {c: columns[c] for c in scored})
 
