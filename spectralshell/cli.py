@@ -570,16 +570,18 @@ def cmd_simulate(args) -> int:
 
 
 BENCHMARK_FLAGS = {"rho": "fluid density (g/cm^3)", "mu": "dynamic viscosity (g/(cm s))",
-                   "radius": "equilibrium radius R (cm)", "sigma": "membrane stiffness (dyn/cm)",
+                   "radius": "equilibrium radius R (cm)",
+                   "sigma": "membrane stiffness (dyn/cm; the fibre: g cm/s^2)",
                    "l": "degree of the initial shape", "k": "order of the initial shape",
+                   "m": "wavenumber of the fibre's shape (fibre-parametric)",
                    "epsilon": "initial amplitude A0 / R",
-                   "omega": "forcing angular frequency (rad/s; sphere-parametric)",
-                   "margin": "tau = (1 -+ margin) tau_min (sphere-parametric)"}
+                   "omega": "forcing angular frequency (rad/s; parametric problems)",
+                   "margin": "tau = (1 -+ margin) tau_min (parametric problems)"}
 
 
 def _benchmark_params(args: argparse.Namespace) -> dict[str, Any]:
     """The problem parameters given as flags (integers l, k; reals otherwise)."""
-    return {k: (parse_int if k in ("l", "k") else parse_real)(k, getattr(args, k))
+    return {k: (parse_int if k in ("l", "k", "m") else parse_real)(k, getattr(args, k))
             for k in BENCHMARK_FLAGS if getattr(args, k, None) is not None}
 
 

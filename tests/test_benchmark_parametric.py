@@ -12,9 +12,10 @@ import pytest
 import spectralshell as ss
 from spectralshell.cli import main
 from spectralshell.errors import ParameterError
-from spectralshell.results.benchmark import write_csv, write_netcdf
 from spectralshell.runner.benchmark import score, score_window, specification_text
 from spectralshell.solvers.oscillation_fit import fit_damped_oscillation
+
+from benchmark_cases import cli_writes, user_csv
 
 CASES = ("below", "above")
 
@@ -114,14 +115,6 @@ def test_forced_fit_recovers_a_known_floquet_signal():
     assert abs(rate - g) < 1e-9 and abs(frequency - 0.5) < 1e-9
 
 
-def _user_csv(path, t, columns):
-    names = list(columns)
-    rows = np.column_stack([t] + [columns[n] for n in names])
-    path.write_text(",".join(["t", *names]) + "\n"
-                    + "\n".join(",".join(repr(float(v)) for v in r) for r in rows) + "\n")
-    return path
-
-
 def test_score_reports_known_perturbations(reference, tmp_path):
     """The reference itself (zero error, its fit near the exact rate), a wrong growth rate
     (fitted rate = reference fit + delta), noise (L2 = ||noise|| / ||A||, rate within the fit's
@@ -132,7 +125,7 @@ def test_score_reports_known_perturbations(reference, tmp_path):
     omega = p["omega"]
 
     def run(name, tt, columns):
-        res, _, _ = score("sphere-parametric", _user_csv(tmp_path / f"{name}.csv", tt, columns),
+        res, _, _ = score("sphere-parametric", user_csv(tmp_path / f"{name}.csv", tt, columns),
                           reference=reference)
         assert res.exact_growth_rate is None
         return {q.name: q for q in res.quantities}
@@ -177,17 +170,10 @@ def test_score_reports_known_perturbations(reference, tmp_path):
 def test_cli_writes_the_same_bytes(reference, tmp_path, capsys):
     """`benchmark write sphere-parametric` writes the bytes of the same computation written
     from Python; show and score work; bad margins and foreign parameters exit 2."""
-    assert main(["benchmark", "write", "sphere-parametric", "--out", str(tmp_path / "cli"),
-                 "--json"]) == 0
-    written = json.loads(capsys.readouterr().out)
+    written = json.loads(cli_writes("sphere-parametric", reference, tmp_path, capsys))
     assert written["exact_growth_rate"] is None
     assert written["exact"]["amplitude_below"]["growth_rate"] == (
         reference["amplitude_below"].attrs["exact_growth_rate"])
-    write_netcdf(reference, tmp_path / "py.nc")
-    write_csv(reference, tmp_path / "py.csv")
-    for suffix in ("nc", "csv"):
-        assert ((tmp_path / "cli" / f"sphere-parametric.{suffix}").read_bytes()
-                == (tmp_path / f"py.{suffix}").read_bytes())
     assert main(["benchmark", "score", "sphere-parametric",
                  str(tmp_path / "cli" / "sphere-parametric.csv"), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -195,7 +181,7 @@ def test_cli_writes_the_same_bytes(reference, tmp_path, capsys):
     assert out["exact"] == {"growth_rate": None, "frequency": None}
     assert main(["benchmark", "list", "--json"]) == 0
     names = [p["name"] for p in json.loads(capsys.readouterr().out)["problems"]]
-    assert names == ["sphere-release", "sphere-parametric"]
+    assert names == ["sphere-release", "sphere-parametric", "fibre-parametric"]
     for argv in (["benchmark", "show", "sphere-parametric", "--margin", "0.9"],
                  ["benchmark", "show", "sphere-release", "--omega", "3"],
                  ["benchmark", "show", "sphere-parametric", "--l", "7"]):

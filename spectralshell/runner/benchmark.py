@@ -30,11 +30,12 @@ from ..errors import ParameterError, SpectralShellError
 from ..models.registry import hill_system
 from ..params.benchmarks import (BENCHMARKS, IB_SPRING_FACTOR, benchmark_params,
                                  benchmark_problem)
-from ..params.physical import PhysicalSphere
+from ..params.physical import PhysicalSphere, fibre_forced
 from ..params.registry import make_params
 from ..results.benchmark import (ERROR_SUFFIX, BenchmarkScore, QuantityScore, attrs_json,
                                  read_series, reference_columns, write_csv, write_netcdf)
 from ..results.notebook import dataset, json_attr, variable
+from ..solvers.marginal import coarser
 from ..solvers.marginal_mode import floquet_mode
 from ..solvers.oscillation_fit import fit_damped_oscillation
 from ..solvers.rate_fit import fit_rate
@@ -60,6 +61,9 @@ STEPS_PER_PERIOD = 512   # SBDF4: the fitted growth rate to ~1e-10 (2.9e-10 .. 1
 PERIODS = 120            # the run: 120 forcing periods
 FIT_FROM_PERIOD = 40     # the fit (and score) window: period 40 to the end
 SHAPE_POINTS = 64        # samples of the periodic eigen-shape over its period
+# fibre-parametric (no reference series): score's window for a user's run
+TRANSIENT_EFOLDS = 10.0  # starts when the next Floquet solution is e^-10 of the leading one
+SCORE_PERIODS = 40       # and lasts 40 forcing periods
 
 
 def real_harmonic(l: int, k: int, theta: float, phi: float) -> float:
@@ -159,56 +163,73 @@ def _sphere_release(p: dict[str, Any]) -> dict[str, Any]:
                       "fitted_frequency": fit.frequency / T, "fit_window": [t_a * T, t_b * T]}}
 
 
-def tau_min(kappa: float, nu: float, l: int) -> tuple[float, str]:
-    """(tau_min, kind): the smallest marginal forcing amplitude of degree l over both kinds
-    (tip of the lowest tongue; :func:`spectralshell.runner.floquet.floquet`)."""
-    result = floquet("sphere", m=l, kappa=kappa, nu=nu)
-    tips = [(m.tau_min, kind) for kind in ("subharmonic", "harmonic")
-            if (m := getattr(result, kind)) is not None and m.tau_min is not None]
+def tau_min(model: str, kappa: float, nu: float, m: int) -> tuple[float, str]:
+    """(tau_min, kind): the smallest marginal forcing amplitude of wavenumber (degree) m of
+    ``model`` over both kinds (tip of the lowest tongue;
+    :func:`spectralshell.runner.floquet.floquet`)."""
+    result = floquet(model, m=m, kappa=kappa, nu=nu)
+    tips = [(marginal.tau_min, kind) for kind in ("subharmonic", "harmonic")
+            if (marginal := getattr(result, kind)) is not None and marginal.tau_min is not None]
     if not tips:
-        raise ParameterError(f"degree l = {l} is invalid at kappa = {kappa:.6g}, nu = {nu:.6g}: "
-                             "it has no resonance tongue")
+        raise ParameterError(f"wavenumber {m} of the {model} is invalid at kappa = {kappa:.6g}, "
+                             f"nu = {nu:.6g}: it has no resonance tongue")
     return min(tips)
 
 
-def _parametric_taus(p: dict[str, Any]) -> tuple[float, float, float, str, dict[str, float]]:
-    """(kappa, nu, tau_min, kind, {below, above: tau}) of sphere-parametric; ParameterError when
+def _parametric_taus(model: str, p: dict[str, Any]
+                     ) -> tuple[float, float, int, float, str, dict[str, float]]:
+    """(kappa, nu, wavenumber, tau_min, kind, {below, above: tau}) of a parametric problem of
+    ``model`` ('sphere': degree l, 'fibre': wavenumber m); ParameterError when
     (1 + margin) tau_min reaches 1/2."""
-    kappa_nu = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"],
-                              omega=p["omega"]).forced()
+    physical = {k: p[k] for k in ("rho", "mu", "radius", "sigma", "omega")}
+    if model == "sphere":
+        kappa_nu, m = PhysicalSphere(**physical).forced(), p["l"]
+    else:
+        kappa_nu, m = fibre_forced(**physical), p["m"]
     kappa, nu = kappa_nu["kappa"], kappa_nu["nu"]
-    tip, kind = tau_min(kappa, nu, p["l"])
+    tip, kind = tau_min(model, kappa, nu, m)
     if (1 + p["margin"]) * tip >= 0.5:
         raise ParameterError(f"margin = {p['margin']:g} is invalid here: tau_min = {tip:.6g} "
-                             f"(degree {p['l']}), so (1 + margin) tau_min must stay below 1/2 "
+                             f"(wavenumber {m}), so (1 + margin) tau_min must stay below 1/2 "
                              "(K(t) > 0)")
-    return kappa, nu, tip, kind, {"below": (1 - p["margin"]) * tip,
-                                  "above": (1 + p["margin"]) * tip}
+    return kappa, nu, m, tip, kind, {"below": (1 - p["margin"]) * tip,
+                                     "above": (1 + p["margin"]) * tip}
 
 
-def _floquet_case(system, kappa: float, nu: float, l: int, tau: float,
-                  omega: float) -> dict[str, Any]:
-    """The least stable Floquet exponent of degree l at tau (physical rate and growth per
-    forcing period) and the periodic eigen-shape p(t) over one period of the solution."""
-    result = exponents("sphere", m=l, kappa=kappa, nu=nu, tau=tau, count=1)
-    gamma = complex(result.gamma[0])
-    mode = floquet_mode(system, tau, gamma, result.n_temporal)
+def _eigen_shape(system, tau: float, gamma: complex, n_temporal: int) -> tuple[str, np.ndarray]:
+    """(kind, p): the radial periodic eigen-shape at SHAPE_POINTS phases over its period
+    (4 pi subharmonic, 2 pi harmonic, from forcing phase 0), max |p| = 1."""
+    mode = floquet_mode(system, tau, gamma, n_temporal)
     period = 4 * math.pi if mode.kind == "subharmonic" else 2 * math.pi
-    phase = np.linspace(0.0, period, SHAPE_POINTS, endpoint=False)
-    shape = mode.evaluate(phase)[:, 0]
+    shape = mode.evaluate(np.linspace(0.0, period, SHAPE_POINTS, endpoint=False))[:, 0]
+    return mode.kind, shape / np.max(np.abs(shape))
+
+
+def _floquet_case(model: str, system, kappa: float, nu: float, m: int, tau: float,
+                  omega: float) -> dict[str, Any]:
+    """The least stable Floquet exponent of wavenumber m at tau (physical rate and growth per
+    forcing period), the next one (the slowest transient), and the periodic eigen-shape p(t)
+    over one period with its error bound |p_N - p_N'| (N' the coarser truncation)."""
+    result = exponents(model, m=m, kappa=kappa, nu=nu, tau=tau, count=2)
+    gamma = complex(result.gamma[0])
+    kind, shape = _eigen_shape(system, tau, gamma, result.n_temporal)
+    _, check = _eigen_shape(system, tau, gamma, coarser(result.n_temporal))
+    check *= np.sign(check @ shape)            # the null vector's sign is arbitrary
+    period = (4 if kind == "subharmonic" else 2) * math.pi / omega
     return {"tau": tau, "gamma_real": gamma.real, "gamma_imag": gamma.imag,
             "growth_rate": gamma.real * omega, "frequency": (gamma.imag % 1.0) * omega,
             "growth_per_period": math.exp(2 * math.pi * gamma.real),
+            "next_growth_rate": float(result.gamma[1].real) * omega,
             "error_estimate": result.error_estimate, "n_temporal": result.n_temporal,
-            "kind": mode.kind, "shape_t": list(phase / omega),
-            "shape": list(shape / np.max(np.abs(shape)))}
+            "kind": kind, "shape_t": list(np.arange(SHAPE_POINTS) * period / SHAPE_POINTS),
+            "shape": list(shape), "shape_error": list(np.abs(shape - check))}
 
 
 def _sphere_parametric(p: dict[str, Any]) -> dict[str, Any]:
     """Floquet exponents, eigen-shapes and stepped runs of sphere-parametric below and above
     tau_min -> physical series, bounds and metadata."""
-    omega, R, l, k = p["omega"], p["radius"], p["l"], p["k"]
-    kappa, nu, tip, kind, taus = _parametric_taus(p)
+    omega, R, k = p["omega"], p["radius"], p["k"]
+    kappa, nu, l, tip, kind, taus = _parametric_taus("sphere", p)
     system = hill_system(make_params("sphere", {"m": l, "kappa": kappa, "nu": nu}))
     step = 2 * math.pi / STEPS_PER_PERIOD
     every = STEPS_PER_PERIOD // SAMPLES_PER_PERIOD
@@ -216,7 +237,7 @@ def _sphere_parametric(p: dict[str, Any]) -> dict[str, Any]:
     window = (FIT_FROM_PERIOD * 2 * math.pi, steps * step)
     series, floquet_cases, exact, fitted, resolution = {}, {}, {}, {}, {}
     for case, tau in taus.items():
-        case_data = _floquet_case(system, kappa, nu, l, tau, omega)
+        case_data = _floquet_case("sphere", system, kappa, nu, l, tau, omega)
         times, f, bound, resolution[case] = _stepped({(l, k): p["epsilon"]}, kappa, nu, tau,
                                                      step, every, steps)
         fit = fit_rate(times, f[:, 0], period=2 * math.pi, window=window)
@@ -238,8 +259,37 @@ def _sphere_parametric(p: dict[str, Any]) -> dict[str, Any]:
             "attrs": {"forcing_frequency": omega, "floquet": json_attr(floquet_cases)}}
 
 
+def _fibre_parametric(p: dict[str, Any]) -> dict[str, Any]:
+    """Floquet exponents and eigen-shapes of fibre-parametric below and above tau_min -> the
+    eigen-shapes over one period (s) with their truncation bounds, and metadata; the window
+    where score fits a user's run starts when the next Floquet solution has decayed by
+    e^-TRANSIENT_EFOLDS against the leading one (the slower of the two cases)."""
+    omega = p["omega"]
+    kappa, nu, m, tip, kind, taus = _parametric_taus("fibre", p)
+    system = hill_system(make_params("fibre", {"m": m, "kappa": kappa, "nu": nu}))
+    cases = {case: _floquet_case("fibre", system, kappa, nu, m, tau, omega)
+             for case, tau in taus.items()}
+    series = {f"shape_{case}": (np.array(c["shape"]), np.array(c["shape_error"]))
+              for case, c in cases.items()}
+    exact = {f"{prefix}_{case}": (c["growth_rate"], c["frequency"])
+             for case, c in cases.items() for prefix in ("shape", "amplitude")}
+    start = max(TRANSIENT_EFOLDS / (c["growth_rate"] - c["next_growth_rate"])
+                for c in cases.values())
+    params = {**p, "kappa": kappa, "nu": nu, "tau_min": tip, "kind": kind,
+              "tau_below": taus["below"], "tau_above": taus["above"],
+              "forcing_period": 2 * math.pi / omega}
+    provenance = {**stamp(), "method": "Hill's method on the exact fluid "
+                  "(solvers/hill_exponents.py); eigen-shape the null vector of the truncated "
+                  "Hill matrix, bound from the coarser truncation; no time stepping"}
+    return {"t": np.array(cases["below"]["shape_t"]), "series": series, "params": params,
+            "provenance": provenance, "exact": exact, "fitted": {},
+            "score_window": (start, start + SCORE_PERIODS * 2 * math.pi / omega),
+            "attrs": {"forcing_frequency": omega, "floquet": json_attr(cases)}}
+
+
 #: The reference computation of each registered problem.
-COMPUTE = {"sphere-release": _sphere_release, "sphere-parametric": _sphere_parametric}
+COMPUTE = {"sphere-release": _sphere_release, "sphere-parametric": _sphere_parametric,
+           "fibre-parametric": _fibre_parametric}
 assert set(COMPUTE) == set(BENCHMARKS)
 
 
@@ -256,6 +306,8 @@ def benchmark(name: str, **params: Any) -> xr.Dataset:
     ref = COMPUTE[name](p)
     units = {q.name: q for q in problem.quantities}
     data = {}
+    rate_only = {q.name: dict(zip(("exact_growth_rate", "exact_frequency"), ref["exact"][q.name]))
+                 for q in problem.rate_only}
     for q, (values, bound) in ref["series"].items():
         data[q] = variable(("t",), values, units[q].description, units[q].units)
         rates = {"exact": ref["exact"][q], **({"fitted": ref["fitted"][q]} if q in ref["fitted"]
@@ -266,6 +318,7 @@ def benchmark(name: str, **params: Any) -> xr.Dataset:
     attrs = {"title": f"spectralshell benchmark {name}: {problem.title}", "problem": name,
              "params": json_attr(ref["params"]), "provenance": json_attr(ref["provenance"]),
              "score_window": list(ref["score_window"]), **ref["attrs"],
+             **({"rate_only": json_attr(rate_only)} if rate_only else {}),
              "specification": specification_text(name, **params)}
     return dataset(data, {"t": variable(("t",), ref["t"], "time t", "s")}, attrs)
 
@@ -281,22 +334,29 @@ def _release_fields(p: dict[str, Any]) -> dict[str, Any]:
             "jump_factor": pressure_jump_factor(p)}
 
 
-def _parametric_fields(p: dict[str, Any]) -> dict[str, Any]:
-    """The specification's values of sphere-parametric (tau_min and both exponents)."""
-    kappa, nu, tip, kind, taus = _parametric_taus(p)
+def _parametric_fields(model: str, p: dict[str, Any]) -> dict[str, Any]:
+    """The specification's values of a parametric problem of ``model`` (tau_min, both
+    exponents; the fibre: score's window)."""
+    kappa, nu, m, tip, kind, taus = _parametric_taus(model, p)
+    omega = p["omega"]
     out = {"kappa": kappa, "nu": nu, "tau_min": tip, "kind": kind,
-           "forcing_period": 2 * math.pi / p["omega"], "periods": PERIODS,
-           "shape_period": (4 if kind == "subharmonic" else 2) * math.pi / p["omega"]}
+           "forcing_period": 2 * math.pi / omega, "periods": PERIODS,
+           "shape_period": (4 if kind == "subharmonic" else 2) * math.pi / omega,
+           "transient_efolds": TRANSIENT_EFOLDS}
+    start = 0.0
     for case, tau in taus.items():
-        gamma = complex(exponents("sphere", m=p["l"], kappa=kappa, nu=nu, tau=tau,
-                                  count=1).gamma[0])
-        out.update({f"tau_{case}": tau, f"rate_{case}": gamma.real * p["omega"],
-                    f"rate_{case}_nd": gamma.real,
-                    f"growth_{case}": math.exp(2 * math.pi * gamma.real)})
-    return out
+        gamma = exponents(model, m=m, kappa=kappa, nu=nu, tau=tau, count=2).gamma
+        out.update({f"tau_{case}": tau, f"rate_{case}": gamma[0].real * omega,
+                    f"rate_{case}_nd": gamma[0].real,
+                    f"growth_{case}": math.exp(2 * math.pi * gamma[0].real)})
+        start = max(start, TRANSIENT_EFOLDS / ((gamma[0].real - gamma[1].real) * omega))
+    return {**out, "score_start": start,
+            "score_end": start + SCORE_PERIODS * 2 * math.pi / omega}
 
 
-FIELDS = {"sphere-release": _release_fields, "sphere-parametric": _parametric_fields}
+FIELDS = {"sphere-release": _release_fields,
+          "sphere-parametric": lambda p: _parametric_fields("sphere", p),
+          "fibre-parametric": lambda p: _parametric_fields("fibre", p)}
 
 
 def specification_text(name: str, **params: Any) -> str:
@@ -304,7 +364,7 @@ def specification_text(name: str, **params: Any) -> str:
     problem = benchmark_problem(name)
     p = benchmark_params(problem, params)
     return problem.specification.format(
-        **p, **FIELDS[name](p), amplitude=p["epsilon"] * p["radius"],
+        **p, **FIELDS[name](p), amplitude=p.get("epsilon", 0.0) * p["radius"],
         sigma_star=IB_SPRING_FACTOR * p["sigma"], reference=problem.reference)
 
 
@@ -354,6 +414,26 @@ def _score_quantity(ds, name: str, t_user: np.ndarray, x_user: np.ndarray) -> Qu
                          samples=int(inside.sum()))
 
 
+def _score_rate(ds, name: str, t_user: np.ndarray, x_user: np.ndarray,
+                exact: dict[str, float]) -> QuantityScore:
+    """The growth rate and frequency of a user series the reference has no samples of
+    (fibre-parametric), fitted in the score window, against the exact ones; ParameterError when
+    the run does not cover the window."""
+    window = score_window(ds)
+    if t_user[0] > window[0] or t_user[-1] < window[1]:
+        raise ParameterError(f"user data column {name} is invalid: its times "
+                             f"{t_user[0]:g}..{t_user[-1]:g} s must cover the fit window "
+                             f"{window[0]:.6g}..{window[1]:.6g} s (after the transient)")
+    guess = complex(exact["exact_growth_rate"], exact["exact_frequency"])
+    rate, frequency, error = _fit(t_user, x_user, window, guess, ds.attrs["forcing_frequency"])
+    inside = (t_user >= window[0]) & (t_user <= window[1])
+    return QuantityScore(name=name, units="", exact_growth_rate=float(guess.real),
+                         exact_frequency=float(guess.imag), relative_l2=None, max_error=None,
+                         reference_error=None, growth_rate=rate, frequency=frequency,
+                         fit_error=error, reference_growth_rate=None, reference_frequency=None,
+                         samples=int(inside.sum()))
+
+
 def score(name: str, path: str | Path, *, reference: xr.Dataset | None = None,
           **params: Any) -> tuple[BenchmarkScore, xr.Dataset, tuple]:
     """Score the user's CSV ``path`` (format: :mod:`spectralshell.results.benchmark`) against
@@ -361,7 +441,8 @@ def score(name: str, path: str | Path, *, reference: xr.Dataset | None = None,
     (score, reference Dataset, (t_user, {column: values})) ."""
     ds = reference if reference is not None else benchmark(name, **params)
     t_user, columns = read_series(path)
-    known = reference_columns(ds)
+    rate_only = attrs_json(ds, "rate_only") if "rate_only" in ds.attrs else {}
+    known = reference_columns(ds) + list(rate_only)
     unknown = [c for c in columns if c not in known and not c.endswith(ERROR_SUFFIX)]
     if unknown:
         raise ParameterError(f"user data column {unknown[0]!r} is unknown: expected "
@@ -374,8 +455,10 @@ def score(name: str, path: str | Path, *, reference: xr.Dataset | None = None,
                             exact_growth_rate=ds.attrs.get("exact_growth_rate"),
                             exact_frequency=ds.attrs.get("exact_frequency"),
                             fit_window=score_window(ds),
-                            quantities=tuple(_score_quantity(ds, c, t_user, columns[c])
-                                             for c in scored))
+                            quantities=tuple(
+                                _score_rate(ds, c, t_user, columns[c], rate_only[c])
+                                if c in rate_only else _score_quantity(ds, c, t_user, columns[c])
+                                for c in scored))
     return result, ds, (t_user, {c: columns[c] for c in scored})
 
 
