@@ -141,3 +141,14 @@ def test_cli_writes_the_same_bytes(reference, tmp_path, capsys):
         assert main(argv) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "error" in err
+
+
+def test_low_viscosity_needs_a_small_margin():
+    """At nu = 5e-5 (the offered range's end) the exponent at 0.9 tau_min is not locked to the
+    forcing (no periodic eigen-shape): refused, naming the margin; at margin 0.02 it is."""
+    with pytest.raises(ss.ParameterError, match="smaller margin"):
+        ss.benchmark("fibre-parametric", mu=0.005)
+    ds = ss.benchmark("fibre-parametric", mu=0.005, margin=0.02)
+    floquet = json.loads(ds.attrs["floquet"])
+    assert floquet["below"]["gamma_real"] < 0 < floquet["above"]["gamma_real"]
+    assert floquet["below"]["gamma_imag"] == 0.5

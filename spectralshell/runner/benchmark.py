@@ -61,6 +61,7 @@ STEPS_PER_PERIOD = 512   # SBDF4: the fitted growth rate to ~1e-10 (2.9e-10 .. 1
 PERIODS = 120            # the run: 120 forcing periods
 FIT_FROM_PERIOD = 40     # the fit (and score) window: period 40 to the end
 SHAPE_POINTS = 64        # samples of the periodic eigen-shape over its period
+LOCKED = 1e-9            # |Im gamma - 0 or 1/2| of an exponent locked to the forcing
 # fibre-parametric (no reference series): score's window for a user's run
 TRANSIENT_EFOLDS = 10.0  # starts when the next Floquet solution is e^-10 of the leading one
 SCORE_PERIODS = 40       # and lasts 40 forcing periods
@@ -212,6 +213,12 @@ def _floquet_case(model: str, system, kappa: float, nu: float, m: int, tau: floa
     over one period with its error bound |p_N - p_N'| (N' the coarser truncation)."""
     result = exponents(model, m=m, kappa=kappa, nu=nu, tau=tau, count=2)
     gamma = complex(result.gamma[0])
+    if min(abs(gamma.imag % 1.0 - lock) for lock in (0.0, 0.5, 1.0)) > LOCKED:
+        raise ParameterError(f"margin is invalid here: at tau = {tau:.6g} the least stable "
+                             f"Floquet exponent {gamma:.6g} is not locked to the forcing (Im "
+                             "gamma not 0 or 1/2: a beating response without a periodic "
+                             "eigen-shape); a smaller margin keeps tau_below in the locked "
+                             "band just below tau_min, whose width grows with nu")
     kind, shape = _eigen_shape(system, tau, gamma, result.n_temporal)
     _, check = _eigen_shape(system, tau, gamma, coarser(result.n_temporal))
     check *= np.sign(check @ shape)            # the null vector's sign is arbitrary
