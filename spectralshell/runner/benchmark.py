@@ -12,6 +12,15 @@ e^-``EFOLDS`` (the fit window), then one more period. Error bound per sample: |f
 |fine - (n - 8) radial nodes|. The fitted decay rate and frequency (DMD,
 :func:`~spectralshell.solvers.rate_fit.fit_rate`, on the fit window) are stored next to the
 exact ones of the dispersion relation (:func:`spectralshell.runner.modes.natural_modes`).
+
+sphere-parametric and fibre-parametric. tau_min from :func:`spectralshell.runner.floquet.floquet`,
+at tau = (1 -+ margin) tau_min the two least stable Floquet exponents
+(:func:`spectralshell.runner.floquet.exponents`) and the periodic eigen-shape
+(:func:`spectralshell.solvers.marginal_mode.floquet_mode`, bound from the coarser truncation).
+The sphere's amplitudes are stepped as above in the time unit 1 / omega (``STEPS_PER_PERIOD``
+steps per forcing period, ``PERIODS`` periods) and their growth rates fitted (DMD over whole
+periods from ``FIT_FROM_PERIOD``); the fibre has no stepper, and score fits a user's run after
+the transient (:func:`_rate_window`).
 """
 
 from __future__ import annotations
@@ -266,6 +275,15 @@ def _sphere_parametric(p: dict[str, Any]) -> dict[str, Any]:
             "attrs": {"forcing_frequency": omega, "floquet": json_attr(floquet_cases)}}
 
 
+def _rate_window(rates, omega: float) -> tuple[float, float]:
+    """(start, end) in s of score's window for a run without reference series: from where the
+    next Floquet solution has decayed by e^-TRANSIENT_EFOLDS against the leading one (in the
+    slower of the cases) over SCORE_PERIODS forcing periods; ``rates`` = (leading, next)
+    growth rates in 1/s, one pair per case."""
+    start = max(TRANSIENT_EFOLDS / (leading - following) for leading, following in rates)
+    return start, start + SCORE_PERIODS * 2 * math.pi / omega
+
+
 def _fibre_parametric(p: dict[str, Any]) -> dict[str, Any]:
     """Floquet exponents and eigen-shapes of fibre-parametric below and above tau_min -> the
     eigen-shapes over one period (s) with their truncation bounds, and metadata; the window
@@ -280,8 +298,6 @@ def _fibre_parametric(p: dict[str, Any]) -> dict[str, Any]:
               for case, c in cases.items()}
     exact = {f"{prefix}_{case}": (c["growth_rate"], c["frequency"])
              for case, c in cases.items() for prefix in ("shape", "amplitude")}
-    start = max(TRANSIENT_EFOLDS / (c["growth_rate"] - c["next_growth_rate"])
-                for c in cases.values())
     params = {**p, "kappa": kappa, "nu": nu, "tau_min": tip, "kind": kind,
               "tau_below": taus["below"], "tau_above": taus["above"],
               "forcing_period": 2 * math.pi / omega}
@@ -290,7 +306,8 @@ def _fibre_parametric(p: dict[str, Any]) -> dict[str, Any]:
                   "Hill matrix, bound from the coarser truncation; no time stepping"}
     return {"t": np.array(cases["below"]["shape_t"]), "series": series, "params": params,
             "provenance": provenance, "exact": exact, "fitted": {},
-            "score_window": (start, start + SCORE_PERIODS * 2 * math.pi / omega),
+            "score_window": _rate_window(((c["growth_rate"], c["next_growth_rate"])
+                                          for c in cases.values()), omega),
             "attrs": {"forcing_frequency": omega, "floquet": json_attr(cases)}}
 
 
@@ -307,7 +324,8 @@ def benchmark(name: str, **params: Any) -> xr.Dataset:
     fitted, the same fitted from it) and its per-sample error bound ``<quantity>_error``;
     attributes: problem, title, params and provenance (JSON: package and library versions,
     scheme, resolution), the window where score fits (s), the specification and the problem's
-    own (sphere-release: the exact and fitted decay; sphere-parametric: the Floquet data)."""
+    own (sphere-release: the exact and fitted decay; the parametric problems: the Floquet data;
+    fibre-parametric: the exact rates of the series a user's run gives, ``rate_only``)."""
     problem = benchmark_problem(name)
     p = benchmark_params(problem, params)
     ref = COMPUTE[name](p)
@@ -350,15 +368,15 @@ def _parametric_fields(model: str, p: dict[str, Any]) -> dict[str, Any]:
            "forcing_period": 2 * math.pi / omega, "periods": PERIODS,
            "shape_period": (4 if kind == "subharmonic" else 2) * math.pi / omega,
            "transient_efolds": TRANSIENT_EFOLDS}
-    start = 0.0
+    rates = []
     for case, tau in taus.items():
         gamma = exponents(model, m=m, kappa=kappa, nu=nu, tau=tau, count=2).gamma
         out.update({f"tau_{case}": tau, f"rate_{case}": gamma[0].real * omega,
                     f"rate_{case}_nd": gamma[0].real,
                     f"growth_{case}": math.exp(2 * math.pi * gamma[0].real)})
-        start = max(start, TRANSIENT_EFOLDS / ((gamma[0].real - gamma[1].real) * omega))
-    return {**out, "score_start": start,
-            "score_end": start + SCORE_PERIODS * 2 * math.pi / omega}
+        rates.append((gamma[0].real * omega, gamma[1].real * omega))
+    start, end = _rate_window(rates, omega)
+    return {**out, "score_start": start, "score_end": end}
 
 
 FIELDS = {"sphere-release": _release_fields,
@@ -379,7 +397,7 @@ def score_window(ds) -> tuple[float, float]:
     """(t_a, t_b) in s where score fits a user's series (and the reference alike): sphere-release
     from the start of the reference's fit window over SCORE_EFOLDS e-folds of the exact mode
     (longer windows let the algebraic tail bias the fit); sphere-parametric from period
-    FIT_FROM_PERIOD to the end."""
+    FIT_FROM_PERIOD to the end; fibre-parametric after the transient (:func:`_rate_window`)."""
     return tuple(float(v) for v in ds.attrs["score_window"])
 
 
