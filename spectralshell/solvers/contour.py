@@ -21,7 +21,9 @@ A candidate z* is bracketed by a sign change of g on the real axis (within 5 % o
 [0, tau_max^2]) and refined by Brent's method. The argument principle then counts the zeros of
 g (real or not) inside
 
-* the rectangle [-a, z* - rho/2] x [-a, a] (a = STRIP tau_max^2, rho = DISK z*): none, and
+* the rectangle [-a, z* - rho/2] x [-a, a] (a = s tau_max^2 for the first s of STRIPS for which
+  the count is zero: the viscous models' truncations carry complex eigenvalues within 1 % of
+  the real axis at low beat rates; rho = DISK z*): none, and
 * the disk |z - z*| <= rho: exactly one (z* itself),
 
 which proves that no real tau lies below tau* = sqrt(z*) and no other one up to
@@ -29,7 +31,7 @@ sqrt(z* + rho / 2): ``complete_to``. Without a sign change near the hint the rec
 tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real tau <= tau_max exists.
 The count is the winding number of g along the boundary (:func:`winding`, in the compiled
 kernel ``_schur.c``), and must lie within 0.05 of an integer. Where any of this fails (a
-complex eigenvalue within a of the real axis below tau*, another zero within rho of z*, a zero
+complex eigenvalue within 1e-6 tau_max^2 of the real axis below tau*, another zero within rho of z*, a zero
 pivot, MAX_NODES evaluations) the function returns None and the caller solves the truncation
 densely: the answer is then the dense path's, never an uncertified one. Like the Krylov path's
 (:mod:`spectralshell.solvers.half_product`) the count rests on sampling, here of the phase of
@@ -44,9 +46,11 @@ not every real tau. The dense path's own block-LU relative, for Floquet exponent
 Cost
 ----
 One point of a contour costs O(K) (K = 2N + 1 or 2N + 2 blocks of 2 x 2), a count some tens to
-a few hundred points; the dense eig of W costs O(N^3). Measured on Fig 6.13 (a 20 x 20 map,
-both kinds, m = 2..6, one process): the truncations' time went from 11.3 s (dense eig of W) to
-about 2 s, the same map to 6e-15 (validation/BENCHMARKS.md for the 200 x 200 row).
+a few hundred points; the dense eig of W costs O(N^3). Measured on a 20 x 20 Fig 6.13 map (m =
+2..6, both kinds, serial, one BLAS thread, CPU time under load): 17.5 s with the dense eig of W
+per truncation, 7.5 s with this path (6.2 s with the sphere's fluid-load cache), the same map
+to 6e-15 with the same truncation pairs; assembly and the sweep's Python then dominate. The
+200 x 200 figure: validation/bench_fig613.py.
 """
 
 from __future__ import annotations
@@ -59,8 +63,9 @@ import scipy.optimize as sopt
 from ..discretise.hill import HillMatrices
 from . import _schur
 
-#: Half-height and left margin of the counting rectangle, relative to tau_max^2.
-STRIP = 0.01
+#: Half-heights (and left margins) of the counting rectangle, relative to tau_max^2, tried in
+#: turn until one holds no zero (:func:`_zeros_below`).
+STRIPS = (1e-2, 1e-4, 1e-6)
 #: Radius of the disk around z* that must hold z* alone, relative to z*.
 DISK = 1e-3
 #: Nodes per contour before giving up (dense path instead).
@@ -84,8 +89,8 @@ class LogDet:
             raise ValueError("LogDet needs a bipartite pencil (no self-coupling in B)")
         self.blocks = tuple(np.ascontiguousarray(x, dtype=complex)
                             for x in (hill.diag, hill.lower, hill.upper))
-        sign, logabs = np.linalg.slogdet(self.blocks[0])
-        self.offset = complex(logabs.sum(), np.angle(sign).sum())
+        a = self.blocks[0]
+        self.offset = complex(np.log(a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]).sum())
 
     def __call__(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
         z = np.ascontiguousarray(z, dtype=complex).ravel()
@@ -123,12 +128,19 @@ def winding(log_g: LogDet, nodes: np.ndarray) -> int | None:
     return count if abs(total - count) <= 0.05 else None
 
 
-def rectangle(left: float, right: float, half_height: float, per_edge: int = 8) -> np.ndarray:
-    """Counter-clockwise nodes of the rectangle [left, right] x [-half_height, half_height]."""
+def _unit_rectangle(per_edge: int) -> np.ndarray:
+    """Counter-clockwise nodes of [0, 1] x [-1, 1], ``per_edge`` per edge from each corner."""
     t = np.linspace(0.0, 1.0, per_edge, endpoint=False)
-    w, h = right - left, half_height
-    return np.concatenate([left + w * t - 1j * h, right + 1j * (-h + 2 * h * t),
-                           right - w * t + 1j * h, left + 1j * (h - 2 * h * t)])
+    return np.concatenate([t - 1j, 1 + 1j * (2 * t - 1), 1 - t + 1j, 1j * (1 - 2 * t)])
+
+
+UNIT_RECTANGLE = _unit_rectangle(8)
+
+
+def rectangle(left: float, right: float, half_height: float) -> np.ndarray:
+    """Counter-clockwise nodes of the rectangle [left, right] x [-half_height, half_height],
+    8 per edge (the kernel refines them)."""
+    return left + (right - left) * UNIT_RECTANGLE.real + 1j * half_height * UNIT_RECTANGLE.imag
 
 
 def circle(centre: float, radius: float, count: int = 16) -> np.ndarray:
@@ -176,6 +188,19 @@ def _dyadic_cell(z: float) -> tuple[float, float]:
     return lo, lo + step
 
 
+def _zeros_below(log_g: LogDet, right: float, z_max: float) -> int | None:
+    """Zeros of g in the rectangle [-a, right] x [-a, a], a = s z_max for the first s of
+    STRIPS that finds none (else the count in the thinnest; None if a count fails): complex
+    eigenvalues close to the real axis are left outside a thinner strip."""
+    count = None
+    for strip in STRIPS:
+        side = strip * z_max
+        count = winding(log_g, rectangle(-side, right, side))
+        if count == 0:
+            break
+    return count
+
+
 def smallest_real_tau(hill: HillMatrices, tau_max: float,
                       hint: float | None = None) -> tuple[float | None, float] | None:
     """(tau_min or None, complete_to) of one bipartite truncation, certified as in the module
@@ -183,10 +208,9 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
     to complete_to is tau_min. None when the certificate cannot be had (use the dense path)."""
     log_g = LogDet(hill)
     z_max = tau_max * tau_max
-    side = STRIP * z_max
     bracket = None if hint is None else _near(log_g, z_max, hint)
     if bracket is None:
-        whole = winding(log_g, rectangle(-side, z_max * (1 + 1e-6), side))
+        whole = _zeros_below(log_g, z_max * (1 + 1e-6), z_max)
         if whole == 0:
             return None, tau_max
         if whole is None:
@@ -200,7 +224,7 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
     except ZeroDivisionError:
         return None
     rho = DISK * z
-    if winding(log_g, rectangle(-side, z - rho / 2, side)) != 0:
+    if _zeros_below(log_g, z - rho / 2, z_max) != 0:
         return None
     if winding(log_g, circle(z, rho)) != 1:
         return None
