@@ -58,7 +58,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import scipy.optimize as sopt
 
 from ..discretise.hill import HillMatrices
 from . import _schur
@@ -173,10 +172,12 @@ def _root(log_g: LogDet, lo: float, hi: float, rtol: float,
           otherwise: float | None = None) -> float:
     """The zero of g in the sign change [lo, hi] by Brent's method (``otherwise`` if g does not
     change sign there)."""
+    from scipy.optimize import brentq  # lazy: a Mathieu solve never imports scipy.optimize
+
     scale = log_g(np.array([lo]))[0][0].real  # g exp(-scale): no overflow near the zero
     if otherwise is not None and log_g.real(lo, scale) * log_g.real(hi, scale) > 0:
         return otherwise
-    return sopt.brentq(log_g.real, lo, hi, args=(scale,), xtol=1e-300, rtol=rtol)
+    return brentq(log_g.real, lo, hi, args=(scale,), xtol=1e-300, rtol=rtol)
 
 
 def _dyadic_cell(z: float) -> tuple[float, float]:
