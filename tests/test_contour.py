@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
+from spectralshell.models.fibre import hill_system as fibre
 from spectralshell.models.sphere import hill_system as sphere
 from spectralshell.params.physical import CARDIAC, PhysicalSphere, bpm_to_rad_per_s
 from spectralshell.runner import solve
@@ -193,3 +194,30 @@ def test_coarse_fig_6_13_map_matches_dense_path(monkeypatch):
     gap = np.abs(fast["tau_min"].values - dense["tau_min"].values)
     assert np.all(gap[has] <= allowed[has])
     np.testing.assert_array_equal(fast["n_temporal"].values, dense["n_temporal"].values)
+
+
+def fibre_cells(count: int, seed: int):
+    """A seeded sample of the fibre's Fig 4.1 range (m, kappa, nu, kind)."""
+    rng = np.random.default_rng(seed)
+    return [(int(rng.integers(2, 5)), rng.uniform(0.002, 0.3), rng.choice([2e-4, 1e-3]),
+             KINDS[i % 2]) for i in range(count)]
+
+
+@pytest.mark.parametrize("m, kappa, nu, kind", fibre_cells(12, seed=41))
+def test_fibre_smallest_real_tau_is_qz_smallest(m, kappa, nu, kind):
+    """The fibre (the other 2 x 2 block model the sweeps solve this way): tau_min and its
+    certificate against QZ on the real form of the same truncation (4 of the 12 sampled cells
+    have a tau <= 1/2)."""
+    system = fibre(m=m, kappa=kappa, nu=nu)
+    n = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    found = contour.smallest_real_tau(pencils.get(n, "two-sided")[0], TAU_MAX)
+    assert found is not None
+    tau_min, complete_to = found
+    reference = dense_taus(pencils.get(n, "real")[0])
+    reference = reference[(reference >= 0) & (reference <= TAU_MAX)]
+    if tau_min is None:
+        assert not reference.size
+    else:
+        assert reference.size and tau_min == pytest.approx(reference[0], rel=1e-10)
+        assert not np.any(reference[1:] <= complete_to)
