@@ -46,7 +46,8 @@ fftw:
 $(PY):
 	$(PYTHON) -m venv $(VENV)
 
-$(STAMP): pyproject.toml spectralshell/solvers/_tridiagonal.c spectralshell/special/_lentz.c | $(PY)
+$(STAMP): pyproject.toml spectralshell/solvers/_tridiagonal.c spectralshell/solvers/_schur.c \
+	  spectralshell/special/_lentz.c | $(PY)
 	@$(MAKE) --no-print-directory fftw
 	$(PY) -m pip install -q --upgrade pip
 	$(PY) -m pip install -q -e '.[test]'

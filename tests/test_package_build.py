@@ -16,7 +16,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-SDIST_MEMBERS = ["spectralshell/solvers/_tridiagonal.c", "spectralshell/special/_lentz.c",
+SDIST_MEMBERS = ["spectralshell/solvers/_tridiagonal.c", "spectralshell/solvers/_schur.c",
+                 "spectralshell/special/_lentz.c",
                  "spectralshell/params/scenes/demo.toml", "spectralshell/scenes/fig-5.18-human.toml",
                  "spectralshell/scenes/fig-5.18-gerbil.toml", "spectralshell/py.typed", "LICENSE"]
 

@@ -24,6 +24,8 @@ X'' + lambda0^2 (1 + 2 tau sin t) X = 0 with lambda0^2 = kappa m(m+1)(m-1)(m+2)/
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ..errors import ParameterError
@@ -42,21 +44,42 @@ def _p_q(m: int, s: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
         return beta * ratio_i(m, beta), beta / ratio_k(m - 1, beta)
 
 
+#: Fluid loads kept per process (:func:`_fluid_load`): a Fig 6.13 worker meets each of its
+#: 200 beat rates x 5 degrees x 2 kinds once per stiffness line, ~2000 keys of ~5 kB; only
+#: arrays of at most FLUID_CACHE_SIZE values of s (a Hill truncation's) are kept.
+FLUID_CACHE = 4096
+FLUID_CACHE_SIZE = 1024
+
+
 def poloidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:
     """D(s) of the poloidal pair (X^Y, X^Psi), shape (len(s), 2, 2); D(0) = q I (limit)."""
     s = np.asarray(s, dtype=complex).ravel()
     q = kappa * (m - 1) * (m + 2)
+    load = _fluid_load if s.size <= FLUID_CACHE_SIZE else _fluid_load.__wrapped__
+    out = load(m, float(nu), s.tobytes()).copy()
+    out[:, 0, 0] += q
+    out[:, 1, 1] += q
+    return out
+
+
+@functools.lru_cache(maxsize=FLUID_CACHE)
+def _fluid_load(m: int, nu: float, s_bytes: bytes) -> np.ndarray:
+    """D(s) - q I of the poloidal pair at the complex128 s of ``s_bytes`` (read-only): the part
+    of D that does not depend on kappa, so that the cells of a map that share a beat rate (nu)
+    and a truncation evaluate the Bessel ratios once. D = H + q I adds q to the same H as
+    before, in the same order: the values are bitwise those computed afresh."""
+    s = np.frombuffer(s_bytes, dtype=complex)
     out = np.zeros((s.size, 2, 2), dtype=complex)
-    out[:, 0, 0] = out[:, 1, 1] = q
     live = s != 0
     if live.any():
         sl = s[live]
         P, Q = _p_q(m, sl, nu)
         s2 = sl * sl
-        out[live, 0, 0] += s2 * ((2 * m + 1) / (m * (m + 1)) + m / ((m + 1) * Q) + (m + 1) / (m * P))
+        out[live, 0, 0] = s2 * ((2 * m + 1) / (m * (m + 1)) + m / ((m + 1) * Q) + (m + 1) / (m * P))
         out[live, 0, 1] = s2 * (m / Q - (m + 1) / P)
         out[live, 1, 0] = out[live, 0, 1] / (m * (m + 1))
-        out[live, 1, 1] += s2 * (1 / Q + 1 / P)
+        out[live, 1, 1] = s2 * (1 / Q + 1 / P)
+    out.setflags(write=False)
     return out
 
 

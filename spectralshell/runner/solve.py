@@ -81,6 +81,10 @@ from ..solvers.spatial_refinement import (MINIMUM_LIMIT, SPATIAL_LIMIT, SPATIAL_
 from .engine import PartialFailure
 from .layout import Chunk, block_index, block_shape, chunk_points
 
+#: The solver method of a sweep's points: a sweep stores tau_min only, so the truncations of
+#: 2 x 2 block models need only their smallest real tau, certified by the argument principle
+#: (:mod:`spectralshell.solvers.contour`); other models solve as 'auto'.
+SWEEP_METHOD = "smallest"
 #: Result variables of the ask 'tau_min' and their dtypes.
 VARIABLES = {"tau_min": np.float64, "has_tau": np.bool_, "error_estimate": np.float64,
              "n_temporal": np.int32}
@@ -158,7 +162,8 @@ def solve_full(system: HillSystem, kind: str, options: SolverOptions,
                tau_hint: float | None = None) -> KindSolution:
     """Independent solve of one kind (:func:`solve_kinds`; ``tau_hint``, a neighbour's
     tau_min, is the solver's ``hint``: only speed depends on it)."""
-    found = solve_kinds(system, (kind,), options.marginal_kwargs(), {kind: tau_hint})[kind]
+    found = solve_kinds(system, (kind,), {**options.marginal_kwargs(), "method": SWEEP_METHOD},
+                        {kind: tau_hint})[kind]
     return from_marginal(found)
 
 
@@ -174,7 +179,7 @@ def continuation_start(system: HillSystem, hint: tuple[int, int] | None) -> int 
 
 def _truncation(system: HillSystem, kind: str, n: int, tau_max: float,
                 hint: float | None) -> tuple[Truncation, np.ndarray]:
-    found = truncation_taus(system, kind, n, tau_max=tau_max, hint=hint)  # Arnoldi for big blocks
+    found = truncation_taus(system, kind, n, tau_max=tau_max, hint=hint, method=SWEEP_METHOD)
     return found, found.tau[found.tau <= tau_max]
 
 

@@ -47,6 +47,14 @@ truncation:
   (dense path) past a work budget of ~0.6 of the dense cost. Measured in
   validation/bench_hill_large.py: the cochlea at low forcing frequency, where the
   smallest-|tau| run gives up, 5-10x faster than dense eig at block size 128.
+* ``method = "smallest"`` (the maps' sweeps, which store tau_min only): for models with 2 x 2
+  blocks (the viscous sphere and fibre) and a finite tau_max, only the smallest real
+  tau <= tau_max of the two-sided form, with the argument principle's count as the certificate
+  that no smaller one exists (:mod:`spectralshell.solvers.contour`, result
+  ``method = "contour"``, ``complete_to`` just above tau_min, or tau_max when there is none):
+  O(N) per point of the contour against O(N^3) for the eig of W. Where the count does not
+  certify the answer (a complex eigenvalue close to the real axis below it, two real tau
+  closer than 1e-3 relative, the node budget), and for other models, as ``"auto"``.
 * ``method = "auto"`` (default): Krylov for truncations with (N + 1) b >= KRYLOV_MIN_ORDER
   (= 600; (N + 1) b is the order of W), dense below. Measured in
   validation/bench_hill_large.py (one BLAS thread): where Arnoldi succeeds it is about as fast
@@ -122,6 +130,7 @@ from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
 from ..results.records import MarginalTau
 from . import tridiagonal
+from .contour import smallest_real_tau
 from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
                            smallest_taus, tau_from_squares, tridiagonal_half_product)
 from .shift_invert import Shift, dense_work, interval_taus
@@ -130,7 +139,7 @@ ZERO_CLUSTER = 1e-6
 N_MAX = 400
 #: The first truncation lies this many Fourier indices above the model's resonant index.
 FIRST_MARGIN = 8
-METHODS = ("auto", "dense", "krylov")
+METHODS = ("auto", "dense", "krylov", "smallest")
 KRYLOV_MIN_ORDER = 600
 #: The smallest-|tau| Arnoldi run of a truncation gives up past this fraction of the estimated
 #: cost of its dense solve (:func:`~spectralshell.solvers.shift_invert.dense_work`).
@@ -377,7 +386,10 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
     """Real tau >= 0 of one truncation by ``method`` (module notes): 'dense' lists all of them;
     'krylov' (and 'auto' when ``half_order`` >= KRYLOV_MIN_ORDER) at least every real
     tau <= min(tau_min, tau_max), on the real form, falling back to 'dense' when it cannot; QZ
-    when A is ill conditioned. ``pencils``: a cache shared by the truncations of one solve.
+    when A is ill conditioned; 'smallest' only the smallest real tau <= a finite tau_max of a
+    model with 2 x 2 blocks, certified by the argument principle (result ``method =
+    "contour"``), else (and where the certificate fails) as 'auto'. ``pencils``: a cache
+    shared by the truncations of one solve.
     With a finite ``tau_max`` the Krylov path is one Arnoldi run for the smallest |tau| and, if
     that does not reach min(tau_min, tau_max), a shift-invert cover of the rest of
     [0, tau_max] (:func:`~spectralshell.solvers.shift_invert.interval_taus`), started at
@@ -388,7 +400,13 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
     if not np.count_nonzero(system.forcing):
         return Truncation(tau=np.empty(0), method="structured")  # no finite marginal amplitude
     pencils = Pencils(system, kind) if pencils is None else pencils
-    krylov = method == "krylov" or (method == "auto" and
+    if method == "smallest" and system.block_size == 2 and math.isfinite(tau_max):
+        hill, inv = pencils.get(n_temporal, "two-sided")
+        found = None if inv is None else smallest_real_tau(hill, tau_max, hint)
+        if found is not None:
+            return Truncation(tau=np.array([] if found[0] is None else [found[0]]),
+                              method="contour", complete_to=found[1])
+    krylov = method == "krylov" or (method in ("auto", "smallest") and
                                     half_order(system, n_temporal) >= KRYLOV_MIN_ORDER)
     if krylov:
         hill, inv = pencils.get(n_temporal, "real")
@@ -606,10 +624,11 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         wanted values need. ``tau_min`` is None only when two successive truncations prove that
         no tau <= tau_max exists (``complete_to`` >= tau_max); with tau_max = inf an empty answer
         is never returned unless the model has no forcing (N is raised to find a tau instead).
-    method : 'auto' (default), 'dense' or 'krylov', per truncation (module notes). tau_min and
-        its error estimate do not depend on it; ``tau`` lists every real tau <= tau_max with
-        'dense', and those up to ``complete_to`` (at least tau_min) with 'krylov' (whose
-        truncations report 'krylov' or, with a finite tau_max, 'shift-invert').
+    method : 'auto' (default), 'dense', 'krylov' or 'smallest', per truncation (module notes).
+        tau_min and its error estimate do not depend on it; ``tau`` lists every real
+        tau <= tau_max with 'dense', and those up to ``complete_to`` (at least tau_min) with
+        'krylov' (whose truncations report 'krylov' or, with a finite tau_max, 'shift-invert')
+        and 'smallest' (tau_min alone where its truncations report 'contour').
     hint : a real tau expected near tau_min (e.g. a neighbouring point's tau_min in a sweep):
         where the shift-invert cover of a big truncation with finite ``tau_max`` starts
         (:func:`truncation_taus`); later truncations start from the previous one's shifts, or

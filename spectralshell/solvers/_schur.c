@@ -1,0 +1,251 @@
+/* log det(A - tau B) of a block-tridiagonal bipartite Hill pencil at points z = tau^2, and the
+ * winding number of det(A - tau B) around a polygon in z (spectralshell/solvers/contour.py).
+ *
+ * A is block diagonal (blocks A_k), B couples block k only to k - 1 (``lower`` L_k = B_{k,k-1})
+ * and k + 1 (``upper`` U_k = B_{k,k+1}). Block elimination without pivoting across blocks gives
+ * the Schur complements S_0 = A_0, S_k = A_k - z L_k S_{k-1}^{-1} U_{k-1}: only tau^2 = z
+ * enters, and det(A - tau B) = prod_k det S_k. The blocks are 2 x 2 (the viscous sphere's and
+ * fibre's pair of components), each S_{k-1}^{-1} taken by its adjugate, so one point costs O(K)
+ * against O(K^3) for an eigenvalue solve.
+ *
+ * Python:
+ * logdet(diag, lower, upper, z, out, slope) -> int status. diag (K, 2, 2), lower and upper
+ *   (K - 1, 2, 2), z, out and slope (n) are C-contiguous complex128 buffers. On success
+ *   (status 0) out[j] = log prod_k det S_k(z_j) (principal logarithm: the imaginary part is the
+ *   phase modulo 2 pi) and slope[j] its derivative in z; the product is carried as a mantissa
+ *   and a power of 2, so it neither overflows nor underflows. Status 1: a pivot of some S_k is
+ *   exactly zero or a value is not finite.
+ * winding(diag, lower, upper, nodes, max_bend, max_turn, max_nodes) -> float or None: the
+ *   phase change of det(A - tau B) around the closed polygon ``nodes`` (complex128, at least
+ *   3), in turns, each edge bisected adaptively (see ``segment``); None on a zero pivot or
+ *   after max_nodes evaluations.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <complex.h>
+#include <math.h>
+#include <string.h>
+
+static inline double norm1(double complex z) { return fabs(creal(z)) + fabs(cimag(z)); }
+
+/* log det(A - tau B) at z = tau^2 into *out and its derivative in z into *slope; 1 on a zero
+ * pivot or a non-finite value. The derivative is carried forward: with M = L S^{-1} and
+ * X = S^{-1} U, S_k' = -M U + z M S' X, and (log det S)' = trace(S^{-1} S'). */
+static int schur_logdet(const double complex *diag, const double complex *lower,
+                        const double complex *upper, Py_ssize_t K, double complex z,
+                        double complex *out, double complex *slope)
+{
+    double complex a = diag[0], b = diag[1], c = diag[2], d = diag[3];
+    double complex da = 0.0, db = 0.0, dc = 0.0, dd = 0.0; /* S' */
+    double complex det = 1.0, dlog = 0.0;
+    long scale = 0;
+    for (Py_ssize_t k = 1;; k++) {
+        double complex dk = a * d - b * c;
+        if (dk == 0.0)
+            return 1;
+        const double complex r = 1.0 / dk;
+        dlog += r * (da * d + a * dd - db * c - b * dc);
+        det *= dk;
+        if ((k & 7) == 0 || k == K) {
+            int e;
+            frexp(norm1(det), &e);
+            det = ldexp(creal(det), -e) + I * ldexp(cimag(det), -e);
+            scale += e;
+        }
+        if (k == K)
+            break;
+        const double complex *L = lower + 4 * (k - 1), *U = upper + 4 * (k - 1);
+        const double complex *Ak = diag + 4 * k;
+        /* S^{-1} = r [[d, -b], [-c, a]]; M = L S^{-1}, X = S^{-1} U */
+        double complex m00 = r * (L[0] * d - L[1] * c), m01 = r * (L[1] * a - L[0] * b);
+        double complex m10 = r * (L[2] * d - L[3] * c), m11 = r * (L[3] * a - L[2] * b);
+        double complex x00 = r * (d * U[0] - b * U[2]), x01 = r * (d * U[1] - b * U[3]);
+        double complex x10 = r * (a * U[2] - c * U[0]), x11 = r * (a * U[3] - c * U[1]);
+        double complex n00 = m00 * U[0] + m01 * U[2], n01 = m00 * U[1] + m01 * U[3];
+        double complex n10 = m10 * U[0] + m11 * U[2], n11 = m10 * U[1] + m11 * U[3];
+        /* P = M S' (2 x 2), then S_k' = -N + z P X */
+        double complex p00 = m00 * da + m01 * dc, p01 = m00 * db + m01 * dd;
+        double complex p10 = m10 * da + m11 * dc, p11 = m10 * db + m11 * dd;
+        da = -n00 + z * (p00 * x00 + p01 * x10);
+        db = -n01 + z * (p00 * x01 + p01 * x11);
+        dc = -n10 + z * (p10 * x00 + p11 * x10);
+        dd = -n11 + z * (p10 * x01 + p11 * x11);
+        a = Ak[0] - z * n00;
+        b = Ak[1] - z * n01;
+        c = Ak[2] - z * n10;
+        d = Ak[3] - z * n11;
+    }
+    if (!isfinite(creal(det)) || !isfinite(cimag(det)) || det == 0.0 || !isfinite(creal(dlog)) ||
+        !isfinite(cimag(dlog)))
+        return 1;
+    *out = clog(det) + scale * M_LN2;
+    *slope = dlog;
+    return 0;
+}
+
+static int complex_buffer(PyObject *obj, Py_buffer *view, const char *name, int ndim)
+{
+    if (PyObject_GetBuffer(obj, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | PyBUF_WRITABLE) < 0)
+        return -1;
+    if (view->ndim != ndim || view->itemsize != 16 || strcmp(view->format, "Zd") != 0) {
+        PyErr_Format(PyExc_TypeError, "%s must be a %d-d C-contiguous complex128 array", name,
+                     ndim);
+        PyBuffer_Release(view);
+        return -1;
+    }
+    return 0;
+}
+
+static void release(Py_buffer *v, int count)
+{
+    for (int i = 0; i < count; i++)
+        PyBuffer_Release(&v[i]);
+}
+
+/* The buffers of a pencil (diag, lower, upper) and of `count - 3` 1-d arrays of one length n
+ * (at least `least`) from the first `count` args; -1 (exception set, nothing held) if any is of
+ * the wrong type or of inconsistent shape. */
+static int pencil_buffers(PyObject *const *args, const char *usage, const char **names,
+                          int count, Py_ssize_t least, Py_buffer *v)
+{
+    for (int i = 0; i < count; i++)
+        if (complex_buffer(args[i], &v[i], names[i], i < 3 ? 3 : 1) < 0) {
+            release(v, i);
+            return -1;
+        }
+    Py_ssize_t K = v[0].shape[0], n = v[3].shape[0];
+    int ok = v[0].shape[1] == 2 && v[0].shape[2] == 2 && K >= 1 && n >= least;
+    for (int i = 1; i < 3; i++)
+        ok = ok && v[i].shape[0] == K - 1 && v[i].shape[1] == 2 && v[i].shape[2] == 2;
+    for (int i = 4; i < count; i++)
+        ok = ok && v[i].shape[0] == n;
+    if (!ok) {
+        release(v, count);
+        PyErr_Format(PyExc_ValueError, "%s: inconsistent shapes, or blocks not 2 x 2", usage);
+        return -1;
+    }
+    return 0;
+}
+
+/* One pencil and the adaptive quadrature state of winding(). */
+typedef struct {
+    const double complex *diag, *lower, *upper;
+    Py_ssize_t K;
+    double max_bend, max_turn;
+    long budget; /* evaluations left */
+} Contour;
+
+static int evaluate(Contour *c, double complex z, double complex *value, double complex *slope)
+{
+    if (c->budget-- <= 0)
+        return 1;
+    return schur_logdet(c->diag, c->lower, c->upper, c->K, z, value, slope);
+}
+
+/* Phase change of g along the segment z0 -> z1 (values f, slopes s at the ends) into *turn:
+ * the trapezoid prediction Im(dz (s0 + s1) / 2) corrected by the reading of Im(f1 - f0)
+ * modulo 2 pi, the segment bisected until dz (s1 - s0) is at most max_bend and the reading
+ * agrees with the prediction within max_turn. Returns 1 on failure. */
+static int segment(Contour *c, double complex z0, double complex f0, double complex s0,
+                   double complex z1, double complex f1, double complex s1, int depth,
+                   double *turn)
+{
+    double complex dz = z1 - z0;
+    double predicted = cimag(0.5 * dz * (s0 + s1));
+    double miss = remainder(cimag(f1 - f0) - predicted, 2 * M_PI);
+    if (cabs(dz * (s1 - s0)) <= c->max_bend && fabs(miss) <= c->max_turn) {
+        *turn += predicted + miss;
+        return 0;
+    }
+    if (depth > 60)
+        return 1;
+    double complex zm = 0.5 * (z0 + z1), fm, sm;
+    if (evaluate(c, zm, &fm, &sm))
+        return 1;
+    return segment(c, z0, f0, s0, zm, fm, sm, depth + 1, turn) ||
+           segment(c, zm, fm, sm, z1, f1, s1, depth + 1, turn);
+}
+
+static PyObject *py_winding(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    static const char *names[4] = {"diag", "lower", "upper", "nodes"};
+    if (nargs != 7) {
+        PyErr_SetString(PyExc_TypeError, "winding(diag, lower, upper, nodes, max_bend, "
+                                         "max_turn, max_nodes) takes seven arguments");
+        return NULL;
+    }
+    double max_bend = PyFloat_AsDouble(args[4]), max_turn = PyFloat_AsDouble(args[5]);
+    long max_nodes = PyLong_AsLong(args[6]);
+    Py_buffer v[4];
+    if (PyErr_Occurred() || pencil_buffers(args, "winding", names, 4, 3, v) < 0)
+        return NULL;
+    Py_ssize_t n = v[3].shape[0];
+    Contour c = {(const double complex *)v[0].buf, (const double complex *)v[1].buf,
+                 (const double complex *)v[2].buf, v[0].shape[0], max_bend, max_turn, max_nodes};
+    const double complex *z = (const double complex *)v[3].buf;
+    double turn = 0.0;
+    int failed = 0;
+    Py_BEGIN_ALLOW_THREADS
+    double complex f_first, s_first, f0, s0, f1, s1;
+    failed = evaluate(&c, z[0], &f_first, &s_first);
+    f0 = f_first;
+    s0 = s_first;
+    for (Py_ssize_t j = 0; j < n && !failed; j++) {
+        if (j + 1 < n)
+            failed = evaluate(&c, z[j + 1], &f1, &s1);
+        else {
+            f1 = f_first;
+            s1 = s_first;
+        }
+        failed = failed || segment(&c, z[j], f0, s0, z[(j + 1) % n], f1, s1, 0, &turn);
+        f0 = f1;
+        s0 = s1;
+    }
+    Py_END_ALLOW_THREADS
+    release(v, 4);
+    if (failed)
+        Py_RETURN_NONE;
+    return PyFloat_FromDouble(turn / (2 * M_PI));
+}
+
+static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    static const char *names[6] = {"diag", "lower", "upper", "z", "out", "slope"};
+    Py_buffer v[6];
+    if (nargs != 6) {
+        PyErr_SetString(PyExc_TypeError,
+                        "logdet(diag, lower, upper, z, out, slope) takes six arrays");
+        return NULL;
+    }
+    if (pencil_buffers(args, "logdet", names, 6, 0, v) < 0)
+        return NULL;
+    Py_ssize_t K = v[0].shape[0], n = v[3].shape[0];
+    int status = 0;
+    Py_BEGIN_ALLOW_THREADS
+    const double complex *z = (const double complex *)v[3].buf;
+    double complex *out = (double complex *)v[4].buf, *slope = (double complex *)v[5].buf;
+    for (Py_ssize_t j = 0; j < n && !status; j++)
+        status = schur_logdet((const double complex *)v[0].buf, (const double complex *)v[1].buf,
+                              (const double complex *)v[2].buf, K, z[j], out + j, slope + j);
+    Py_END_ALLOW_THREADS
+    release(v, 6);
+    return PyLong_FromLong(status);
+}
+
+static PyMethodDef methods[] = {
+    {"logdet", (PyCFunction)(void (*)(void))py_logdet, METH_FASTCALL,
+     "logdet(diag, lower, upper, z, out, slope) -> status: log det(A - tau B) at z = tau^2 "
+     "and its derivative in z, written into out and slope (status 0; 1: a zero pivot)."},
+    {"winding", (PyCFunction)(void (*)(void))py_winding, METH_FASTCALL,
+     "winding(diag, lower, upper, nodes, max_bend, max_turn, max_nodes) -> turns of the "
+     "phase of det(A - tau B) around the closed polygon nodes in z = tau^2 (float; None when "
+     "a zero pivot or the node budget stops it)."},
+    {NULL, NULL, 0, NULL}};
+
+static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_schur",
+                                    "Compiled kernel: log det of a block-tridiagonal pencil.", -1,
+                                    methods, NULL, NULL, NULL, NULL};
+
+PyMODINIT_FUNC PyInit__schur(void) { return PyModule_Create(&module); }

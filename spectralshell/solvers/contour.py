@@ -1,0 +1,232 @@
+"""The smallest real tau <= tau_max of one truncation, certified by the argument principle.
+
+A map (Fig 6.13) asks each truncation only for its smallest real tau below tau_max, and that
+no smaller one exists; the dense path answers with every eigenvalue, O((N b)^3). Here the
+answer costs O(N b^3) per point of the complex plane.
+
+The function
+-------------
+For a bipartite pencil A - tau B (two-sided form: B couples Fourier index k only to k +- 1) the
+block elimination S_0 = A_0, S_k = A_k - z L_k S_{k-1}^{-1} U_{k-1} involves tau only through
+z = tau^2, and g(z) = det(A - tau B) / det A = det(I - z W) = prod_i (1 - z mu_i^2): a polynomial
+whose zeros are z_i = tau_i^2 = 1 / mu_i^2 (the compiled kernel ``_schur.c`` returns
+log det(A - tau B) at many z; mu^2 = 0, tau infinite, gives no zero). The spectrum of W is
+closed under conjugation (real form, or W = Z conj(Z)), so g is real on the real axis and a real
+tau is a real zero z in (0, tau_max^2].
+
+The answer and its certificate
+------------------------------
+A candidate z* is bracketed by a sign change of g on the real axis (within 5 % of the caller's
+``hint`` squared, a neighbour's tau_min; else, once the count below finds zeros, on a grid over
+[0, tau_max^2]) and refined by Brent's method. The argument principle then counts the zeros of
+g (real or not) inside
+
+* the rectangle [-a, z* - rho/2] x [-a, a] (a = s tau_max^2 for the first s of STRIPS for which
+  the count is zero: the viscous models' truncations carry complex eigenvalues within 1 % of
+  the real axis at low beat rates; rho = DISK z*): none, and
+* the disk |z - z*| <= rho: exactly one (z* itself),
+
+which proves that no real tau lies below tau* = sqrt(z*) and no other one up to
+sqrt(z* + rho / 2): ``complete_to``. Without a sign change near the hint the rectangle runs to
+tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real tau <= tau_max exists.
+The count is the winding number of g along the boundary (:func:`winding`, in the compiled
+kernel ``_schur.c``), and must lie within 0.05 of an integer. Where any of this fails (a
+complex eigenvalue within 1e-6 tau_max^2 of the real axis below tau*, another zero within rho of z*, a zero
+pivot, MAX_NODES evaluations) the function returns None and the caller solves the truncation
+densely: the answer is then the dense path's, never an uncertified one. Like the Krylov path's
+(:mod:`spectralshell.solvers.half_product`) the count rests on sampling, here of the phase of
+g, with the node spacing set by the variation of g'/g; it is checked against QZ counts in
+tests/test_contour.py, including a pair of real tau 1 % apart that a coarse sampling misses.
+
+The value agrees with the dense eig of W (tests/test_contour.py: to 1e-10 relative, in practice
+~1e-14, on Fig 6.13 cells); what differs is that only tau_min and ``complete_to`` are reported,
+not every real tau. The dense path's own block-LU relative, for Floquet exponents, is
+:mod:`spectralshell.solvers.block_tridiagonal` (numpy, batched over a variable in A).
+
+Cost
+----
+One point of a contour costs O(K) (K = 2N + 1 or 2N + 2 blocks of 2 x 2), a count some tens to
+a few hundred points; the dense eig of W costs O(N^3). Measured on a 20 x 20 Fig 6.13 map (m =
+2..6, both kinds, serial, one BLAS thread, CPU time under load): 17.5 s with the dense eig of W
+per truncation, 7.5 s with this path (6.2 s with the sphere's fluid-load cache), the same map
+to 6e-15 with the same truncation pairs; assembly and the sweep's Python then dominate. The
+200 x 200 figure: validation/bench_fig613.py.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..discretise.hill import HillMatrices
+from . import _schur
+
+#: Half-heights (and left margins) of the counting rectangle, relative to tau_max^2, tried in
+#: turn until one holds no zero (:func:`_zeros_below`).
+STRIPS = (1e-2, 1e-4, 1e-6)
+#: Radius of the disk around z* that must hold z* alone, relative to z*.
+DISK = 1e-3
+#: Nodes per contour before giving up (dense path instead).
+MAX_NODES = 4000
+#: Largest mismatch (radians) between the phase change read between neighbouring nodes and
+#: the one predicted from g'/g, and largest change of dz g'/g along an edge (:func:`winding`).
+MAX_TURN = math.pi / 4
+MAX_BEND = 1.0
+#: Relative offsets of the bracket tried around a hint, innermost first.
+HINT_STEPS = (1e-7, 1e-5, 1e-3, 1e-2, 0.05)
+#: Real-axis grid over [0, tau_max^2] when no hint brackets a zero and the count finds one.
+SCAN_POINTS = 48
+
+
+class LogDet:
+    """z -> (log g(z), d log g / dz) of one bipartite pencil, g = det(A - sqrt(z) B) / det A
+    (principal imaginary part), by the compiled kernel; None where it meets a zero pivot."""
+
+    def __init__(self, hill: HillMatrices):
+        if not hill.bipartite:
+            raise ValueError("LogDet needs a bipartite pencil (no self-coupling in B)")
+        self.blocks = tuple(np.ascontiguousarray(x, dtype=complex)
+                            for x in (hill.diag, hill.lower, hill.upper))
+        a = self.blocks[0]
+        self.offset = complex(np.log(a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]).sum())
+
+    def __call__(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        z = np.ascontiguousarray(z, dtype=complex).ravel()
+        out, slope = np.empty_like(z), np.empty_like(z)
+        if _schur.logdet(*self.blocks, z, out, slope):
+            return None
+        return out - self.offset, slope
+
+    def real(self, z: float, scale: float) -> float:
+        """g(z) exp(-scale) for real z (g is real there; its rounding imaginary part dropped)."""
+        found = self(np.array([z]))
+        if found is None:
+            raise ZeroDivisionError("zero pivot")
+        return float(np.exp(found[0][0] - scale).real)
+
+
+def winding(log_g: LogDet, nodes: np.ndarray) -> int | None:
+    """Zeros of g inside the closed polygon ``nodes`` (counter-clockwise, not repeated), by the
+    argument principle; None if it cannot be trusted (a zero pivot, MAX_NODES evaluations, a
+    sum farther than 0.05 from an integer).
+
+    The compiled kernel walks each edge: the phase change along a segment is predicted by the
+    trapezoid rule on g'/g, Im (dz (g'/g(z_0) + g'/g(z_1)) / 2), and read modulo 2 pi from the
+    two values of log g; a segment is bisected until dz g'/g changes along it by at most
+    MAX_BEND (the prediction then errs by much less than pi) and the reading agrees with the
+    prediction within MAX_TURN, which fixes the multiple of 2 pi. A zero close to an edge makes
+    g'/g vary there like 1/distance and forces the nodes closer (a zero pair between two far
+    nodes would otherwise turn the phase by 2 pi unseen); the many far-away zeros, which make
+    |g'/g| large but smooth, do not."""
+    total = _schur.winding(*log_g.blocks, np.array(nodes, dtype=complex), MAX_BEND, MAX_TURN,
+                           MAX_NODES)
+    if total is None:
+        return None
+    count = round(total)
+    return count if abs(total - count) <= 0.05 else None
+
+
+def _unit_rectangle(per_edge: int) -> np.ndarray:
+    """Counter-clockwise nodes of [0, 1] x [-1, 1], ``per_edge`` per edge from each corner."""
+    t = np.linspace(0.0, 1.0, per_edge, endpoint=False)
+    return np.concatenate([t - 1j, 1 + 1j * (2 * t - 1), 1 - t + 1j, 1j * (1 - 2 * t)])
+
+
+UNIT_RECTANGLE = _unit_rectangle(8)
+
+
+def rectangle(left: float, right: float, half_height: float) -> np.ndarray:
+    """Counter-clockwise nodes of the rectangle [left, right] x [-half_height, half_height],
+    8 per edge (the kernel refines them)."""
+    return left + (right - left) * UNIT_RECTANGLE.real + 1j * half_height * UNIT_RECTANGLE.imag
+
+
+def circle(centre: float, radius: float, count: int = 16) -> np.ndarray:
+    """Counter-clockwise nodes of a circle."""
+    return centre + radius * np.exp(2j * math.pi * np.arange(count) / count)
+
+
+def _near(log_g: LogDet, z_max: float, hint: float) -> tuple[float, float] | None:
+    """The lowest sign change of g on points within 5 % of hint^2 (denser towards it), or
+    None."""
+    z0 = hint * hint
+    if not 0.0 < z0 <= z_max:
+        return None
+    offsets = np.array(HINT_STEPS)
+    points = np.clip(np.concatenate([z0 * (1 - offsets[::-1]), [z0], z0 * (1 + offsets)]),
+                     0.0, z_max)
+    return _first_change(log_g, points)
+
+
+def _first_change(log_g: LogDet, points: np.ndarray) -> tuple[float, float] | None:
+    found = log_g(points)
+    if found is None:
+        return None
+    sign = np.sign(np.cos(found[0].imag))
+    change = np.flatnonzero(sign[:-1] * sign[1:] < 0)
+    return (float(points[change[0]]), float(points[change[0] + 1])) if change.size else None
+
+
+def _root(log_g: LogDet, lo: float, hi: float, rtol: float,
+          otherwise: float | None = None) -> float:
+    """The zero of g in the sign change [lo, hi] by Brent's method (``otherwise`` if g does not
+    change sign there)."""
+    from scipy.optimize import brentq  # lazy: a Mathieu solve never imports scipy.optimize
+
+    scale = log_g(np.array([lo]))[0][0].real  # g exp(-scale): no overflow near the zero
+    if otherwise is not None and log_g.real(lo, scale) * log_g.real(hi, scale) > 0:
+        return otherwise
+    return brentq(log_g.real, lo, hi, args=(scale,), xtol=1e-300, rtol=rtol)
+
+
+def _dyadic_cell(z: float) -> tuple[float, float]:
+    """The cell of width 2^-30 |z| (rounded to a power of 2) on a fixed grid that holds z: the
+    final solve runs on it, so that the answer does not depend on the hint that found z (a
+    continued and an independent solve of one truncation agree bitwise)."""
+    step = math.ldexp(1.0, math.frexp(z)[1] - 30)
+    lo = math.floor(z / step) * step
+    return lo, lo + step
+
+
+def _zeros_below(log_g: LogDet, right: float, z_max: float) -> int | None:
+    """Zeros of g in the rectangle [-a, right] x [-a, a], a = s z_max for the first s of
+    STRIPS that finds none (else the count in the thinnest; None if a count fails): complex
+    eigenvalues close to the real axis are left outside a thinner strip."""
+    count = None
+    for strip in STRIPS:
+        side = strip * z_max
+        count = winding(log_g, rectangle(-side, right, side))
+        if count == 0:
+            break
+    return count
+
+
+def smallest_real_tau(hill: HillMatrices, tau_max: float,
+                      hint: float | None = None) -> tuple[float | None, float] | None:
+    """(tau_min or None, complete_to) of one bipartite truncation, certified as in the module
+    notes: no real tau below tau_min (none at all <= tau_max when None), and every real tau up
+    to complete_to is tau_min. None when the certificate cannot be had (use the dense path)."""
+    log_g = LogDet(hill)
+    z_max = tau_max * tau_max
+    bracket = None if hint is None else _near(log_g, z_max, hint)
+    if bracket is None:
+        whole = _zeros_below(log_g, z_max * (1 + 1e-6), z_max)
+        if whole == 0:
+            return None, tau_max
+        if whole is None:
+            return None
+        bracket = _first_change(log_g, np.linspace(0.0, z_max, SCAN_POINTS + 1))
+        if bracket is None:
+            return None
+    try:
+        z = _root(log_g, *bracket, rtol=1e-10)
+        z = _root(log_g, *_dyadic_cell(z), rtol=4 * np.finfo(float).eps, otherwise=z)
+    except ZeroDivisionError:
+        return None
+    rho = DISK * z
+    if _zeros_below(log_g, z - rho / 2, z_max) != 0:
+        return None
+    if winding(log_g, circle(z, rho)) != 1:
+        return None
+    return math.sqrt(z), math.sqrt(z + rho / 2)

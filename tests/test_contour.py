@@ -1,0 +1,223 @@
+"""The argument-principle path for the smallest real tau (solvers.contour) against dense LAPACK:
+log det by LU of the assembled A - tau B, zero counts and real tau by QZ of the same truncation,
+and a coarse Fig 6.13 map cell by cell against the dense-eig path."""
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+from spectralshell.models.fibre import hill_system as fibre
+from spectralshell.models.sphere import hill_system as sphere
+from spectralshell.params.physical import CARDIAC, PhysicalSphere, bpm_to_rad_per_s
+from spectralshell.runner import solve
+from spectralshell.runner.floquet import tau_map
+from spectralshell.solvers import _schur, contour
+from spectralshell.solvers.marginal import (Pencils, TruncationSchedule, dense_taus,
+                                            marginal_tau, truncation_taus)
+
+KINDS = ("harmonic", "subharmonic")
+TAU_MAX = 0.5
+
+
+def atrium(sigma: float, bpm: float, m: int):
+    """The sphere of Fig 6.13 at stiffness sigma (dyn/cm) and beat rate bpm."""
+    forced = PhysicalSphere(rho=CARDIAC["rho"], mu=CARDIAC["mu"], radius=CARDIAC["radius"],
+                            sigma=sigma, omega=bpm_to_rad_per_s(bpm)).forced()
+    return sphere(m=m, kappa=forced["kappa"], nu=forced["nu"])
+
+
+def cells(count: int, seed: int):
+    """A seeded random sample of Fig 6.13 cells (sigma, bpm, m, kind)."""
+    rng = np.random.default_rng(seed)
+    lo, hi = CARDIAC["sigma_range"]
+    return [(rng.uniform(lo, hi), rng.uniform(50, 650), int(rng.integers(2, 7)), KINDS[i % 2])
+            for i in range(count)]
+
+
+def two_sided(system, kind, n):
+    return Pencils(system, kind).get(n, "two-sided")[0]
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_log_det_matches_dense_lu(kind):
+    """log det(A - tau B) - log det A and its z-derivative against LAPACK's LU (slogdet) of the
+    assembled dense matrix, the derivative by central differences of that."""
+    hill = two_sided(atrium(6000.0, 120.0, 3), kind, 14)
+    log_g = contour.LogDet(hill)
+    A = hill.dense(0.0)
+
+    def dense(z):
+        sign, logabs = np.linalg.slogdet(hill.dense(np.sqrt(z)))
+        sign_a, logabs_a = np.linalg.slogdet(A)
+        return logabs - logabs_a, sign / sign_a
+
+    z = np.array([0.05 + 0.01j, 0.2 - 0.03j, 0.13 + 0.0j, -0.02 + 0.1j])
+    values, slopes = log_g(z)
+    for zj, value, slope in zip(z, values, slopes):
+        modulus, phase = dense(zj)
+        assert value.real == pytest.approx(modulus, abs=1e-9)
+        assert np.exp(1j * value.imag) == pytest.approx(phase, abs=1e-9)
+        h = 1e-6
+        (up, p_up), (down, p_down) = dense(zj + h), dense(zj - h)
+        difference = (up - down + np.log(p_up / p_down)) / (2 * h)
+        assert slope == pytest.approx(difference, rel=1e-5)
+
+
+def test_kernel_rejects_other_blocks():
+    one = np.ones((3, 1, 1), dtype=complex)
+    with pytest.raises(ValueError, match="2 x 2"):
+        _schur.logdet(one, one[:2], one[:2], np.zeros(1, complex), np.zeros(1, complex),
+                      np.zeros(1, complex))
+
+
+def qz_squares(hill):
+    """z = tau^2 of every finite eigenvalue of the pencil (dense QZ), each +-tau pair once."""
+    alpha, beta = sla.eigvals(hill.A.toarray(), hill.B.toarray(), homogeneous_eigvals=True)
+    finite = np.abs(beta) > 1e-12 * np.abs(alpha)
+    tau = alpha[finite] / beta[finite]
+    return tau[tau.real > 0] ** 2
+
+
+def inside(z, left, right, half, margin=0.0):
+    return ((z.real > left - margin) & (z.real < right + margin)
+            & (np.abs(z.imag) < half + margin))
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind", cells(6, seed=3))
+def test_winding_counts_qz_eigenvalues(sigma, bpm, m, kind):
+    """Zeros of g counted by the winding number = eigenvalues z = tau^2 of the dense QZ of the
+    same truncation inside rectangles of several sizes (those passing within 1e-4 of an
+    eigenvalue skipped)."""
+    hill = two_sided(atrium(sigma, bpm, m), kind, 16)
+    log_g = contour.LogDet(hill)
+    z = qz_squares(hill)
+    checked = 0
+    for left, right, half in ((-0.01, 0.3, 0.005), (-0.05, 0.5, 0.1), (0.02, 1.0, 0.4),
+                              (-0.2, 2.0, 1.0)):
+        if np.any(inside(z, left, right, half, 1e-4) & ~inside(z, left, right, half, -1e-4)):
+            continue
+        count = np.count_nonzero(inside(z, left, right, half))
+        assert contour.winding(log_g, contour.rectangle(left, right, half)) == count
+        checked += 1
+    assert checked >= 2
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind", cells(24, seed=11))
+def test_smallest_real_tau_is_qz_smallest(sigma, bpm, m, kind):
+    """tau_min of the contour path = the smallest real tau <= 1/2 of QZ on the real form of the
+    same truncation (the reference path), and QZ has no real tau below it: the certificate."""
+    system = atrium(sigma, bpm, m)
+    n = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    found = contour.smallest_real_tau(pencils.get(n, "two-sided")[0], TAU_MAX)
+    if found is None:  # no certificate: the caller solves densely (test below)
+        pytest.skip("certificate declined")
+    tau_min, complete_to = found
+    reference = dense_taus(pencils.get(n, "real")[0])
+    reference = reference[(reference >= 0) & (reference <= TAU_MAX)]
+    if tau_min is None:
+        assert not reference.size and complete_to >= TAU_MAX
+    else:
+        assert reference.size and tau_min == pytest.approx(reference[0], rel=1e-10)
+        assert complete_to > tau_min
+        assert not np.any(reference[1:] <= complete_to)
+
+
+def test_sample_is_mostly_certified():
+    """The contour path answers (rather than declining to the dense path) on most of a seeded
+    sample of Fig 6.13 cells, so that the test above checks it."""
+    answered = 0
+    for sigma, bpm, m, kind in cells(24, seed=11):
+        system = atrium(sigma, bpm, m)
+        n = TruncationSchedule.of(system).first
+        answered += contour.smallest_real_tau(two_sided(system, kind, n), TAU_MAX) is not None
+    assert answered >= 20
+
+
+def test_close_pair_is_not_missed():
+    """Two real tau 1 % apart (0.41368 and 0.41834, found by QZ) below tau_max: a coarse
+    sampling of the contour would see their 2 pi turn as none and answer 'no tau'."""
+    system = atrium(7000.0, 365.7894736842105, 3)
+    hill = two_sided(system, "harmonic", 12)
+    reference = dense_taus(Pencils(system, "harmonic").get(12, "real")[0])
+    reference = reference[reference >= 0]
+    assert reference[1] < 1.02 * reference[0] < TAU_MAX
+    tau_min, _ = contour.smallest_real_tau(hill, TAU_MAX)
+    assert tau_min == pytest.approx(reference[0], rel=1e-10)
+
+
+def test_declined_truncation_is_solved_densely(monkeypatch):
+    """Where the certificate is declined, 'smallest' answers as the dense path."""
+    system = atrium(9000.0, 200.0, 4)
+    monkeypatch.setattr("spectralshell.solvers.marginal.smallest_real_tau",
+                        lambda *a, **k: None)
+    declined = truncation_taus(system, "subharmonic", 30, tau_max=TAU_MAX, method="smallest")
+    dense = truncation_taus(system, "subharmonic", 30, tau_max=TAU_MAX, method="dense")
+    assert declined.method == dense.method == "structured"
+    np.testing.assert_array_equal(declined.tau, dense.tau)
+
+
+@pytest.mark.parametrize("sigma, bpm, kind", [(1000.0, 207.89473684210526, "harmonic"),
+                                               (1000.0, 144.73684210526315, "subharmonic"),
+                                               (15000.0, 300.0, "harmonic")])
+def test_marginal_tau_smallest_matches_dense(sigma, bpm, kind):
+    """A converged solve by 'smallest' = by 'dense' within tol, same truncation pair (two
+    points with a tau <= 1/2 (0.3449, 0.3375), one without)."""
+    system = atrium(sigma, bpm, 2)
+    dense = marginal_tau(system, kind, tol=1e-9, tau_max=TAU_MAX, method="dense")
+    fast = marginal_tau(system, kind, tol=1e-9, tau_max=TAU_MAX, method="smallest")
+    assert (fast.tau_min is None) == (dense.tau_min is None)
+    assert fast.n_temporal == dense.n_temporal
+    assert fast.method == "contour"
+    if dense.tau_min is not None:
+        assert fast.tau_min == pytest.approx(dense.tau_min, abs=1e-9)
+        assert fast.error_estimate == pytest.approx(dense.error_estimate, abs=1e-12)
+
+
+def coarse_map():
+    sigma = CARDIAC["sigma_range"]
+    return tau_map("sphere", x=("sigma", f"{sigma[0]}:{sigma[1]}:8"), y=("bpm", "50:650:8"),
+                   m="2:6", workers=1, physical={k: CARDIAC[k] for k in ("rho", "mu", "radius")})
+
+
+def test_coarse_fig_6_13_map_matches_dense_path(monkeypatch):
+    """Fig 6.13 on an 8 x 8 grid, m = 2..6, both kinds: the sweep's contour path against the
+    dense-eig path (every truncation by eig of W) cell by cell, within each cell's tolerance
+    (tol = 1e-8 plus the two error estimates), and with the same truncation pairs."""
+    fast = coarse_map()
+    monkeypatch.setattr(solve, "SWEEP_METHOD", "auto")
+    dense = coarse_map()
+    np.testing.assert_array_equal(fast["has_tau"].values, dense["has_tau"].values)
+    has = dense["has_tau"].values
+    assert 20 < has.sum() < has.size  # both answers occur
+    allowed = 1e-8 + fast["error_estimate"].values + dense["error_estimate"].values
+    gap = np.abs(fast["tau_min"].values - dense["tau_min"].values)
+    assert np.all(gap[has] <= allowed[has])
+    np.testing.assert_array_equal(fast["n_temporal"].values, dense["n_temporal"].values)
+
+
+def fibre_cells(count: int, seed: int):
+    """A seeded sample of the fibre's Fig 4.1 range (m, kappa, nu, kind)."""
+    rng = np.random.default_rng(seed)
+    return [(int(rng.integers(2, 5)), rng.uniform(0.002, 0.3), rng.choice([2e-4, 1e-3]),
+             KINDS[i % 2]) for i in range(count)]
+
+
+@pytest.mark.parametrize("m, kappa, nu, kind", fibre_cells(12, seed=41))
+def test_fibre_smallest_real_tau_is_qz_smallest(m, kappa, nu, kind):
+    """The fibre (the other 2 x 2 block model the sweeps solve this way): tau_min and its
+    certificate against QZ on the real form of the same truncation (4 of the 12 sampled cells
+    have a tau <= 1/2)."""
+    system = fibre(m=m, kappa=kappa, nu=nu)
+    n = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    found = contour.smallest_real_tau(pencils.get(n, "two-sided")[0], TAU_MAX)
+    assert found is not None
+    tau_min, complete_to = found
+    reference = dense_taus(pencils.get(n, "real")[0])
+    reference = reference[(reference >= 0) & (reference <= TAU_MAX)]
+    if tau_min is None:
+        assert not reference.size
+    else:
+        assert reference.size and tau_min == pytest.approx(reference[0], rel=1e-10)
+        assert not np.any(reference[1:] <= complete_to)

@@ -1,0 +1,168 @@
+"""Benchmark (issue 25): the full thesis Fig 6.13 map, 200 x 200 (sigma, bpm), m = 2..6, both
+kinds, tau <= 1/2, tol 1e-8, on 2 worker processes, against today's path projected from a seeded
+sample; and one truncation of the sphere, N = 40..80, against dense QZ.
+
+* package: ``ss.tau_map`` as ``spectralshell figure fig-6.13`` runs it (two worker processes,
+  one BLAS thread each), whose sweep solves each truncation's smallest real tau by the
+  argument principle (:mod:`spectralshell.solvers.contour`, method 'smallest'); timed in full.
+* baseline: the dense path, ``marginal_tau(system, kind, tol=1e-8, tau_max=0.5)`` (method
+  'auto': every eigenvalue of W per truncation), on SAMPLE cells drawn with a fixed seed from
+  the 200 x 200 grid, every degree and kind, one BLAS thread. Projection printed with the row:
+  200^2 x (mean time per sampled cell) / 2 workers (cells are independent; the sample is
+  uniform over the same grid, so its mean stands for the grid's).
+* CPU time as well (the workers' from getrusage, the baseline's process time): on a shared
+  machine the wall times depend on the load, the CPU times much less.
+* error: over the sampled cells, max |tau_min(package) - tau_min(baseline)| and whether the
+  has_tau masks agree (the certificate's claim "no tau <= 1/2" included).
+
+The second row: one truncation (N = 40, 60, 80; harmonic and subharmonic) of the sphere at
+sigma 20000 dyn/cm, 50 bpm, m = 6 (the map's largest truncations): the smallest real
+tau <= 1/2 with its certificate (``truncation_taus(method='smallest')``) against
+``scipy.linalg.eigvals(A, B)`` of the same pencil (QZ, every eigenvalue), summed over the six.
+
+Run: python validation/bench_fig613.py [--size 200] [--sample 100]
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import time
+
+import numpy as np
+import scipy.linalg as sla
+
+import spectralshell as ss
+from _bench import best_time, row
+from spectralshell._threads import one_blas_thread
+from spectralshell.models.registry import hill_system
+from spectralshell.params.physical import CARDIAC, sphere_forced_params
+from spectralshell.params.registry import make_params
+from spectralshell.solvers.marginal import Pencils, dense_taus, marginal_tau, truncation_taus
+
+TOL, TAU_MAX, DEGREES, KINDS = 1e-8, 0.5, (2, 3, 4, 5, 6), ("harmonic", "subharmonic")
+PHYSICAL = {k: CARDIAC[k] for k in ("rho", "mu", "radius")}
+WORKERS, SEED = 2, 25
+
+
+def system_at(sigma: float, bpm: float, m: int):
+    """The sphere of the map at one cell and degree, from the public pieces."""
+    params = sphere_forced_params({**PHYSICAL, "sigma": float(sigma), "bpm": float(bpm), "m": m})
+    return hill_system(make_params("sphere", params))
+
+
+def package_map(size: int):
+    """The map as the figure computes it, on WORKERS processes."""
+    lo, hi = CARDIAC["sigma_range"]
+    return ss.tau_map("sphere", x=("sigma", f"{lo}:{hi}:{size}"), y=("bpm", f"50:650:{size}"),
+                      m="2:6", tau_max=TAU_MAX, tol=TOL, physical=PHYSICAL, workers=WORKERS)
+
+
+def baseline_cell(sigma: float, bpm: float) -> np.ndarray:
+    """tau_min (NaN where none <= 1/2) over (m, kind) by the dense path."""
+    out = np.full((len(DEGREES), len(KINDS)), np.nan)
+    for q, m in enumerate(DEGREES):
+        system = system_at(sigma, bpm, m)
+        for r, kind in enumerate(KINDS):
+            found = marginal_tau(system, kind, tol=TOL, tau_max=TAU_MAX).tau_min
+            out[q, r] = np.nan if found is None else found
+    return out
+
+
+def children_cpu() -> float:
+    """CPU seconds of the finished child processes (the map's workers, once joined)."""
+    used = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return used.ru_utime + used.ru_stime
+
+
+def map_row(size: int, sample: int) -> None:
+    t0, cpu0 = time.perf_counter(), children_cpu()
+    ds = package_map(size)
+    t_pkg, cpu_pkg = time.perf_counter() - t0, children_cpu() - cpu0
+    tau = ds["tau_min"].transpose("sigma", "bpm", "m", "kind").sel(
+        m=list(DEGREES), kind=list(KINDS)).values
+    has = ds["has_tau"].transpose("sigma", "bpm", "m", "kind").sel(
+        m=list(DEGREES), kind=list(KINDS)).values
+    sigma, bpm = ds["sigma"].values, ds["bpm"].values
+    rng = np.random.default_rng(SEED)
+    cells = rng.choice(size * size, size=min(sample, size * size), replace=False)
+    t_cells, cpu_cells, error, same = [], [], 0.0, True
+    with one_blas_thread():
+        for c in cells:
+            i, j = divmod(int(c), size)
+            t0, cpu0 = time.perf_counter(), time.process_time()
+            ref = baseline_cell(sigma[i], bpm[j])
+            t_cells.append(time.perf_counter() - t0)
+            cpu_cells.append(time.process_time() - cpu0)
+            same &= bool(np.array_equal(np.isfinite(ref), has[i, j]))
+            both = np.isfinite(ref) & has[i, j]
+            if both.any():
+                error = max(error, float(np.abs(tau[i, j][both] - ref[both]).max()))
+    projected = size * size * float(np.mean(t_cells)) / WORKERS
+    how = (f"baseline projected: {size}^2 x mean time of {len(cells)} cells drawn with seed "
+           f"{SEED} (each m = 2..6, both kinds, one BLAS thread; mean {np.mean(t_cells):.3f} s, "
+           f"max {np.max(t_cells):.3f} s) / {WORKERS} workers")
+    print(f"Fig 6.13 map {size} x {size}, m = 2..6, both kinds, tau <= 1/2, tol {TOL:g}, "
+          f"{WORKERS} worker processes")
+    print(f"  package (ss.tau_map, contour path):   {t_pkg:8.1f} s (measured, whole map)")
+    print(f"  baseline (dense path, marginal_tau):  {projected:8.1f} s ({how})")
+    cpu_projected = size * size * float(np.mean(cpu_cells))
+    print(f"  CPU time (load-independent): package workers {cpu_pkg:.1f} s "
+          f"({cpu_pkg / WORKERS:.1f} s per worker), baseline projected {cpu_projected:.1f} s "
+          f"({cpu_projected / WORKERS:.1f} s per worker), ratio {cpu_projected / cpu_pkg:.2f}")
+    print(f"  ratio {projected / t_pkg:.2f}; over the sample: max |tau_min difference| "
+          f"{error:.2e}, has_tau masks equal: {same}; largest error estimate in the map "
+          f"{float(np.nanmax(ds['error_estimate'].values)):.1e}; goal 60 s")
+    row(task=f"Fig 6.13 map {size} x {size}, m = 2..6, both kinds, tau <= 1/2, tol {TOL:g}, "
+             f"{WORKERS} workers (figure path)", package_s=t_pkg,
+        baseline="dense path (marginal_tau, eig of W per truncation), projected from a seeded "
+                 "sample", baseline_s=projected, error=error if same else float("inf"),
+        note=f"{how}; CPU s per worker: package {cpu_pkg / WORKERS:.0f}, baseline projected "
+             f"{cpu_projected / WORKERS:.0f}; error = max |tau_min - dense path's| over the "
+             "sample")
+
+
+def truncation_row() -> None:
+    system = system_at(20000.0, 50.0, 6)
+    t_pkg = t_qz = 0.0
+    error = 0.0
+    for n in (40, 60, 80):
+        for kind in KINDS:
+            pencils = Pencils(system, kind)
+            hill = pencils.get(n, "real")[0]
+            pencils.get(n, "two-sided")  # assembly outside both timings
+            t, found = best_time(lambda: truncation_taus(system, kind, n, tau_max=TAU_MAX,
+                                                         method="smallest", pencils=pencils))
+            t_pkg += t
+            A, B = hill.A.toarray(), hill.B.toarray()
+            t, _ = best_time(lambda: sla.eigvals(A, B))
+            t_qz += t
+            ref = dense_taus(hill)
+            ref = ref[(ref >= 0) & (ref <= TAU_MAX)]
+            got = found.tau[found.tau <= TAU_MAX]
+            if got.size != ref.size or (ref.size and abs(got[0] - ref[0]) > 1e-9):
+                error = float("inf")
+            elif ref.size:
+                error = max(error, abs(float(got[0] - ref[0])))
+    print(f"sphere one truncation, N = 40, 60, 80, both kinds (sigma 20000, 50 bpm, m = 6): "
+          f"contour {t_pkg * 1e3:.1f} ms, QZ {t_qz * 1e3:.1f} ms, ratio {t_qz / t_pkg:.1f} "
+          "(goal >= 30)")
+    row(task="sphere one truncation N = 40, 60, 80, both kinds, smallest real tau <= 1/2 "
+             "(sigma 20000 dyn/cm, 50 bpm, m = 6), sum of six", package_s=t_pkg,
+        baseline="QZ (scipy.linalg.eigvals(A, B)) of the same pencils", baseline_s=t_qz,
+        error=error, note="error = |tau_min - QZ's smallest real tau <= 1/2|; none there: "
+                          "both must agree")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--size", type=int, default=200)
+    parser.add_argument("--sample", type=int, default=100)
+    args, _ = parser.parse_known_args()
+    with one_blas_thread():
+        truncation_row()
+    map_row(args.size, args.sample)
+
+
+if __name__ == "__main__":
+    main()
