@@ -101,6 +101,8 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     model = check_model(model)
     kinds = expand_kind(kind)
     options = solver_options(tol, n_temporal, tau_max)
+    if model == "sphere" and (isinstance(params.get("kappa"), str) or "l_max" in params):
+        return _floquet_nonuniform(kind, options, params, tol_spatial, max_seconds)
     params, physical = physical_values(model, dict(params))
     if get_model(model).spatial:
         return _floquet_spatial(model, kind, options, params, physical, tol_spatial,
@@ -118,6 +120,32 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     return FloquetResult(model=model, params=dataclasses.asdict(p), harmonic=res.get("harmonic"),
                          subharmonic=res.get("subharmonic"),
                          provenance=provenance({"kind": kind, **options}), warnings=tuple(warnings))
+
+
+def _floquet_nonuniform(kind: str, options: dict[str, Any], params: dict[str, Any],
+                        tol_spatial: float | None, max_seconds: float | None):
+    """The sphere with stiffness kappa(theta, phi) given as an expression
+    (:func:`spectralshell.runner.nonuniform.floquet_nonuniform`)."""
+    from .nonuniform import floquet_nonuniform
+
+    given = dict(params)
+    if not isinstance(given.get("kappa"), str):
+        raise ParameterError(f"l_max = {given.get('l_max')!r} is invalid with kappa = "
+                             f"{given.get('kappa')!r}: l_max is the degree truncation of a "
+                             "non-uniform kappa (an expression in theta, phi)")
+    extra = sorted(set(given) - {"kappa", "nu", "l_max"})
+    if extra:
+        raise ParameterError(f"{extra[0]} = {given[extra[0]]!r} is invalid with a non-uniform "
+                             "kappa: the degrees and components couple, so only kappa, nu and "
+                             "l_max are parameters")
+    if "nu" not in given:
+        raise ParameterError("nu is missing: model 'sphere' needs kappa and nu")
+    if max_seconds is not None:
+        raise ParameterError(f"max_seconds = {max_seconds!r} is invalid with a non-uniform "
+                             "kappa: its solve is not priced")
+    return floquet_nonuniform(kappa=given["kappa"], nu=given["nu"], kind=kind,
+                              l_max=given.get("l_max", "auto"), tol_spatial=tol_spatial,
+                              options=options)
 
 
 def priced_spatial(model: str, factory, kinds: tuple[str, ...], options: dict[str, Any],

@@ -1,0 +1,160 @@
+"""Floquet analysis of the sphere with non-uniform stiffness kappa(theta, phi) (issue 28, part 2).
+
+The degrees 2..l_max of the membrane couple through the product of kappa with the shape
+(:mod:`spectralshell.discretise.sphere_nonuniform`); the slots split into decoupled sectors,
+each a Hill system. Per kind, tau_min is the smallest over the sectors: the sectors are solved in
+turn (lowest degrees first), each with tau_max lowered to the smallest tau_min found so far, so a
+sector only has to prove it has nothing below it (:func:`sector_minimum`).
+
+Truncation in degree (``l_max = 'auto'``, the default): l_max = start, start + 2, ... (a step of
+2 adds a degree of each parity) until every kind's tau_min changes by at most ``tol_spatial``
+between l_max - 2 and l_max (as the cochlea's M, :mod:`spectralshell.solvers.spatial_refinement`,
+whose change and error rules are used); start is the first degree whose natural frequency at
+the mean stiffness lies above the harmonic resonance 1, plus one (at least 4). An integer l_max
+is solved as given, with its change from l_max - 2 as the spatial error.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from .._validate import require_int_in_range, require_positive
+from ..discretise.fourier import expand_kind
+from ..discretise.sphere_nonuniform import (L_MAX_LIMIT, NonUniformSphere, Sector,
+                                            nonuniform_sphere)
+from ..discretise.shtns_adapter import grid as dealiased_grid
+from ..discretise.sphere_coupled import stiffness_field
+from ..errors import ConvergenceError, ParameterError
+from ..models.base import HillSystem
+from ..models.sphere import lambda0_squared
+from ..params.expression import Expression, parse_expression
+from ..params.stiffness import threshold_warnings
+from ..results.floquet import certification_warnings, provenance, resolution_warnings
+from ..results.nonuniform import NonUniformFloquetResult
+from ..results.records import MarginalTau
+from ..solvers.marginal import marginal_tau
+from ..solvers.marginal_mode import marginal_mode
+from ..solvers.spatial_refinement import spatial_change, spatial_error
+
+#: Default tolerance of tau_min in the degree truncation l_max (absolute).
+TOL_DEGREES = 1e-6
+SHARE_FLOOR = 1e-4     # smallest share of a mode listed in a result's content
+
+
+def sector_minimum(systems: tuple[HillSystem, ...], kind: str,
+                   options: dict[str, Any]) -> tuple[MarginalTau, int | None]:
+    """(the MarginalTau of the sector with the smallest tau_min, its index; None: no sector has
+    a tau <= tau_max): each sector solved with tau_max lowered to the smallest tau_min so far."""
+    cap = options.get("tau_max") or math.inf
+    best, where = None, None
+    for i, system in enumerate(systems):
+        found = marginal_tau(system, kind, **{**options, "tau_max": cap})
+        if found.tau_min is not None and (best is None or found.tau_min < best.tau_min):
+            best, where, cap = found, i, found.tau_min
+        elif best is None:
+            best = found
+    return best, where
+
+
+def mode_content(sector: Sector, coefficients: np.ndarray) -> list[dict[str, Any]]:
+    """Share of each mode (l, k, component) of a sector in the squared displacement norm
+    |X^Y|^2 + l(l+1) (|X^Psi|^2 + |X^Phi|^2) of Fourier coefficients (n, slots), largest first."""
+    power = np.sum(np.abs(coefficients) ** 2, axis=0)
+    weight = np.array([1.0 if n == "Y" else l * (l + 1.0) for l, _, n in sector.slots])
+    energy: dict[tuple, float] = {}
+    for (l, k, n), e in zip(sector.slots, power * weight):
+        key = (l, k, "poloidal" if n != "Phi" else "toroidal")
+        energy[key] = energy.get(key, 0.0) + float(e)
+    total = sum(energy.values())
+    rows = [{"l": l, "k": k, "component": c, "share": e / total}
+            for (l, k, c), e in energy.items() if e >= SHARE_FLOOR * total]
+    return sorted(rows, key=lambda r: -r["share"])
+
+
+def solve_truncation(kappa: Callable, nu: float, l_max: int, kinds: tuple[str, ...],
+                     options: dict[str, Any]) -> tuple[NonUniformSphere, dict]:
+    """The sectors at ``l_max`` and per kind (MarginalTau, critical sector index)."""
+    sphere = nonuniform_sphere(kappa=kappa, nu=nu, l_max=l_max)
+    return sphere, {k: sector_minimum(sphere.systems, k, options) for k in kinds}
+
+
+def start_degree(kappa_mean: float) -> int:
+    """The first l_max of the refinement: one above the first degree whose natural frequency
+    at the mean stiffness exceeds 1 (the harmonic resonance), at least 4."""
+    lowest = next((l for l in range(2, L_MAX_LIMIT)
+                   if lambda0_squared(l, kappa_mean) > 1.0), L_MAX_LIMIT - 3)
+    return max(4, lowest + 1)
+
+
+def _mean(kappa: Callable) -> float:
+    return stiffness_field(dealiased_grid(4), kappa).mean
+
+
+def floquet_nonuniform(*, kappa: str | Expression, nu: float, kind: str = "both",
+                       l_max: int | str = "auto", tol_spatial: float | None = None,
+                       options: dict[str, Any]) -> NonUniformFloquetResult:
+    """Marginal tau of the sphere with stiffness kappa(theta, phi) (module docstring).
+
+    Parameters
+    ----------
+    kappa : an expression in theta, phi (:mod:`spectralshell.params.expression`), > 0.
+    nu : viscosity > 0 (the coupled tangential loads need the viscous fluid).
+    l_max : 'auto' (refined to ``tol_spatial``, default :data:`TOL_DEGREES`) or an integer
+        degree truncation 4..L_MAX_LIMIT.
+    options : marginal_tau options (tol, n_temporal, tau_max).
+
+    Raises
+    ------
+    ParameterError : an argument out of range.
+    ConvergenceError : tau_min did not settle in l_max by L_MAX_LIMIT, or in N.
+    """
+    expr = kappa if isinstance(kappa, Expression) else parse_expression("kappa", kappa,
+                                                                         positive=True)
+    nu = require_positive("nu", nu)
+    kinds = expand_kind(kind)
+    auto = l_max == "auto"
+    if not auto:
+        if tol_spatial is not None:
+            raise ParameterError(f"tol_spatial = {tol_spatial!r} is invalid with a fixed l_max: "
+                                 "it sets when the automatic refinement in l_max stops")
+        l_max = require_int_in_range("l_max", l_max, 4, L_MAX_LIMIT)
+    tol_spatial = require_positive("tol_spatial", TOL_DEGREES if tol_spatial is None
+                                   else tol_spatial)
+    cap = options.get("tau_max") or math.inf
+    fine_l = l_max if not auto else start_degree(_mean(expr.function))
+    coarse = solve_truncation(expr.function, nu, fine_l - 2, kinds, options)[1]
+    while True:
+        sphere, fine = solve_truncation(expr.function, nu, fine_l, kinds, options)
+        change = {k: spatial_change(fine[k][0], coarse[k][0], cap) for k in kinds}
+        if not auto or all(c is not None and c <= tol_spatial for c in change.values()):
+            break
+        if fine_l + 2 > L_MAX_LIMIT:
+            raise ConvergenceError(
+                f"tau_min did not settle to tol_spatial={tol_spatial:g} in the degree truncation "
+                f"by l_max={fine_l} (last changes {list(change.values())}); relax tol_spatial or "
+                "give l_max")
+        fine_l, coarse = fine_l + 2, fine
+    res = {k: spatial_error(fine[k][0], change[k]) for k in kinds}
+    content = {k: _content(sphere, k, *fine[k]) for k in kinds if fine[k][1] is not None}
+    multiplicity = {k: sphere.sectors[fine[k][1]].copies for k in content}
+    warnings = list(sphere.field.warnings) + threshold_warnings(
+        {k: [m.tau_min] for k, m in res.items()}) + certification_warnings(res)
+    opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
+    result = NonUniformFloquetResult(
+        model="sphere", params={"kappa": expr.text, "nu": nu, "l_max": l_max},
+        harmonic=res.get("harmonic"), subharmonic=res.get("subharmonic"),
+        provenance=provenance(opts), warnings=tuple(warnings), l_max=fine_l,
+        l_max_previous=fine_l - 2, l_change=change, content=content,
+        multiplicity=multiplicity, sectors=len(sphere.sectors))
+    notes = resolution_warnings(res, options["tol"], result.error_reason)
+    return dataclasses.replace(result, warnings=result.warnings + tuple(notes))
+
+
+def _content(sphere: NonUniformSphere, kind: str, m: MarginalTau, where: int) -> list[dict]:
+    mode = marginal_mode(sphere.systems[where], kind, m.tau_min, m.n_temporal)
+    return mode_content(sphere.sectors[where], mode.coefficients)

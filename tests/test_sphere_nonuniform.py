@@ -1,0 +1,177 @@
+"""Floquet analysis of the sphere with non-uniform stiffness kappa(theta, phi) (issue 28, part 2).
+
+Oracles: exact Gaunt coefficients (sympy.physics.wigner) for the radial and the spheroidal and
+toroidal self-couplings of the coupling matrix, exact sympy integrals for its poloidal-toroidal
+entries, the per-degree Floquet solver (uniform kappa), finite differences of tau_min (the
+eigenvector derivative), and the convergence of tau_min in the degree truncation.
+"""
+
+import json
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.special import sph_harm_y
+from sympy.physics.wigner import gaunt
+
+import spectralshell as ss
+from spectralshell.cli import main
+from spectralshell.discretise.shtns_adapter import grid
+from spectralshell.discretise.sphere_coupled import stiffness_field
+from spectralshell.discretise.sphere_nonuniform import coupling_matrix, nonuniform_sphere
+
+KAPPA0 = 0.02
+#: a positive stiffness with axisymmetric and non-axisymmetric parts of degrees 1 and 2
+FIELD = {(0, 0): KAPPA0 * math.sqrt(4 * math.pi), (1, 1): 0.002, (2, 0): 0.003,
+         (2, 2): -0.0025, (2, -1): 0.0015}
+
+
+def real_harmonic(m, k, th, ph):
+    """Yr_{m,k}: Y_{m,0}, sqrt 2 Re Y_{m,k} (k > 0), sqrt 2 Im Y_{m,|k|} (k < 0)."""
+    Y = sph_harm_y(m, abs(k), th, ph)
+    return Y.real if k == 0 else np.sqrt(2) * (Y.real if k > 0 else Y.imag)
+
+
+def kappa_function(th, ph):
+    return sum(c * real_harmonic(l, k, th, ph) for (l, k), c in FIELD.items())
+
+
+def complex_parts(l, k):
+    """Yr_{l,k} as {(l, m): coefficient} of the complex Y_{l,m} (Condon-Shortley)."""
+    if k == 0:
+        return {(l, 0): 1}
+    a, s = abs(k), (-1) ** abs(k)
+    if k > 0:
+        return {(l, a): 1 / sp.sqrt(2), (l, -a): s / sp.sqrt(2)}
+    return {(l, a): 1 / (sp.I * sp.sqrt(2)), (l, -a): -s / (sp.I * sp.sqrt(2))}
+
+
+def real_gaunt(a, b, c):
+    """int Yr_a Yr_b Yr_c over the sphere, exactly (sums of Gaunt coefficients)."""
+    total = 0
+    for (l1, m1), x in complex_parts(*a).items():
+        for (l2, m2), y in complex_parts(*b).items():
+            for (l3, m3), z in complex_parts(*c).items():
+                total += x * y * z * gaunt(l1, l2, l3, m1, m2, m3)
+    value = complex(sp.N(total, 30))
+    assert abs(value.imag) < 1e-25
+    return value.real
+
+
+L_MAX = 5
+
+
+@pytest.fixture(scope="module")
+def coupling():
+    field = stiffness_field(grid(L_MAX), kappa_function)
+    C, every = coupling_matrix(field, L_MAX)
+    return C, {s: i for i, s in enumerate(every)}
+
+
+def test_radial_and_tangential_self_couplings_are_gaunt_integrals(coupling):
+    """C_{(b,Y),(a,Y)} = q1(a) int kappa Yr_a Yr_b and C_{(b,Psi),(a,Psi)} = C_{(b,Phi),(a,Phi)}
+    = q1(a) int kappa grad Yr_a . grad Yr_b / (l_b (l_b + 1)), the gradient integral being
+    (1/2) sum_c kappa_c (L_a + L_b - L_c) G(c, a, b) with L = l (l + 1)."""
+    C, at = coupling
+    modes = [(l, k) for l in range(2, L_MAX + 1) for k in range(-l, l + 1)]
+    worst = 0.0
+    for a in modes:
+        q1, La = (a[0] - 1) * (a[0] + 2), a[0] * (a[0] + 1)
+        for b in modes:
+            Lb = b[0] * (b[0] + 1)
+            g = {c: real_gaunt(c, a, b) for c in FIELD}
+            radial = q1 * sum(FIELD[c] * g[c] for c in FIELD)
+            grad = 0.5 * sum(FIELD[c] * (La + Lb - c[0] * (c[0] + 1)) * g[c] for c in FIELD)
+            for name, want in (("Y", radial), ("Psi", q1 * grad / Lb), ("Phi", q1 * grad / Lb)):
+                got = C[at[(*b, name)], at[(*a, name)]]
+                worst = max(worst, abs(got - want))
+    assert worst < 1e-15   # entries are O(kappa0 q1) ~ 0.1 .. 0.6
+
+
+def test_poloidal_toroidal_entries_are_exact_integrals():
+    """C_{(b,Phi),(a,Psi)} = q1(a) int kappa Psi_a . Phi_b / L_b and C_{(b,Psi),(a,Phi)} =
+    q1(a) int kappa Phi_a . Psi_b / L_b, integrated exactly by sympy for kappa =
+    kappa0 (1 + 0.3 cos^2 theta) (Phi = rhat x Psi: Psi_a . Phi_b sin theta =
+    d_phi Y_a d_theta Y_b - d_theta Y_a d_phi Y_b)."""
+    th, ph = sp.symbols("theta phi", real=True)
+
+    def yr(l, k):
+        Y = sp.expand_complex(sp.expand_func(sp.Ynm(l, abs(k), th, ph)))
+        return sp.re(Y) if k == 0 else sp.sqrt(2) * (sp.re(Y) if k > 0 else sp.im(Y))
+
+    assert abs(float(yr(3, -2).subs({th: 0.7, ph: 0.3})) - real_harmonic(3, -2, 0.7, 0.3)) < 1e-14
+    kappa = KAPPA0 * (1 + sp.Rational(3, 10) * sp.cos(th) ** 2)
+    field = stiffness_field(grid(4), lambda t, p: KAPPA0 * (1 + 0.3 * np.cos(t) ** 2))
+    C, every = coupling_matrix(field, 4)
+    at = {s: i for i, s in enumerate(every)}
+
+    def cross(a, b):  # int kappa Psi_a . Phi_b dOmega
+        Ya, Yb = yr(*a), yr(*b)
+        integrand = kappa * (sp.diff(Ya, ph) * sp.diff(Yb, th) - sp.diff(Ya, th) * sp.diff(Yb, ph))
+        return float(sp.integrate(sp.integrate(sp.expand(integrand), (ph, 0, 2 * sp.pi)),
+                                  (th, 0, sp.pi)))
+
+    for a, b in (((3, 1), (2, -1)), ((2, 2), (3, -2)), ((4, -1), (3, 1))):
+        q1, Lb = (a[0] - 1) * (a[0] + 2), b[0] * (b[0] + 1)
+        psi_to_phi = q1 * cross(a, b) / Lb
+        phi_to_psi = q1 * cross(b, a) / Lb             # Phi_a . Psi_b = Psi_b . Phi_a
+        assert abs(psi_to_phi) > 1e-3
+        assert abs(C[at[(*b, "Phi")], at[(*a, "Psi")]] - psi_to_phi) < 1e-15
+        assert abs(C[at[(*b, "Psi")], at[(*a, "Phi")]] - phi_to_psi) < 1e-15
+
+
+def test_symmetries_decouple_orders_and_parity():
+    """Axisymmetric kappa: each sector holds one order |k|; equatorially symmetric too: the
+    poloidal slots have one parity of l + k and the toroidal ones the other."""
+    sphere = nonuniform_sphere(kappa=lambda t, p: KAPPA0 * (1 + 0.3 * np.cos(t) ** 2), nu=0.006,
+                               l_max=8)
+    for sector in sphere.sectors:
+        assert len({abs(k) for _, k, _ in sector.slots}) == 1
+        parity = {(l + k + (n == "Phi")) % 2 for l, k, n in sector.slots}
+        assert len(parity) == 1
+    # a non-axisymmetric, equatorially asymmetric field couples everything into a few sectors
+    general = nonuniform_sphere(kappa=kappa_function, nu=0.006, l_max=5)
+    assert len(general.sectors) <= 2 and sum(len(s.slots) for s in general.sectors) >= 60
+
+
+@pytest.mark.parametrize("kappa0, nu", [(0.02, 0.006), (0.5, 0.03)])
+def test_uniform_kappa_reproduces_the_per_degree_results(kappa0, nu):
+    """kappa0 (1 + 0 cos theta): tau_min per kind equals the smallest per-degree tau_min
+    (degrees 2..l_max, poloidal) to 1e-10."""
+    res = ss.floquet("sphere", kappa=f"{kappa0}*(1+0*cos(theta))", nu=nu, l_max=6)
+    for kind in ("harmonic", "subharmonic"):
+        per_degree = [getattr(ss.floquet("sphere", m=m, kappa=kappa0, nu=nu, kind=kind),
+                              kind).tau_min for m in range(2, 7)]
+        got = getattr(res, kind).tau_min
+        assert abs(got - min(per_degree)) < 1e-10
+        lead = res.content[kind][0]
+        assert lead["l"] == 2 + int(np.argmin(per_degree)) and lead["share"] > 1 - 1e-12
+        assert res.multiplicity[kind] == 2 * lead["l"] + 1
+
+
+def test_cli_floquet_sphere_with_a_kappa_expression(capsys):
+    code = main(["floquet", "sphere", "--kappa", "0.02*(1 + 0.3*cos(theta)**2)", "--nu", "0.006",
+                 "--l-max", "6", "--kind", "subharmonic", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    assert out["params"] == {"kappa": "0.02*(1 + 0.3*cos(theta)**2)", "nu": 0.006, "l_max": 6}
+    assert out["l_max"] == 6 and out["l_max_previous"] == 4
+    lead = out["content"]["subharmonic"][0]
+    assert (lead["l"], abs(lead["k"]), lead["component"]) == (3, 3, "poloidal")
+    assert 0.35 < out["subharmonic"]["tau_min"] < 0.36
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--kappa", "0.02*(1+0.3*cos(theta))", "--nu", "0.006", "--m", "3"], "m = 3 is invalid"),
+    (["--kappa", "0.02*(1+0.3*cos(theta))", "--nu", "0.006", "--l-max", "3"], "l_max = 3"),
+    (["--kappa", "0.02", "--nu", "0.006", "--m", "3", "--l-max", "6"], "l_max = 6 is invalid"),
+    (["--kappa", "0.02*(1-2*cos(theta))", "--nu", "0.006"], "> 0"),
+    (["--kappa", "0.02*(1+0.3*cos(theta))", "--nu", "0"], "nu = 0"),
+    (["--kappa", "0.02*(1+0.3*cos(theta))", "--nu", "0.006", "--l-max", "6",
+      "--tol-spatial", "1e-3"], "tol_spatial"),
+])
+def test_cli_refuses_bad_non_uniform_input(capsys, argv, words):
+    assert main(["floquet", "sphere", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and words.replace("_", "-") in err.replace("_", "-")
