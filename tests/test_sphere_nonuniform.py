@@ -20,6 +20,8 @@ from spectralshell.cli import main
 from spectralshell.discretise.shtns_adapter import grid
 from spectralshell.discretise.sphere_coupled import stiffness_field
 from spectralshell.discretise.sphere_nonuniform import coupling_matrix, nonuniform_sphere
+from spectralshell.params.expression import parse_expression
+from spectralshell.runner.nonuniform import solve_truncation, tau_min_sensitivity
 
 KAPPA0 = 0.02
 #: a positive stiffness with axisymmetric and non-axisymmetric parts of degrees 1 and 2
@@ -65,7 +67,7 @@ L_MAX = 5
 @pytest.fixture(scope="module")
 def coupling():
     field = stiffness_field(grid(L_MAX), kappa_function)
-    C, every = coupling_matrix(field, L_MAX)
+    C, every = coupling_matrix(field.weight, L_MAX)
     return C, {s: i for i, s in enumerate(every)}
 
 
@@ -103,7 +105,7 @@ def test_poloidal_toroidal_entries_are_exact_integrals():
     assert abs(float(yr(3, -2).subs({th: 0.7, ph: 0.3})) - real_harmonic(3, -2, 0.7, 0.3)) < 1e-14
     kappa = KAPPA0 * (1 + sp.Rational(3, 10) * sp.cos(th) ** 2)
     field = stiffness_field(grid(4), lambda t, p: KAPPA0 * (1 + 0.3 * np.cos(t) ** 2))
-    C, every = coupling_matrix(field, 4)
+    C, every = coupling_matrix(field.weight, 4)
     at = {s: i for i, s in enumerate(every)}
 
     def cross(a, b):  # int kappa Psi_a . Phi_b dOmega
@@ -175,3 +177,38 @@ def test_cli_refuses_bad_non_uniform_input(capsys, argv, words):
     assert main(["floquet", "sphere", *argv]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and words.replace("_", "-") in err.replace("_", "-")
+
+
+P2 = "(1.5*cos(theta)**2 - 0.5)"
+
+
+@pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
+def test_tau_min_derivative_from_the_eigenvectors_equals_finite_differences(kind):
+    """f = 1 + eps P_2(cos theta) at eps = 0.2: w^H (A' - tau B') v / (w^H B v) against the
+    central difference of tau_min with h = 1e-5 (truncation error ~h^2, rounding ~1e-13/h)."""
+    def at(eps):
+        return tau_min_sensitivity(kappa=f"0.02*(1 + {eps!r}*{P2})", direction=f"0.02*{P2}",
+                                   nu=0.006, kind=kind, l_max=8)
+
+    h = 1e-5
+    tau, slope = at(0.2)
+    difference = (at(0.2 + h)[0] - at(0.2 - h)[0]) / (2 * h)
+    assert abs(slope) > 1e-3
+    assert abs(slope - difference) < 1e-7
+
+
+def test_tau_min_converges_geometrically_in_the_degree_truncation():
+    """kappa = 0.02 (1 + 0.3 cos^2 theta), subharmonic: each step l_max -> l_max + 2 shrinks the
+    change of tau_min by more than 10 (measured: ~150 per step), and 'auto' stops where the
+    change is <= tol_spatial, within tol_spatial of the l_max = 12 value."""
+    kappa = "0.02*(1 + 0.3*cos(theta)**2)"
+    function = parse_expression("kappa", kappa).function
+    values = [solve_truncation(function, 0.006, L, ("subharmonic",),
+                               {"tol": 1e-12, "n_temporal": None})[1]["subharmonic"][0].tau_min
+              for L in (6, 8, 10, 12)]
+    changes = np.abs(np.diff(values))
+    assert np.all(changes[1:] < changes[:-1] / 10) and changes[-1] < 1e-10
+    auto = ss.floquet("sphere", kappa=kappa, nu=0.006, kind="subharmonic", tol_spatial=1e-6)
+    assert auto.l_change["subharmonic"] <= 1e-6 and auto.l_max < 12
+    assert abs(auto.subharmonic.tau_min - values[-1]) <= 1e-6
+    assert auto.subharmonic.error_estimate >= auto.l_change["subharmonic"]

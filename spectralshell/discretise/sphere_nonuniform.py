@@ -28,6 +28,7 @@ default component is poloidal for the same reason).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -47,10 +48,12 @@ L_MAX_LIMIT = 64   # the largest degree truncation
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class Sector:
-    """One decoupled set of slots: ``slots`` ((l, k, name), ...), its coupling matrix
-    ``coupling`` (the rows and columns of C) and ``copies`` (how many sectors it stands for)."""
+    """One decoupled set of slots: ``slots`` ((l, k, name), ...), their positions ``indices`` in
+    :func:`slots`, its coupling matrix ``coupling`` (those rows and columns of C) and ``copies``
+    (how many sectors it stands for)."""
 
     slots: tuple[tuple[int, int, str], ...]
+    indices: np.ndarray
     coupling: np.ndarray
     copies: int = 1
 
@@ -71,11 +74,12 @@ def slots(l_max: int) -> tuple[tuple[int, int, str], ...]:
                  for name in ("Y", "Psi", "Phi"))
 
 
-def coupling_matrix(field: StiffnessField, l_max: int) -> tuple[np.ndarray, tuple]:
-    """C with P[kappa F1[X]] = -C X over :func:`slots` (module docstring), and the slots.
+def coupling_matrix(weight: np.ndarray, l_max: int) -> tuple[np.ndarray, tuple]:
+    """C with P[w F1[X]] = -C X over :func:`slots` (module docstring), and the slots; ``weight``
+    is w (kappa, or a change of it) on the dealiased grid of degree l_max.
 
-    Each column is one product on the grid of ``field`` (degree l_max), Y and Psi of a mode
-    together (radial and tangential loads do not mix)."""
+    Each column is one product on the grid, Y and Psi of a mode together (radial and
+    tangential loads do not mix). C is linear in w."""
     grid = dealiased_grid(l_max)
     every = slots(l_max)
     where = {s: i for i, s in enumerate(every)}
@@ -86,7 +90,7 @@ def coupling_matrix(field: StiffnessField, l_max: int) -> tuple[np.ndarray, tupl
     zero = np.zeros(len(grid.modes))
 
     def column(radial, sph, tor) -> np.ndarray:
-        load = weighted_load(grid, field.weight, radial, sph, tor)
+        load = weighted_load(grid, weight, radial, sph, tor)
         return -np.stack([c[pos] for c in load], axis=1)    # (modes, 3): Y, Psi, Phi rows
 
     for (l, k), p, own in zip(modes, pos, rows):
@@ -129,13 +133,13 @@ def sectors(C: np.ndarray, every: tuple) -> tuple[Sector, ...]:
         chosen = tuple(every[i] for i in idx)
         if all(name == "Phi" for _, _, name in chosen):
             continue
-        new = Sector(slots=chosen, coupling=C[np.ix_(idx, idx)])
+        new = Sector(slots=chosen, indices=idx, coupling=C[np.ix_(idx, idx)])
         twin = next((i for i, s in enumerate(found) if _same(s, new)), None)
         if twin is None:
             found.append(new)
         else:
             old = found[twin]
-            found[twin] = Sector(slots=old.slots, coupling=old.coupling, copies=old.copies + 1)
+            found[twin] = dataclasses.replace(old, copies=old.copies + 1)
     return tuple(sorted(found, key=lambda s: (s.degrees[0], len(s.slots))))
 
 
@@ -164,6 +168,17 @@ def sector_system(sector: Sector, *, nu: float, kappa_mean: float) -> HillSystem
                       forcing=C.copy(), n_resonant=top, n_highest=top)
 
 
+def perturbation_system(sector: Sector, weight: np.ndarray, l_max: int) -> HillSystem:
+    """The derivative of a sector's Hill system when kappa changes by eps w (``weight``: w on the
+    dealiased grid of degree l_max): D' = C', G' = C', C' = the sector's rows and columns of
+    :func:`coupling_matrix` (w), since D and G are linear in kappa."""
+    full, _ = coupling_matrix(weight, l_max)
+    dC = full[np.ix_(sector.indices, sector.indices)]
+    return HillSystem(name="sphere", block_size=len(sector.slots), forcing=dC,
+                      unforced=lambda s: np.broadcast_to(dC, (np.size(s),) + dC.shape)
+                      .astype(complex))
+
+
 @dataclass(frozen=True, kw_only=True, eq=False)
 class NonUniformSphere:
     """The sectors of one truncation l_max and their Hill systems, and the stiffness field."""
@@ -186,7 +201,7 @@ def nonuniform_sphere(*, kappa: Callable[[np.ndarray, np.ndarray], np.ndarray], 
     nu = require_positive("nu", nu)
     l_max = require_int_in_range("l_max", l_max, 2, L_MAX_LIMIT)
     field = stiffness_field(dealiased_grid(l_max), kappa)
-    C, every = coupling_matrix(field, l_max)
+    C, every = coupling_matrix(field.weight, l_max)
     found = sectors(C, every)
     systems = tuple(sector_system(s, nu=nu, kappa_mean=field.mean) for s in found)
     return NonUniformSphere(l_max=l_max, field=field, sectors=found, systems=systems)

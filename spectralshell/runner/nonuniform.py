@@ -26,7 +26,7 @@ import numpy as np
 from .._validate import require_int_in_range, require_positive
 from ..discretise.fourier import expand_kind
 from ..discretise.sphere_nonuniform import (L_MAX_LIMIT, NonUniformSphere, Sector,
-                                            nonuniform_sphere)
+                                            nonuniform_sphere, perturbation_system)
 from ..discretise.shtns_adapter import grid as dealiased_grid
 from ..discretise.sphere_coupled import stiffness_field
 from ..errors import ConvergenceError, ParameterError
@@ -38,7 +38,7 @@ from ..results.floquet import certification_warnings, provenance, resolution_war
 from ..results.nonuniform import NonUniformFloquetResult
 from ..results.records import MarginalTau
 from ..solvers.marginal import marginal_tau
-from ..solvers.marginal_mode import marginal_mode
+from ..solvers.marginal_mode import marginal_mode, marginal_sensitivity
 from ..solvers.spatial_refinement import spatial_change, spatial_error
 
 #: Default tolerance of tau_min in the degree truncation l_max (absolute).
@@ -153,6 +153,32 @@ def floquet_nonuniform(*, kappa: str | Expression, nu: float, kind: str = "both"
         multiplicity=multiplicity, sectors=len(sphere.sectors))
     notes = resolution_warnings(res, options["tol"], result.error_reason)
     return dataclasses.replace(result, warnings=result.warnings + tuple(notes))
+
+
+def tau_min_sensitivity(*, kappa: str, direction: str, nu: float, kind: str, l_max: int,
+                        tol: float = 1e-10) -> tuple[float, float]:
+    """(tau_min, d tau_min / d eps) of ``kind`` for the stiffness kappa + eps w at eps = 0, w the
+    expression ``direction`` (any sign; e.g. kappa0 P_2(cos theta)), at the degree truncation
+    l_max, from the eigenvector formula of
+    :func:`spectralshell.solvers.marginal_mode.marginal_sensitivity` in the critical sector.
+
+    Raises
+    ------
+    ParameterError : an argument out of range. ConvergenceError : no tau_min (or not simple).
+    """
+    expr = parse_expression("kappa", kappa, positive=True)
+    w = parse_expression("direction", direction)
+    l_max = require_int_in_range("l_max", l_max, 4, L_MAX_LIMIT)
+    sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
+    found, where = sector_minimum(sphere.systems, kind, {"tol": tol, "n_temporal": None})
+    if where is None:
+        raise ConvergenceError(f"no {kind} tau_min to differentiate")
+    g = dealiased_grid(l_max)
+    weight = g.synthesise(g.analyse(g.evaluate(w.function)))    # degrees <= l_max, as kappa
+    derivative = perturbation_system(sphere.sectors[where], weight, l_max)
+    slope = marginal_sensitivity(sphere.systems[where], derivative, kind, found.tau_min,
+                                 found.n_temporal)
+    return float(found.tau_min), slope
 
 
 def _content(sphere: NonUniformSphere, kind: str, m: MarginalTau, where: int) -> list[dict]:
