@@ -21,6 +21,7 @@ from spectralshell.discretise.shtns_adapter import grid
 from spectralshell.discretise.sphere_coupled import stiffness_field
 from spectralshell.discretise.sphere_nonuniform import coupling_matrix, nonuniform_sphere
 from spectralshell.params.expression import parse_expression
+from spectralshell.reports.figures import FIGURES, _sphere_p2
 from spectralshell.runner.nonuniform import solve_truncation, tau_min_sensitivity
 
 KAPPA0 = 0.02
@@ -212,3 +213,19 @@ def test_tau_min_converges_geometrically_in_the_degree_truncation():
     assert auto.l_change["subharmonic"] <= 1e-6 and auto.l_max < 12
     assert abs(auto.subharmonic.tau_min - values[-1]) <= 1e-6
     assert auto.subharmonic.error_estimate >= auto.l_change["subharmonic"]
+
+
+def test_p2_figure_is_listed_and_its_branches_hold_the_minimum(tmp_path):
+    """fig-sphere-p2 (two eps): the subharmonic branches below 1/2 are the orders |k| = 0..3 of
+    degree 3, and their smallest tau is the floquet tau_min at the same truncation."""
+    assert "fig-sphere-p2" in FIGURES
+    eps = np.array([-0.2, 0.3])
+    paths = _sphere_p2(tmp_path, progress=False, workers=None, eps=eps)
+    assert [p.name for p in paths] == ["fig-sphere-p2.png", "fig-sphere-p2.json"]
+    rows = json.loads(paths[1].read_text())["branches"]
+    for e in eps:
+        sub = [r for r in rows if r["eps"] == e and r["kind"] == "subharmonic"]
+        assert sorted((r["l"], r["k"]) for r in sub) == [(3, 0), (3, 1), (3, 2), (3, 3)]
+        res = ss.floquet("sphere", kappa=f"0.02*(1 + {float(e)!r}*{P2})", nu=0.006, l_max=8,
+                         kind="subharmonic", tol=1e-8)
+        assert abs(min(r["tau_min"] for r in sub) - res.subharmonic.tau_min) < 1e-8

@@ -184,3 +184,37 @@ def tau_min_sensitivity(*, kappa: str, direction: str, nu: float, kind: str, l_m
 def _content(sphere: NonUniformSphere, kind: str, m: MarginalTau, where: int) -> list[dict]:
     mode = marginal_mode(sphere.systems[where], kind, m.tau_min, m.n_temporal)
     return mode_content(sphere.sectors[where], mode.coefficients)
+
+
+#: P_2(cos theta) as an expression
+P2 = "(1.5*cos(theta)**2 - 0.5)"
+
+
+def p2_branches(*, kappa0: float, nu: float, eps: np.ndarray, l_max: int = 8,
+                tau_max: float = 0.5, tol: float = 1e-8) -> list[dict[str, Any]]:
+    """Marginal tau of every sector against eps for kappa = kappa0 (1 + eps P_2(cos theta)):
+    rows {"eps", "kind", "l", "k", "tau_min"}, one per eps, kind and sector with a tau_min
+    <= tau_max, the branch named by the dominant mode (l, |k|) of its critical solution (the
+    orders of a degree split; eps = 0, where they are degenerate, belongs to no sector).
+
+    Raises
+    ------
+    ParameterError : eps = 0, or an argument out of range.
+    """
+    rows = []
+    for e in np.asarray(eps, dtype=float):
+        if e == 0.0:
+            raise ParameterError("eps = 0 is invalid here: the orders of a degree are degenerate "
+                                 "there, so no branch is defined (use eps != 0)")
+        expr = parse_expression("kappa", f"{kappa0!r}*(1 + {float(e)!r}*{P2})", positive=True)
+        sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
+        for sector, system in zip(sphere.sectors, sphere.systems):
+            for kind in ("harmonic", "subharmonic"):
+                m = marginal_tau(system, kind, tol=tol, tau_max=tau_max)
+                if m.tau_min is None:
+                    continue
+                mode = marginal_mode(system, kind, m.tau_min, m.n_temporal)
+                lead = mode_content(sector, mode.coefficients)[0]
+                rows.append({"eps": float(e), "kind": kind, "l": lead["l"], "k": abs(lead["k"]),
+                             "tau_min": float(m.tau_min)})
+    return rows
