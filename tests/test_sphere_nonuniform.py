@@ -22,7 +22,8 @@ from spectralshell.discretise.sphere_coupled import stiffness_field
 from spectralshell.discretise.sphere_nonuniform import coupling_matrix, nonuniform_sphere
 from spectralshell.params.expression import parse_expression
 from spectralshell.reports.figures import FIGURES, _sphere_p2
-from spectralshell.runner.nonuniform import solve_truncation, tau_min_sensitivity
+from spectralshell.runner.nonuniform import (critical_exponent, solve_truncation,
+                                             tau_min_sensitivity)
 
 KAPPA0 = 0.02
 #: a positive stiffness with axisymmetric and non-axisymmetric parts of degrees 1 and 2
@@ -229,3 +230,31 @@ def test_p2_figure_is_listed_and_its_branches_hold_the_minimum(tmp_path):
         res = ss.floquet("sphere", kappa=f"0.02*(1 + {float(e)!r}*{P2})", nu=0.006, l_max=8,
                          kind="subharmonic", tol=1e-8)
         assert abs(min(r["tau_min"] for r in sub) - res.subharmonic.tau_min) < 1e-8
+
+
+def test_the_critical_exponent_is_marginal_at_tau_min():
+    """Newton's method on the Hill determinant (the exponents' machinery) at the tau_min of the
+    marginal solver: Re gamma = 0 to 1e-10, Im gamma = 1/2 (subharmonic)."""
+    kappa = "0.02*(1 + 0.3*cos(theta)**2)"
+    res = ss.floquet("sphere", kappa=kappa, nu=0.006, l_max=8, kind="subharmonic")
+    gamma, error = critical_exponent(kappa=kappa, nu=0.006, kind="subharmonic",
+                                     tau=res.subharmonic.tau_min, l_max=8)
+    assert abs(gamma.real) < 1e-10 and abs(gamma.imag - 0.5) < 1e-12 and error < 1e-10
+
+
+@pytest.mark.slow
+def test_the_time_stepper_decays_below_and_grows_above_tau_min():
+    """The coupled time stepper (collocation in r, the same kappa field and degrees <= 8, started
+    in the critical (3, 3) mode) at tau_min -+ 0.02: it decays below and grows above, at the
+    rates Re gamma of the Floquet exponents to 1e-6 (measured 8e-10; about 2 minutes)."""
+    kappa = "0.02*(1 + 0.3*cos(theta)**2)"
+    tau_min = ss.floquet("sphere", kappa=kappa, nu=0.006, l_max=8,
+                         kind="subharmonic").subharmonic.tau_min
+    for tau, sign in ((tau_min - 0.02, -1), (tau_min + 0.02, 1)):
+        traj = ss.simulate({"params": {"kappa": kappa, "nu": 0.006, "tau": tau},
+                            "initial": {"shape": "3:3"},
+                            "simulate": {"t_end": 120.0, "l_max": 8}})
+        fit = next(f for f in traj.fits if (f.m, f.k) == (3, 3))
+        gamma, _ = critical_exponent(kappa=kappa, nu=0.006, kind="subharmonic", tau=tau, l_max=8)
+        assert np.sign(fit.growth_rate) == sign and abs(gamma.real) > 1e-3
+        assert abs(fit.growth_rate - gamma.real) < 1e-6

@@ -37,7 +37,10 @@ from ..params.stiffness import threshold_warnings
 from ..results.floquet import certification_warnings, provenance, resolution_warnings
 from ..results.nonuniform import NonUniformFloquetResult
 from ..results.records import MarginalTau
-from ..solvers.marginal import marginal_tau
+from ..discretise.fourier import GAMMA
+from ..solvers.hill_exponents import pencil_family
+from ..solvers.marginal import finer, marginal_tau
+from ..solvers.nonlinear_eigen import newton
 from ..solvers.marginal_mode import marginal_mode, marginal_sensitivity
 from ..solvers.spatial_refinement import spatial_change, spatial_error
 
@@ -218,3 +221,33 @@ def p2_branches(*, kappa0: float, nu: float, eps: np.ndarray, l_max: int = 8,
                 rows.append({"eps": float(e), "kind": kind, "l": lead["l"], "k": abs(lead["k"]),
                              "tau_min": float(m.tau_min)})
     return rows
+
+
+def critical_exponent(*, kappa: str, nu: float, kind: str, tau: float, l_max: int,
+                      tol: float = 1e-10) -> tuple[complex, float]:
+    """(gamma, error estimate): the Floquet exponent at amplitude ``tau`` that crosses
+    Re gamma = 0 at the ``kind``'s tau_min, in the critical sector of kappa(theta, phi) at the
+    degree truncation l_max: Newton's method on the truncated Hill determinant
+    (:mod:`spectralshell.solvers.hill_exponents`) from g = 0, gamma = g + i GAMMA[kind]; the
+    error estimate is its change from the truncation N to the next. For tau near tau_min (the
+    exponent near the locking line; the time stepper's growth rate is Re gamma).
+
+    Raises
+    ------
+    ConvergenceError : no tau_min, or Newton's method did not converge.
+    """
+    expr = parse_expression("kappa", kappa, positive=True)
+    l_max = require_int_in_range("l_max", l_max, 4, L_MAX_LIMIT)
+    sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
+    found, where = sector_minimum(sphere.systems, kind, {"tol": tol, "n_temporal": None})
+    if where is None:
+        raise ConvergenceError(f"no {kind} tau_min: no exponent crosses Re gamma = 0")
+    values = []
+    for n in (found.n_temporal, finer(found.n_temporal)):
+        T, dT = pencil_family(sphere.systems[where], kind, n)(float(tau))
+        got = newton(T, dT, 0j, tol=1e-14)
+        if got is None:
+            raise ConvergenceError(f"Newton's method for the {kind} exponent at tau = {tau:g} "
+                                   f"did not converge (n_temporal = {n})")
+        values.append(got[0] + 1j * GAMMA[kind])
+    return complex(values[1]), float(abs(values[1] - values[0]))
