@@ -258,3 +258,14 @@ def test_the_time_stepper_decays_below_and_grows_above_tau_min():
         gamma, _ = critical_exponent(kappa=kappa, nu=0.006, kind="subharmonic", tau=tau, l_max=8)
         assert np.sign(fit.growth_rate) == sign and abs(gamma.real) > 1e-3
         assert abs(fit.growth_rate - gamma.real) < 1e-6
+
+
+def test_a_scene_with_a_kappa_expression_runs_floquet_only():
+    scene = {"model": "sphere", "ask": ["floquet"], "floquet": {"kind": "subharmonic"},
+             "params": {"kappa": "0.02*(1 + 0.3*cos(theta)**2)", "nu": 0.006, "l_max": 6}}
+    res = ss.run_scene(scene)["floquet"]
+    direct = ss.floquet("sphere", kappa="0.02*(1 + 0.3*cos(theta)**2)", nu=0.006, l_max=6,
+                        kind="subharmonic")
+    assert res.to_dict()["subharmonic"] == direct.to_dict()["subharmonic"]
+    with pytest.raises(ss.errors.ParameterError, match="only 'floquet'"):
+        ss.run_scene({**scene, "ask": ["tongues"]})

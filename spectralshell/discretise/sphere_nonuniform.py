@@ -38,12 +38,13 @@ from scipy.sparse.csgraph import connected_components
 
 from .._validate import require_int_in_range, require_positive
 from ..models.base import HillSystem
+from ..params.sphere import L_MAX_RANGE
 from ..models.sphere import lambda0_squared, poloidal_unforced, toroidal_unforced
 from .shtns_adapter import grid as dealiased_grid
 from .sphere_coupled import COUPLING_TOL, StiffnessField, stiffness_field, weighted_load
 
 COMPONENT_OF = {"Y": "poloidal", "Psi": "poloidal", "Phi": "toroidal"}
-L_MAX_LIMIT = 64   # the largest degree truncation
+L_MAX_LIMIT = L_MAX_RANGE[1]   # the largest degree truncation
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

@@ -22,6 +22,7 @@ from ..params.grid import parse_int_range, parse_range
 from ..params.limits import RESULT_BYTES, SECONDS, check_grid, check_points
 from ..params.sweep_grid import physical_names, sweep_spec
 from ..params.physical import physical_inputs
+from ..params.sphere import is_nonuniform, nonuniform_params
 from ..params.stiffness import amplitude_warnings, threshold_warnings
 from ..params.registry import (check_model, get_model, int_bounds, make_params, param_fields,
                                physical_values, require_capability)
@@ -101,7 +102,7 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     model = check_model(model)
     kinds = expand_kind(kind)
     options = solver_options(tol, n_temporal, tau_max)
-    if model == "sphere" and (isinstance(params.get("kappa"), str) or "l_max" in params):
+    if is_nonuniform(model, params):
         return _floquet_nonuniform(kind, options, params, tol_spatial, max_seconds)
     params, physical = physical_values(model, dict(params))
     if get_model(model).spatial:
@@ -128,24 +129,11 @@ def _floquet_nonuniform(kind: str, options: dict[str, Any], params: dict[str, An
     (:func:`spectralshell.runner.nonuniform.floquet_nonuniform`)."""
     from .nonuniform import floquet_nonuniform
 
-    given = dict(params)
-    if not isinstance(given.get("kappa"), str):
-        raise ParameterError(f"l_max = {given.get('l_max')!r} is invalid with kappa = "
-                             f"{given.get('kappa')!r}: l_max is the degree truncation of a "
-                             "non-uniform kappa (an expression in theta, phi)")
-    extra = sorted(set(given) - {"kappa", "nu", "l_max"})
-    if extra:
-        raise ParameterError(f"{extra[0]} = {given[extra[0]]!r} is invalid with a non-uniform "
-                             "kappa: the degrees and components couple, so only kappa, nu and "
-                             "l_max are parameters")
-    if "nu" not in given:
-        raise ParameterError("nu is missing: model 'sphere' needs kappa and nu")
+    p = nonuniform_params(params)
     if max_seconds is not None:
         raise ParameterError(f"max_seconds = {max_seconds!r} is invalid with a non-uniform "
                              "kappa: its solve is not priced")
-    return floquet_nonuniform(kappa=given["kappa"], nu=given["nu"], kind=kind,
-                              l_max=given.get("l_max", "auto"), tol_spatial=tol_spatial,
-                              options=options)
+    return floquet_nonuniform(p, kind=kind, tol_spatial=tol_spatial, options=options)
 
 
 def priced_spatial(model: str, factory, kinds: tuple[str, ...], options: dict[str, Any],

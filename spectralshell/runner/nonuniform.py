@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import require_int_in_range, require_positive
+from .._validate import require_positive
 from ..discretise.fourier import expand_kind
 from ..discretise.sphere_nonuniform import (L_MAX_LIMIT, NonUniformSphere, Sector,
                                             nonuniform_sphere, perturbation_system)
@@ -32,7 +32,8 @@ from ..discretise.sphere_coupled import stiffness_field
 from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
 from ..models.sphere import lambda0_squared
-from ..params.expression import Expression, parse_expression
+from ..params.expression import parse_expression
+from ..params.sphere import NonUniformSphereParams
 from ..params.stiffness import threshold_warnings
 from ..results.floquet import certification_warnings, provenance, resolution_warnings
 from ..results.nonuniform import NonUniformFloquetResult
@@ -98,17 +99,15 @@ def _mean(kappa: Callable) -> float:
     return stiffness_field(dealiased_grid(4), kappa).mean
 
 
-def floquet_nonuniform(*, kappa: str | Expression, nu: float, kind: str = "both",
-                       l_max: int | str = "auto", tol_spatial: float | None = None,
+def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
+                       tol_spatial: float | None = None,
                        options: dict[str, Any]) -> NonUniformFloquetResult:
     """Marginal tau of the sphere with stiffness kappa(theta, phi) (module docstring).
 
     Parameters
     ----------
-    kappa : an expression in theta, phi (:mod:`spectralshell.params.expression`), > 0.
-    nu : viscosity > 0 (the coupled tangential loads need the viscous fluid).
-    l_max : 'auto' (refined to ``tol_spatial``, default :data:`TOL_DEGREES`) or an integer
-        degree truncation 4..L_MAX_LIMIT.
+    p : kappa (an expression), nu and l_max ('auto': refined to ``tol_spatial``, default
+        :data:`TOL_DEGREES`; or an integer degree truncation).
     options : marginal_tau options (tol, n_temporal, tau_max).
 
     Raises
@@ -116,16 +115,13 @@ def floquet_nonuniform(*, kappa: str | Expression, nu: float, kind: str = "both"
     ParameterError : an argument out of range.
     ConvergenceError : tau_min did not settle in l_max by L_MAX_LIMIT, or in N.
     """
-    expr = kappa if isinstance(kappa, Expression) else parse_expression("kappa", kappa,
-                                                                         positive=True)
-    nu = require_positive("nu", nu)
+    expr = parse_expression("kappa", p.kappa, positive=True)
+    nu, l_max = p.nu, p.l_max
     kinds = expand_kind(kind)
     auto = l_max == "auto"
-    if not auto:
-        if tol_spatial is not None:
-            raise ParameterError(f"tol_spatial = {tol_spatial!r} is invalid with a fixed l_max: "
-                                 "it sets when the automatic refinement in l_max stops")
-        l_max = require_int_in_range("l_max", l_max, 4, L_MAX_LIMIT)
+    if not auto and tol_spatial is not None:
+        raise ParameterError(f"tol_spatial = {tol_spatial!r} is invalid with a fixed l_max: "
+                             "it sets when the automatic refinement in l_max stops")
     tol_spatial = require_positive("tol_spatial", TOL_DEGREES if tol_spatial is None
                                    else tol_spatial)
     cap = options.get("tau_max") or math.inf
@@ -149,7 +145,7 @@ def floquet_nonuniform(*, kappa: str | Expression, nu: float, kind: str = "both"
         {k: [m.tau_min] for k, m in res.items()}) + certification_warnings(res)
     opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
     result = NonUniformFloquetResult(
-        model="sphere", params={"kappa": expr.text, "nu": nu, "l_max": l_max},
+        model="sphere", params=dataclasses.asdict(p),
         harmonic=res.get("harmonic"), subharmonic=res.get("subharmonic"),
         provenance=provenance(opts), warnings=tuple(warnings), l_max=fine_l,
         l_max_previous=fine_l - 2, l_change=change, content=content,
@@ -169,9 +165,9 @@ def tau_min_sensitivity(*, kappa: str, direction: str, nu: float, kind: str, l_m
     ------
     ParameterError : an argument out of range. ConvergenceError : no tau_min (or not simple).
     """
+    l_max = NonUniformSphereParams(kappa=kappa, nu=nu, l_max=l_max).l_max
     expr = parse_expression("kappa", kappa, positive=True)
     w = parse_expression("direction", direction)
-    l_max = require_int_in_range("l_max", l_max, 4, L_MAX_LIMIT)
     sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
     found, where = sector_minimum(sphere.systems, kind, {"tol": tol, "n_temporal": None})
     if where is None:
@@ -236,8 +232,8 @@ def critical_exponent(*, kappa: str, nu: float, kind: str, tau: float, l_max: in
     ------
     ConvergenceError : no tau_min, or Newton's method did not converge.
     """
+    l_max = NonUniformSphereParams(kappa=kappa, nu=nu, l_max=l_max).l_max
     expr = parse_expression("kappa", kappa, positive=True)
-    l_max = require_int_in_range("l_max", l_max, 4, L_MAX_LIMIT)
     sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
     found, where = sector_minimum(sphere.systems, kind, {"tol": tol, "n_temporal": None})
     if where is None:
