@@ -34,9 +34,8 @@ from __future__ import annotations
 import sys
 
 import sympy as sp
-from sympy.physics.wigner import gaunt
-
 from _checks import check, section, summary  # derivations/_checks.py
+from _harmonics import real_gaunt as G  # derivations/_harmonics.py: int Y_c Y_a Y_b
 
 th, ph = sp.symbols("theta phi", real=True)
 
@@ -69,25 +68,6 @@ def integral(f):
     """int f dOmega, exactly."""
     inner = sp.integrate(sp.expand(sp.simplify(f * sp.sin(th))), (ph, 0, 2 * sp.pi))
     return sp.simplify(sp.integrate(sp.expand(inner), (th, 0, sp.pi)))
-
-
-def complex_parts(l, k):
-    if k == 0:
-        return {(l, 0): 1}
-    a, s = abs(k), (-1) ** abs(k)
-    if k > 0:
-        return {(l, a): 1 / sp.sqrt(2), (l, -a): s / sp.sqrt(2)}
-    return {(l, a): 1 / (sp.I * sp.sqrt(2)), (l, -a): -s / (sp.I * sp.sqrt(2))}
-
-
-def G(c, a, b):
-    """int Y_c Y_a Y_b dOmega of real harmonics, from the complex Gaunt coefficients."""
-    total = 0
-    for (l1, m1), x in complex_parts(*c).items():
-        for (l2, m2), y in complex_parts(*a).items():
-            for (l3, m3), z in complex_parts(*b).items():
-                total += x * y * z * gaunt(l1, l2, l3, m1, m2, m3)
-    return sp.nsimplify(sp.simplify(sp.expand(total)))
 
 
 def L(mode):
@@ -142,13 +122,13 @@ check("w = kappa0: C[bY, aY] = kappa0 q_a delta_ab (degrees 2, 3)", uniform_ok)
 P2 = Y(2, 0)
 axi = [(a, b) for a in MODES for b in MODES if abs(a[1]) != abs(b[1]) or a[1] * b[1] < 0]
 check("axisymmetric w: no Y-Y coupling of different orders (or cos with sin)",
-      all(G((2, 0), a, b) == 0 for a, b in axi))
+      all(is_zero(G((2, 0), a, b)) for a, b in axi))
 cos_sin = integral(P2 * dot(grad(Y(3, 1)), cross_r(grad(Y(2, -1)))))
 check("axisymmetric w: poloidal cos k couples toroidal sin k", cos_sin != 0,
       f"int P2 Psi_(3,1).Phi_(2,-1) = {cos_sin}")
 odd = [(a, b) for a in MODES for b in MODES if (a[0] + a[1] + b[0] + b[1]) % 2]
 check("equatorially symmetric w: no Y-Y coupling of opposite parity of l + k",
-      all(G((2, 0), a, b) == 0 and G((2, 2), a, b) == 0 for a, b in odd))
+      all(is_zero(G((2, 0), a, b)) and is_zero(G((2, 2), a, b)) for a, b in odd))
 
 # ----------------------------------------------------------------------------------------------
 section("D. residual: C X + P[w F1[X]] = 0 for w = 1 + eps P_2")

@@ -8,12 +8,13 @@ eigenvector derivative), and the convergence of tau_min in the degree truncation
 
 import json
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 import sympy as sp
 from scipy.special import sph_harm_y
-from sympy.physics.wigner import gaunt
 
 import spectralshell as ss
 from spectralshell.cli import main
@@ -24,6 +25,9 @@ from spectralshell.params.expression import parse_expression
 from spectralshell.reports.figures import FIGURES, _sphere_p2
 from spectralshell.runner.nonuniform import (critical_exponent, solve_truncation,
                                              tau_min_sensitivity)
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "derivations"))
+import _harmonics as harmonics  # noqa: E402  (derivations/_harmonics.py: Gaunt coefficients)
 
 KAPPA0 = 0.02
 #: a positive stiffness with axisymmetric and non-axisymmetric parts of degrees 1 and 2
@@ -41,24 +45,9 @@ def kappa_function(th, ph):
     return sum(c * real_harmonic(l, k, th, ph) for (l, k), c in FIELD.items())
 
 
-def complex_parts(l, k):
-    """Yr_{l,k} as {(l, m): coefficient} of the complex Y_{l,m} (Condon-Shortley)."""
-    if k == 0:
-        return {(l, 0): 1}
-    a, s = abs(k), (-1) ** abs(k)
-    if k > 0:
-        return {(l, a): 1 / sp.sqrt(2), (l, -a): s / sp.sqrt(2)}
-    return {(l, a): 1 / (sp.I * sp.sqrt(2)), (l, -a): -s / (sp.I * sp.sqrt(2))}
-
-
-def real_gaunt(a, b, c):
-    """int Yr_a Yr_b Yr_c over the sphere, exactly (sums of Gaunt coefficients)."""
-    total = 0
-    for (l1, m1), x in complex_parts(*a).items():
-        for (l2, m2), y in complex_parts(*b).items():
-            for (l3, m3), z in complex_parts(*c).items():
-                total += x * y * z * gaunt(l1, l2, l3, m1, m2, m3)
-    value = complex(sp.N(total, 30))
+def real_gaunt(c, a, b) -> float:
+    """int Yr_c Yr_a Yr_b over the sphere (exact, derivations/_harmonics.py), as a float."""
+    value = complex(sp.N(harmonics.real_gaunt(c, a, b), 30))
     assert abs(value.imag) < 1e-25
     return value.real
 

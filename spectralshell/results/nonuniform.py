@@ -7,6 +7,7 @@ from typing import Any
 
 from .floquet import FloquetResult
 from .records import MarginalTau
+from .spatial import truncation_reason
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
@@ -63,13 +64,8 @@ class NonUniformFloquetResult(FloquetResult):
 
     def error_reason(self, kind: str, m: MarginalTau) -> str:
         """The truncation in degree where its change is the larger part of the estimate."""
-        change = self.l_change.get(kind)
-        pair = f"l_max = {self.l_max_previous} and {self.l_max}"
-        if change is None:
-            return f"there is a tau_min at only one of {pair}, so the estimate is tau_min itself"
-        if change < m.error_estimate:
-            return super().error_reason(kind, m)
-        tol_spatial = self.provenance.get("options", {}).get("tol_spatial")
-        stop = ("l_max is fixed" if tol_spatial is None else
-                f"l_max is raised only until this change is <= tol_spatial = {tol_spatial:g}")
-        return f"the truncation in degree: tau_min changes by {change:.1e} between {pair} ({stop})"
+        reason = truncation_reason(
+            m, self.l_change.get(kind), self.provenance,
+            pair=f"l_max = {self.l_max_previous} and {self.l_max}",
+            what="the truncation in degree", size="l_max", fixed="l_max is fixed")
+        return super().error_reason(kind, m) if reason is None else reason
