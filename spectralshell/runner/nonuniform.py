@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import require_positive
-from ..discretise.fourier import expand_kind
+from ..discretise.fourier import GAMMA, expand_kind
 from ..discretise.sphere_nonuniform import (L_MAX_LIMIT, NonUniformSphere, Sector,
                                             nonuniform_sphere, perturbation_system)
 from ..discretise.shtns_adapter import grid as dealiased_grid
@@ -35,14 +35,14 @@ from ..models.sphere import lambda0_squared
 from ..params.expression import parse_expression
 from ..params.sphere import NonUniformSphereParams
 from ..params.stiffness import threshold_warnings
+from .progress import progress_bar
 from ..results.floquet import certification_warnings, provenance, resolution_warnings
 from ..results.nonuniform import NonUniformFloquetResult
 from ..results.records import MarginalTau
-from ..discretise.fourier import GAMMA
 from ..solvers.hill_exponents import pencil_family
 from ..solvers.marginal import finer, marginal_tau
-from ..solvers.nonlinear_eigen import newton
 from ..solvers.marginal_mode import marginal_mode, marginal_sensitivity
+from ..solvers.nonlinear_eigen import newton
 from ..solvers.spatial_refinement import spatial_change, spatial_error
 
 #: Default tolerance of tau_min in the degree truncation l_max (absolute).
@@ -50,14 +50,17 @@ TOL_DEGREES = 1e-6
 SHARE_FLOOR = 1e-4     # smallest share of a mode listed in a result's content
 
 
-def sector_minimum(systems: tuple[HillSystem, ...], kind: str,
-                   options: dict[str, Any]) -> tuple[MarginalTau, int | None]:
+def sector_minimum(systems: tuple[HillSystem, ...], kind: str, options: dict[str, Any],
+                   bar=None) -> tuple[MarginalTau, int | None]:
     """(the MarginalTau of the sector with the smallest tau_min, its index; None: no sector has
-    a tau <= tau_max): each sector solved with tau_max lowered to the smallest tau_min so far."""
+    a tau <= tau_max): each sector solved with tau_max lowered to the smallest tau_min so far;
+    ``bar`` (a progress bar) moves by one per sector."""
     cap = options.get("tau_max") or math.inf
     best, where = None, None
     for i, system in enumerate(systems):
         found = marginal_tau(system, kind, **{**options, "tau_max": cap})
+        if bar is not None:
+            bar.update(1)
         if found.tau_min is not None and (best is None or found.tau_min < best.tau_min):
             best, where, cap = found, i, found.tau_min
         elif best is None:
@@ -81,10 +84,14 @@ def mode_content(sector: Sector, coefficients: np.ndarray) -> list[dict[str, Any
 
 
 def solve_truncation(kappa: Callable, nu: float, l_max: int, kinds: tuple[str, ...],
-                     options: dict[str, Any]) -> tuple[NonUniformSphere, dict]:
-    """The sectors at ``l_max`` and per kind (MarginalTau, critical sector index)."""
+                     options: dict[str, Any], progress: bool = False
+                     ) -> tuple[NonUniformSphere, dict]:
+    """The sectors at ``l_max`` and per kind (MarginalTau, critical sector index); with
+    ``progress`` a bar over the sector solves."""
     sphere = nonuniform_sphere(kappa=kappa, nu=nu, l_max=l_max)
-    return sphere, {k: sector_minimum(sphere.systems, k, options) for k in kinds}
+    with progress_bar(len(sphere.systems) * len(kinds), f"sphere, degrees <= {l_max}", "sector",
+                      progress, leave=False) as bar:
+        return sphere, {k: sector_minimum(sphere.systems, k, options, bar) for k in kinds}
 
 
 def start_degree(kappa_mean: float) -> int:
@@ -96,12 +103,13 @@ def start_degree(kappa_mean: float) -> int:
 
 
 def _mean(kappa: Callable) -> float:
+    """The average of kappa(theta, phi) over the sphere."""
     return stiffness_field(dealiased_grid(4), kappa).mean
 
 
 def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
-                       tol_spatial: float | None = None,
-                       options: dict[str, Any]) -> NonUniformFloquetResult:
+                       tol_spatial: float | None = None, options: dict[str, Any],
+                       progress: bool = False) -> NonUniformFloquetResult:
     """Marginal tau of the sphere with stiffness kappa(theta, phi) (module docstring).
 
     Parameters
@@ -109,6 +117,8 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
     p : kappa (an expression), nu and l_max ('auto': refined to ``tol_spatial``, default
         :data:`TOL_DEGREES`; or an integer degree truncation).
     options : marginal_tau options (tol, n_temporal, tau_max).
+    progress : a progress bar over the sector solves of each truncation on stderr (a kappa
+        without symmetry couples many modes: degrees <= 10 take minutes).
 
     Raises
     ------
@@ -126,9 +136,9 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
                                    else tol_spatial)
     cap = options.get("tau_max") or math.inf
     fine_l = l_max if not auto else start_degree(_mean(expr.function))
-    coarse = solve_truncation(expr.function, nu, fine_l - 2, kinds, options)[1]
+    coarse = solve_truncation(expr.function, nu, fine_l - 2, kinds, options, progress)[1]
     while True:
-        sphere, fine = solve_truncation(expr.function, nu, fine_l, kinds, options)
+        sphere, fine = solve_truncation(expr.function, nu, fine_l, kinds, options, progress)
         change = {k: spatial_change(fine[k][0], coarse[k][0], cap) for k in kinds}
         if not auto or all(c is not None and c <= tol_spatial for c in change.values()):
             break
