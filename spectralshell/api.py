@@ -125,12 +125,14 @@ def benchmark(name: str, **params: Any) -> xr.Dataset:
     """Reference data of a benchmark problem for IB / FSI codes -> ``xarray.Dataset``.
 
     ``name``: a registered problem (``spectralshell benchmark list``; e.g. 'sphere-release');
-    ``params``: its physical inputs in cgs units (rho, mu, radius, sigma, and the initial shape
-    l, k, epsilon for sphere-release; defaults from the problem). The Dataset holds the time
-    series over ``t`` (s), each with its per-sample error bound ``<quantity>_error`` (units in
-    attrs), and attributes: the parameters and provenance (package and library versions,
-    scheme, resolution) as JSON, the exact and the fitted late-time growth rate (1/s) and
-    angular frequency (rad/s), and the one-page specification.
+    ``params``: its physical inputs in cgs units (rho, mu, radius, sigma, the initial shape
+    l, k, epsilon; sphere-parametric adds omega (rad/s) and margin; defaults from the problem).
+    The Dataset holds the time series over ``t`` (s), each with its per-sample error bound
+    ``<quantity>_error`` and, in attrs, its units and the exact late-time growth rate (1/s) and
+    angular frequency (rad/s) it follows; attributes: the parameters and provenance (package
+    and library versions, scheme, resolution) as JSON, the one-page specification and the
+    problem's own data (sphere-release: the exact and fitted decay; sphere-parametric: the
+    Floquet exponents, growth per period and eigen-shapes as JSON).
     :mod:`spectralshell.runner.benchmark` computes it.
 
     Raises

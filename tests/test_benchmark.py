@@ -16,6 +16,8 @@ from spectralshell.params.physical import PhysicalSphere
 from spectralshell.results.benchmark import write_csv, write_netcdf
 from spectralshell.runner.benchmark import real_harmonic, score, score_window
 
+from benchmark_cases import user_csv
+
 
 @pytest.fixture(scope="module")
 def reference():
@@ -46,7 +48,7 @@ def test_late_decay_matches_the_dispersion_relation(reference):
 def test_range_corners_match_the_dispersion_relation(zeta, l, k):
     """At the corners of the offered range (zeta, l) the fitted late-time rate and frequency
     agree with the dispersion relation to 1e-8 (time unit T); (3, 2) reports the amplitude only
-    (Yr_{3,2} vanishes at the pole and at theta = pi/2, phi = 0)."""
+    and the modal pressure jump (Yr_{3,2} vanishes at the pole and at theta = pi/2, phi = 0)."""
     ds = ss.benchmark("sphere-release", mu=zeta * math.sqrt(0.02), l=l, k=k)
     T = _params(ds)["T"]
     mode = complex(ss.natural_modes("sphere", m=l, kappa=1.0, nu=zeta, count=1).gamma[0])
@@ -54,6 +56,7 @@ def test_range_corners_match_the_dispersion_relation(zeta, l, k):
     assert abs(ds.attrs["fitted_frequency"] * T - mode.imag) < 1e-8
     if k == 2:
         assert "u_r_pole" not in ds and "u_r_equator" not in ds
+        assert "pressure_jump_pole" not in ds and "pressure_jump" in ds
 
 
 def test_reference_is_physical_and_bounded(reference):
@@ -77,6 +80,67 @@ def test_reference_is_physical_and_bounded(reference):
     assert prov["package"] == "spectralshell" and "numpy" in prov["libraries"]
     assert p["sigma_star"] == pytest.approx(math.log(3) / 2 * p["sigma"])
     assert IB_SPRING_FACTOR == pytest.approx(0.5493061443340549)
+
+
+def test_pressure_jump_is_the_normal_force_of_the_membrane():
+    """The jump factor (l - 1)(l + 2) sigma / R^2 of the reference is the normal force of the
+    membrane model F = sigma Delta_S X per unit area of the perturbed surface (independent of
+    the stepper: sympy geometry of r = 1 + eps Y, Y = P_l^k(cos theta) cos(k phi); the jump
+    p_in - p_out = -F.N sin(theta) / |N|^2 with N = X_theta x X_phi, thesis (6.16) with the
+    viscous normal stress not jumping): 2 at eps = 0 (Laplace) and (l - 1)(l + 2) Y at first
+    order, at any point."""
+    import sympy as sp
+
+    from spectralshell.runner.benchmark import pressure_jump_factor
+
+    th, ph, eps = sp.symbols("theta phi epsilon", real=True)
+
+    def laplacian(f):
+        return (sp.diff(sp.sin(th) * sp.diff(f, th), th) / sp.sin(th)
+                + sp.diff(f, ph, 2) / sp.sin(th) ** 2)
+
+    for l, k in ((2, 0), (3, 2), (4, 1)):
+        Y = sp.assoc_legendre(l, k, sp.cos(th)) * sp.cos(k * ph)
+        r = 1 + eps * Y
+        X = sp.Matrix([r * sp.sin(th) * sp.cos(ph), r * sp.sin(th) * sp.sin(ph), r * sp.cos(th)])
+        N = X.diff(th).cross(X.diff(ph))
+        jump = -X.applyfunc(laplacian).dot(N) * sp.sin(th) / N.dot(N)
+        order0 = sp.lambdify((th, ph), jump.subs(eps, 0))
+        order1 = sp.lambdify((th, ph), sp.diff(jump, eps).subs(eps, 0))
+        shape = sp.lambdify((th, ph), Y)
+        factor = pressure_jump_factor({"l": l, "sigma": 1.0, "radius": 1.0})
+        for point in ((0.3, 0.2), (1.1, 2.0), (2.5, 4.0)):
+            assert order0(*point) == pytest.approx(2.0, rel=1e-12)
+            assert order1(*point) == pytest.approx(factor * shape(*point), rel=1e-10)
+    # cgs: sigma / R^2 per cm of amplitude
+    assert pressure_jump_factor({"l": 3, "sigma": 3.0, "radius": 0.5}) == pytest.approx(120.0)
+
+
+def test_pressure_jump_series(reference):
+    """The pressure jump series: dyn/cm^2, the modal one (l - 1)(l + 2) sigma / R^2 times the
+    amplitude with its bound scaled alike, the point values Yr times the modal one, and its late
+    decay rate and frequency (fitted on their own) the dispersion relation's to 1e-8 (unit T)."""
+    from spectralshell.solvers.rate_fit import fit_rate
+
+    p = _params(reference)
+    factor = 4 * p["sigma"] / p["radius"] ** 2
+    P = reference["pressure_jump"].values
+    assert P == pytest.approx(factor * reference["amplitude"].values, rel=1e-14, abs=0)
+    assert reference["pressure_jump_error"].values == pytest.approx(
+        factor * reference["amplitude_error"].values, rel=1e-14, abs=0)
+    assert reference["pressure_jump_pole"].values == pytest.approx(
+        math.sqrt(5 / (4 * math.pi)) * P, rel=1e-14, abs=0)
+    assert reference["pressure_jump_equator"].values == pytest.approx(
+        -0.5 * math.sqrt(5 / (4 * math.pi)) * P, rel=1e-12, abs=0)
+    for q in ("pressure_jump", "pressure_jump_pole", "pressure_jump_equator"):
+        assert reference[q].attrs["units"] == "dyn/cm^2"
+    T = p["T"]
+    fit = fit_rate(reference["t"].values / T, P, window=tuple(np.array(
+        reference.attrs["fit_window"]) / T))
+    phys = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"])
+    mode = complex(ss.natural_modes("sphere", m=2, kappa=1.0, nu=phys.zeta, count=1).gamma[0])
+    assert abs(fit.growth_rate - mode.real) < 1e-8 and abs(fit.frequency - mode.imag) < 1e-8
+    assert "sigma / R^2 = 0.08 dyn/cm^3" in reference.attrs["specification"]
 
 
 def test_real_harmonic_is_the_package_convention():
@@ -108,14 +172,6 @@ def test_damped_oscillation_fit_recovers_a_known_signal():
     assert abs(rate - gamma) < 3 * error and abs(frequency - w) < 3 * error
 
 
-def _user_csv(path, t, columns):
-    names = list(columns)
-    rows = np.column_stack([t] + [columns[n] for n in names])
-    path.write_text("# my IB run\n" + ",".join(["t", *names]) + "\n"
-                    + "\n".join(",".join(repr(float(v)) for v in r) for r in rows) + "\n")
-    return path
-
-
 def test_score_reports_known_perturbations(reference, tmp_path):
     """Synthetic user runs: the reference itself (zero error, the reference's own fit), a time
     shift (L2 error = shift times ||dA/dt|| / ||A||, from the velocity series), a wrong decay
@@ -127,7 +183,7 @@ def test_score_reports_known_perturbations(reference, tmp_path):
     guess = complex(reference.attrs["exact_growth_rate"], reference.attrs["exact_frequency"])
 
     def run(name, tt, aa):
-        res, _, _ = score("sphere-release", _user_csv(tmp_path / f"{name}.csv", tt,
+        res, _, _ = score("sphere-release", user_csv(tmp_path / f"{name}.csv", tt,
                                                         {"amplitude": aa}), reference=reference)
         (q,) = res.quantities
         return q
@@ -200,7 +256,19 @@ def test_parameters_are_validated():
         ss.benchmark("sphere-release", l=2, k=3)
     with pytest.raises(ParameterError, match="unknown"):
         ss.benchmark("sphere-release", omega=3.0)
-    assert set(BENCHMARKS) == {"sphere-release"}      # only problems that have a reference
+    # only problems that have a reference
+    assert set(BENCHMARKS) == {"sphere-release", "sphere-parametric", "fibre-parametric"}
+
+
+def test_ib_spring_factor_is_the_patch_integral():
+    """sigma* / sigma = half the integral of sec xi over |xi| < pi/6 (thesis 6.4.1's midpoint
+    rule on a hexagonal patch), by quadrature; stated in every problem's specification."""
+    from scipy.integrate import quad
+
+    integral, _ = quad(lambda xi: 1.0 / math.cos(xi), -math.pi / 6, math.pi / 6)
+    assert IB_SPRING_FACTOR == pytest.approx(integral / 2, rel=1e-12)
+    for name in ("sphere-release", "sphere-parametric"):
+        assert "sigma* = (ln 3 / 2) sigma" in BENCHMARKS[name].specification
 
 
 def test_cli_write_and_score(tmp_path, capsys):

@@ -219,3 +219,50 @@ def test_marginal_tau_through_the_cover_matches_dense(kind, monkeypatch):
         assert abs(fast.error_estimate - dense.error_estimate) < 1e-11
         listed = dense.tau[dense.tau <= fast.complete_to]
         assert_same_list(fast.tau, listed)
+
+
+def _counting(module, name: str, monkeypatch) -> list:
+    """Patch ``module.name`` (a factory of operators) so that every product is recorded."""
+    calls: list = []
+    real = getattr(module, name)
+
+    def factory(*args):
+        made = real(*args)
+        op, rest = (made[0], made[1:]) if isinstance(made, tuple) else (made, None)
+
+        def product(x):
+            calls.append(1)
+            return op.matvec(x) if hasattr(op, "matvec") else op(x)
+
+        counted = (spla.LinearOperator(op.shape, matvec=product, dtype=op.dtype)
+                   if hasattr(op, "matvec") else product)
+        return counted if rest is None else (counted, *rest)
+
+    monkeypatch.setattr(module, name, factory)
+    return calls
+
+
+def test_arnoldi_runs_stop_at_their_product_budget(monkeypatch):
+    """ARPACK's restarts are capped from the budget (half_product.arpack_restarts): the
+    smallest-|tau| run (max_products) and each shift-invert disk (the cover's work_limit) give
+    up (None) within their budget where, uncapped, they apply the operator more often (a disk
+    ran to its end before the work was checked: 131 products against a limit of 120)."""
+    from spectralshell.solvers import half_product
+
+    hill = assemble(low_omega_cochlea(16), "subharmonic", 10, "real")
+    products = _counting(half_product, "krylov_operator", monkeypatch)
+    assert smallest_taus(hill) is None  # uncapped: gives up only when the space is too big
+    uncapped = len(products)
+    budget = uncapped // 4
+    products.clear()
+    assert smallest_taus(hill, max_products=budget) is None
+    assert budget // 2 < len(products) <= budget
+    assert half_product.arpack_restarts(np.inf, 8, 32) is None
+    assert half_product.arpack_restarts(31, 8, 32) == 0
+    assert half_product.arpack_restarts(32 + 24 * 5, 8, 32) == 5
+
+    b_products = _counting(shift_invert, "_b_product", monkeypatch)
+    assert interval_taus(hill, 0.5, work_limit=np.inf).work > 500  # three disks, the first ~170
+    b_products.clear()
+    assert interval_taus(hill, 0.5, work_limit=120.0) is None  # stopped inside the first disk
+    assert 64 <= len(b_products) <= 120

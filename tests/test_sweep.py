@@ -414,6 +414,26 @@ def test_process_workers_do_not_oversubscribe_blas_threads():
     assert all(t <= max(1, cores // 2) for t in threads)
 
 
+def test_interrupted_pool_is_stopped_before_open_pool_returns():
+    """An interrupt inside open_pool('processes') terminates the pool's busy workers (the task
+    would sleep 10 minutes) and ends its management thread before the KeyboardInterrupt leaves
+    open_pool: nothing is left for the interpreter's exit hook to race (Python 3.11 printed an
+    OSError from its wake-up pipe after the CLI's last line)."""
+    import multiprocessing
+    import threading
+
+    before = set(multiprocessing.active_children())
+    with pytest.raises(KeyboardInterrupt):
+        with executors.open_pool("processes", workers=2) as pool:
+            busy = pool.executor.submit(time.sleep, 600)
+            while not busy.running():
+                time.sleep(0.01)
+            raise KeyboardInterrupt
+    assert set(multiprocessing.active_children()) <= before
+    managers = [t for t in threading.enumerate() if type(t).__name__ == "_ExecutorManagerThread"]
+    assert not managers
+
+
 def test_ctrl_c_during_a_store_write_waits_for_the_chunk(tmp_path):
     """A SIGINT arriving inside ZarrStore.write is held back until the chunk (values, then its
     computed flags) is written, then raised as KeyboardInterrupt: no half-written chunk, and no

@@ -8,17 +8,21 @@ from ._canvas import colours, save_figure, subplots
 
 
 def score_figure(ds, user: tuple, path: str | Path) -> Path:
-    """Reference (line) and the user's samples (dots) of each quantity the user gave, against
-    time in s, written to ``path``; ``user`` = (t, {quantity: values})."""
+    """Reference (line, where it has the quantity) and the user's samples (dots) of each
+    quantity the user gave, against time in s, written to ``path``; ``user`` = (t, {quantity:
+    values})."""
     t_user, columns = user
     names = list(columns)
     fig, axes = subplots(len(names), 1, figsize=(7.0, 2.4 * len(names) + 0.6), sharex=True,
                          squeeze=False)
     ref_colour, user_colour = colours()[:2]
     for ax, name in zip(axes[:, 0], names):
-        ax.plot(ds["t"].values, ds[name].values, color=ref_colour, lw=1.2, label="reference")
+        units = "your units"
+        if name in ds:
+            ax.plot(ds["t"].values, ds[name].values, color=ref_colour, lw=1.2, label="reference")
+            units = ds[name].attrs.get("units", "")
         ax.plot(t_user, columns[name], ".", color=user_colour, ms=3, label="your run")
-        ax.set_ylabel(f"{name} ({ds[name].attrs.get('units', '')})")
+        ax.set_ylabel(f"{name} ({units})")
         ax.legend(loc="upper right", fontsize="small")
     axes[-1, 0].set_xlabel("time t (s)")
     fig.suptitle(f"benchmark {ds.attrs['problem']}")

@@ -94,17 +94,23 @@ class QuantityScore:
 
     relative_l2 : ||user - ref|| / ||ref|| over the reference times inside the user's range;
     max_error : max |user - ref| there (the quantity's units); reference_error : the largest
-    error bound of the reference there; growth_rate, frequency, fit_error : fitted from the
-    user's own samples in the score's fit window (1/s, rad/s; None if the fit failed);
-    reference_growth_rate, reference_frequency : the same fit of the reference series (the
-    fit's own bias: compare the user's fit with these, and both with the exact values);
-    samples : the number of reference times compared."""
+    error bound of the reference there (these three None for a series the reference has no
+    samples of, fibre-parametric's: its rate alone is scored); exact_growth_rate,
+    exact_frequency : what the late part of the quantity follows (1/s, rad/s: the natural
+    mode, or the Floquet exponent with its locked frequency); growth_rate, frequency,
+    fit_error : fitted from the user's own samples in the score's fit window (1/s, rad/s;
+    None if the fit failed); reference_growth_rate, reference_frequency : the same fit of the
+    reference series (the fit's own bias: compare the user's fit with these, and both with the
+    exact values; None without a reference series); samples : the number of reference times
+    compared (without a reference series: the user's samples in the fit window)."""
 
     name: str
     units: str
-    relative_l2: float
-    max_error: float
-    reference_error: float
+    relative_l2: float | None
+    max_error: float | None
+    reference_error: float | None
+    exact_growth_rate: float
+    exact_frequency: float
     growth_rate: float | None
     frequency: float | None
     fit_error: float | None
@@ -114,19 +120,22 @@ class QuantityScore:
 
     def to_dict(self) -> dict[str, Any]:
         return {k: getattr(self, k) for k in ("units", "relative_l2", "max_error",
-                                               "reference_error", "growth_rate", "frequency",
+                                               "reference_error", "exact_growth_rate",
+                                               "exact_frequency", "growth_rate", "frequency",
                                                "fit_error", "reference_growth_rate",
                                                "reference_frequency", "samples")}
 
 
 @dataclass(frozen=True, kw_only=True)
 class BenchmarkScore:
-    """The score of a user's run: per quantity, and the exact late-time rate and frequency."""
+    """The score of a user's run: per quantity, and the exact late-time rate and frequency
+    when the problem has one for all its quantities (None otherwise: sphere-parametric's
+    series have one each)."""
 
     problem: str
     params: dict[str, Any]
-    exact_growth_rate: float
-    exact_frequency: float
+    exact_growth_rate: float | None
+    exact_frequency: float | None
     fit_window: tuple[float, float]
     quantities: tuple[QuantityScore, ...]
 
@@ -140,18 +149,20 @@ class BenchmarkScore:
 
     def summary(self) -> str:
         """One line per quantity: errors, then fitted against exact rate and frequency."""
-        head = (f"{self.problem}: exact growth rate {self.exact_growth_rate:+.10g} 1/s, "
-                f"frequency {self.exact_frequency:.10g} rad/s (fit window "
-                f"{self.fit_window[0]:.4g}..{self.fit_window[1]:.4g} s)")
+        head = f"{self.problem}: fit window {self.fit_window[0]:.4g}..{self.fit_window[1]:.4g} s"
         lines = [head]
         for q in self.quantities:
-            fit = ("no fit" if q.growth_rate is None or q.reference_growth_rate is None else
+            same = ("" if q.reference_growth_rate is None else
+                    f"same fit of the reference {q.reference_growth_rate:+.8g}, "
+                    f"{q.reference_frequency:.8g}; ")
+            fit = ("no fit" if q.growth_rate is None else
                    f"rate {q.growth_rate:+.8g} frequency {q.frequency:.8g} (+- {q.fit_error:.1e}; "
-                   f"same fit of the reference {q.reference_growth_rate:+.8g}, "
-                   f"{q.reference_frequency:.8g})")
-            lines.append(f"  {q.name}: relative L2 {q.relative_l2:.3e}  max error "
-                         f"{q.max_error:.3e} {q.units} (reference <= {q.reference_error:.1e})  "
-                         f"{fit}  [{q.samples} samples]")
+                   f"{same}exact {q.exact_growth_rate:+.10g} 1/s, "
+                   f"{q.exact_frequency:.10g} rad/s)")
+            errors = ("no reference series" if q.relative_l2 is None else
+                      f"relative L2 {q.relative_l2:.3e}  max error {q.max_error:.3e} {q.units} "
+                      f"(reference <= {q.reference_error:.1e})")
+            lines.append(f"  {q.name}: {errors}  {fit}  [{q.samples} samples]")
         return "\n".join(lines)
 
 

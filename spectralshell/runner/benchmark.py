@@ -12,6 +12,15 @@ e^-``EFOLDS`` (the fit window), then one more period. Error bound per sample: |f
 |fine - (n - 8) radial nodes|. The fitted decay rate and frequency (DMD,
 :func:`~spectralshell.solvers.rate_fit.fit_rate`, on the fit window) are stored next to the
 exact ones of the dispersion relation (:func:`spectralshell.runner.modes.natural_modes`).
+
+sphere-parametric and fibre-parametric. tau_min from :func:`spectralshell.runner.floquet.floquet`,
+at tau = (1 -+ margin) tau_min the two least stable Floquet exponents
+(:func:`spectralshell.runner.floquet.exponents`) and the periodic eigen-shape
+(:func:`spectralshell.solvers.marginal_mode.floquet_mode`, bound from the coarser truncation).
+The sphere's amplitudes are stepped as above in the time unit 1 / omega (``STEPS_PER_PERIOD``
+steps per forcing period, ``PERIODS`` periods) and their growth rates fitted (DMD over whole
+periods from ``FIT_FROM_PERIOD``); the fibre has no stepper, and score fits a user's run after
+the transient (:func:`_rate_window`).
 """
 
 from __future__ import annotations
@@ -27,15 +36,20 @@ from scipy.special import lpmv
 from .._version import stamp
 from ..discretise.sphere_stepping import N_STEP, scene_blocks
 from ..errors import ParameterError, SpectralShellError
+from ..models.registry import hill_system
 from ..params.benchmarks import (BENCHMARKS, IB_SPRING_FACTOR, benchmark_params,
                                  benchmark_problem)
-from ..params.physical import PhysicalSphere
+from ..params.physical import PhysicalSphere, fibre_forced
+from ..params.registry import make_params
 from ..results.benchmark import (ERROR_SUFFIX, BenchmarkScore, QuantityScore, attrs_json,
                                  read_series, reference_columns, write_csv, write_netcdf)
 from ..results.notebook import dataset, json_attr, variable
+from ..solvers.marginal import coarser
+from ..solvers.marginal_mode import floquet_mode
 from ..solvers.oscillation_fit import fit_damped_oscillation
 from ..solvers.rate_fit import fit_rate
 from ..solvers.stepper import integrate
+from .floquet import exponents, floquet
 from .modes import natural_modes
 
 if TYPE_CHECKING:
@@ -48,7 +62,18 @@ SAMPLES_PER_PERIOD = 32
 FIT_START = 4.0          # periods of transient (continuous spectrum) before the fit window
 EFOLDS = 12.0            # the fit window: the mode's decay by e^-EFOLDS
 SCORE_EFOLDS = 3.0       # score's fit of a user's series (and of the reference, alike)
-POINTS = {"u_r_pole": (0.0, 0.0), "u_r_equator": (math.pi / 2, 0.0)}   # (theta, phi)
+POINTS = {"pole": (0.0, 0.0), "equator": (math.pi / 2, 0.0)}   # (theta, phi)
+STEPPING = ("IMEX time stepping of the radial Chebyshev system of degree l "
+            "(discretise/sphere_stepping.py); bound from 2 dt and n - 8 nodes")
+# sphere-parametric (time unit 1 / omega, forcing period 2 pi)
+STEPS_PER_PERIOD = 512   # SBDF4: the fitted growth rate to ~1e-10 (2.9e-10 .. 1e-9 at 256)
+PERIODS = 120            # the run: 120 forcing periods
+FIT_FROM_PERIOD = 40     # the fit (and score) window: period 40 to the end
+SHAPE_POINTS = 64        # samples of the periodic eigen-shape over its period
+LOCKED = 1e-9            # |Im gamma - 0 or 1/2| of an exponent locked to the forcing
+# fibre-parametric (no reference series): score's window for a user's run
+TRANSIENT_EFOLDS = 10.0  # starts when the next Floquet solution is e^-10 of the leading one
+SCORE_PERIODS = 40       # and lasts 40 forcing periods
 
 
 def real_harmonic(l: int, k: int, theta: float, phi: float) -> float:
@@ -62,15 +87,35 @@ def real_harmonic(l: int, k: int, theta: float, phi: float) -> float:
     return math.sqrt(2.0) * value * (math.cos(a * phi) if k > 0 else math.sin(a * phi))
 
 
-def _run(system, initial, step: float, every: int, steps: int) -> np.ndarray:
-    """(times, (samples, 2)): X^Y and dX^Y/dt of the run at the saved times; dX^Y/dt is the
-    X^Y row of L y, the reduced ODE's right-hand side (collocation systems: M = I)."""
+def pressure_jump_factor(p: dict[str, Any]) -> float:
+    """(l - 1)(l + 2) sigma / R^2 in dyn/cm^3: the jump p_in - p_out - 2 sigma / R per cm of
+    membrane amplitude in the linearised problem (thesis (6.17) in cgs units; the viscous normal
+    stress does not jump)."""
+    return (p["l"] - 1) * (p["l"] + 2) * p["sigma"] / p["radius"] ** 2
+
+
+def _at_points(name: str, modal: tuple[np.ndarray, np.ndarray], l: int, k: int) -> dict:
+    """{name_pole, name_equator: (values, bounds)} of a modal series (values, bounds) times
+    Yr_{l,k} at the POINTS where it does not vanish."""
+    out = {}
+    for where, (theta, phi) in POINTS.items():
+        y = real_harmonic(l, k, theta, phi)
+        if abs(y) > 1e-12:
+            out[f"{name}_{where}"] = (y * modal[0], abs(y) * modal[1])
+    return out
+
+
+def _run(system, initial, step: float, every: int, steps: int) -> tuple[np.ndarray, np.ndarray]:
+    """(times, (samples, q)): X^Y at the saved times and, unforced, dX^Y/dt (the X^Y row of
+    L y, the reduced ODE's right-hand side; collocation systems: M = I); q = 2, or 1 forced."""
     if system.radial != "collocation":
         raise SpectralShellError(f"the reference needs the collocation system, not "
                                  f"{system.radial!r} (n_radial = {system.n_inner})")
     row = system.membrane.start
 
     def observe(y):
+        if system.forcing is not None:
+            return np.array([y[row, 0]])
         return np.array([y[row, 0], (system.L[row] @ y)[0]])
 
     run = integrate(system, initial, scheme=SCHEME, dt=step, t_end=steps * step, every=every,
@@ -78,109 +123,298 @@ def _run(system, initial, step: float, every: int, steps: int) -> np.ndarray:
     return run.times, run.values
 
 
+def _stepped(shape: dict, kappa: float, nu: float, tau: float, step: float, every: int,
+             steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+    """The degree of ``shape`` stepped from rest (dimensionless) at the resolution for TOL ->
+    (times, values of :func:`_run`, their error bound |fine - step 2h| + |fine - (n - 8) radial
+    nodes|, provenance of the resolution)."""
+    (fine,) = scene_blocks(shape=shape, twist={}, kappa=kappa, nu=nu, tau=tau, tol=TOL)
+    (coarse,) = scene_blocks(shape=shape, twist={}, kappa=kappa, nu=nu, tau=tau,
+                             n_radial=fine.system.n_inner - N_STEP)
+    times, f = _run(fine.system, fine.initial, step, every, steps)
+    _, c_time = _run(fine.system, fine.initial, 2 * step, every // 2, steps // 2)
+    _, c_space = _run(coarse.system, coarse.initial, step, every, steps)
+    resolution = {"n_radial": fine.system.n_inner, "n_radial_check": coarse.system.n_inner,
+                  "exterior_scale": fine.system.exterior_scale,
+                  "spatial_error": fine.system.spatial_error}
+    return times, f, np.abs(f - c_time) + np.abs(f - c_space), resolution
+
+
 def _sphere_release(p: dict[str, Any]) -> dict[str, Any]:
     """Dimensionless runs and fits of sphere-release -> physical series, bounds and metadata."""
     phys = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"])
     T, zeta, l, k = phys.time_scale, phys.zeta, p["l"], p["k"]
     exact = complex(natural_modes("sphere", m=l, kappa=1.0, nu=zeta, count=1).gamma[0])
-    shape = {(l, k): p["epsilon"]}
-    (fine,) = scene_blocks(shape=shape, twist={}, kappa=1.0, nu=zeta, tau=0.0, tol=TOL)
-    (coarse,) = scene_blocks(shape=shape, twist={}, kappa=1.0, nu=zeta, tau=0.0,
-                             n_radial=fine.system.n_inner - N_STEP)
     period = 2 * math.pi / exact.imag
     t_a = FIT_START * period
     t_b = t_a + EFOLDS / -exact.real
     step = DT_FACTOR / abs(exact)
     every = 2 * max(1, round(period / SAMPLES_PER_PERIOD / step / 2))
     steps = math.ceil((t_b + period) / (every * step)) * every
-    times, f = _run(fine.system, fine.initial, step, every, steps)
-    _, c_time = _run(fine.system, fine.initial, 2 * step, every // 2, steps // 2)
-    _, c_space = _run(coarse.system, coarse.initial, step, every, steps)
-    bound = np.abs(f - c_time) + np.abs(f - c_space)
+    times, f, bound, resolution = _stepped({(l, k): p["epsilon"]}, 1.0, zeta, 0.0, step, every,
+                                           steps)
     fit = fit_rate(times, f[:, 0], window=(t_a, t_b))
     R = p["radius"]
-    series = {"amplitude": (R * f[:, 0], R * bound[:, 0])}
-    for name, (theta, phi) in POINTS.items():
-        y = real_harmonic(l, k, theta, phi)
-        if abs(y) > 1e-12:
-            series[name] = (R / T * y * f[:, 1], R / T * abs(y) * bound[:, 1])
+    jump = pressure_jump_factor(p)
+    pressure = (jump * R * f[:, 0], jump * R * bound[:, 0])
+    series = {"amplitude": (R * f[:, 0], R * bound[:, 0]),
+              **_at_points("u_r", (R / T * f[:, 1], R / T * bound[:, 1]), l, k),
+              "pressure_jump": pressure, **_at_points("pressure_jump", pressure, l, k)}
     params = {**p, "T": T, "zeta": zeta, "sigma_star": IB_SPRING_FACTOR * p["sigma"],
               "lamb_frequency": phys.lamb_frequency(l)}
     provenance = {**stamp(), "scheme": SCHEME, "dt": step * T, "samples_every": every,
-                  "n_radial": fine.system.n_inner, "n_radial_check": coarse.system.n_inner,
-                  "exterior_scale": fine.system.exterior_scale,
-                  "spatial_error": fine.system.spatial_error,
-                  "method": "IMEX time stepping of the radial Chebyshev system of degree l "
-                            "(discretise/sphere_stepping.py); bound from 2 dt and n - 8 nodes"}
+                  **resolution, "method": STEPPING}
+    rate = (exact.real / T, exact.imag / T)
     return {"t": times * T, "series": series, "params": params, "provenance": provenance,
-            "exact": (exact.real / T, exact.imag / T), "fitted": (fit.growth_rate / T,
-                                                                  fit.frequency / T),
-            "fit_window": (t_a * T, t_b * T)}
+            "exact": dict.fromkeys(series, rate), "fitted": {},
+            "score_window": (t_a * T, t_a * T + SCORE_EFOLDS / -rate[0]),
+            "attrs": {"exact_growth_rate": rate[0], "exact_frequency": rate[1],
+                      "fitted_growth_rate": fit.growth_rate / T,
+                      "fitted_frequency": fit.frequency / T, "fit_window": [t_a * T, t_b * T]}}
+
+
+def tau_min(model: str, kappa: float, nu: float, m: int) -> tuple[float, str]:
+    """(tau_min, kind): the smallest marginal forcing amplitude of wavenumber (degree) m of
+    ``model`` over both kinds (tip of the lowest tongue;
+    :func:`spectralshell.runner.floquet.floquet`)."""
+    result = floquet(model, m=m, kappa=kappa, nu=nu)
+    tips = [(marginal.tau_min, kind) for kind in ("subharmonic", "harmonic")
+            if (marginal := getattr(result, kind)) is not None and marginal.tau_min is not None]
+    if not tips:
+        raise ParameterError(f"wavenumber {m} of the {model} is invalid at kappa = {kappa:.6g}, "
+                             f"nu = {nu:.6g}: it has no resonance tongue")
+    return min(tips)
+
+
+def _parametric_taus(model: str, p: dict[str, Any]
+                     ) -> tuple[float, float, int, float, str, dict[str, float]]:
+    """(kappa, nu, wavenumber, tau_min, kind, {below, above: tau}) of a parametric problem of
+    ``model`` ('sphere': degree l, 'fibre': wavenumber m); ParameterError when
+    (1 + margin) tau_min reaches 1/2."""
+    physical = {k: p[k] for k in ("rho", "mu", "radius", "sigma", "omega")}
+    if model == "sphere":
+        kappa_nu, m = PhysicalSphere(**physical).forced(), p["l"]
+    else:
+        kappa_nu, m = fibre_forced(**physical), p["m"]
+    kappa, nu = kappa_nu["kappa"], kappa_nu["nu"]
+    tip, kind = tau_min(model, kappa, nu, m)
+    if (1 + p["margin"]) * tip >= 0.5:
+        raise ParameterError(f"margin = {p['margin']:g} is invalid here: tau_min = {tip:.6g} "
+                             f"(wavenumber {m}), so (1 + margin) tau_min must stay below 1/2 "
+                             "(K(t) > 0)")
+    return kappa, nu, m, tip, kind, {"below": (1 - p["margin"]) * tip,
+                                     "above": (1 + p["margin"]) * tip}
+
+
+def _eigen_shape(system, tau: float, gamma: complex, n_temporal: int) -> tuple[str, np.ndarray]:
+    """(kind, p): the radial periodic eigen-shape at SHAPE_POINTS phases over its period
+    (4 pi subharmonic, 2 pi harmonic, from forcing phase 0), max |p| = 1."""
+    mode = floquet_mode(system, tau, gamma, n_temporal)
+    period = 4 * math.pi if mode.kind == "subharmonic" else 2 * math.pi
+    shape = mode.evaluate(np.linspace(0.0, period, SHAPE_POINTS, endpoint=False))[:, 0]
+    return mode.kind, shape / np.max(np.abs(shape))
+
+
+def _floquet_case(model: str, system, kappa: float, nu: float, m: int, tau: float,
+                  omega: float) -> dict[str, Any]:
+    """The least stable Floquet exponent of wavenumber m at tau (physical rate and growth per
+    forcing period), the next one (the slowest transient), and the periodic eigen-shape p(t)
+    over one period with its error bound |p_N - p_N'| (N' the coarser truncation)."""
+    result = exponents(model, m=m, kappa=kappa, nu=nu, tau=tau, count=2)
+    gamma = complex(result.gamma[0])
+    if min(abs(gamma.imag % 1.0 - lock) for lock in (0.0, 0.5, 1.0)) > LOCKED:
+        raise ParameterError(f"margin is invalid here: at tau = {tau:.6g} the least stable "
+                             f"Floquet exponent {gamma:.6g} is not locked to the forcing (Im "
+                             "gamma not 0 or 1/2: a beating response without a periodic "
+                             "eigen-shape); a smaller margin keeps tau_below in the locked "
+                             "band just below tau_min, whose width grows with nu")
+    kind, shape = _eigen_shape(system, tau, gamma, result.n_temporal)
+    _, check = _eigen_shape(system, tau, gamma, coarser(result.n_temporal))
+    check *= np.sign(check @ shape)            # the null vector's sign is arbitrary
+    period = (4 if kind == "subharmonic" else 2) * math.pi / omega
+    return {"tau": tau, "gamma_real": gamma.real, "gamma_imag": gamma.imag,
+            "growth_rate": gamma.real * omega, "frequency": (gamma.imag % 1.0) * omega,
+            "growth_per_period": math.exp(2 * math.pi * gamma.real),
+            "next_growth_rate": float(result.gamma[1].real) * omega,
+            "error_estimate": result.error_estimate, "n_temporal": result.n_temporal,
+            "kind": kind, "shape_t": list(np.arange(SHAPE_POINTS) * period / SHAPE_POINTS),
+            "shape": list(shape), "shape_error": list(np.abs(shape - check))}
+
+
+def _sphere_parametric(p: dict[str, Any]) -> dict[str, Any]:
+    """Floquet exponents, eigen-shapes and stepped runs of sphere-parametric below and above
+    tau_min -> physical series, bounds and metadata."""
+    omega, R, k = p["omega"], p["radius"], p["k"]
+    kappa, nu, l, tip, kind, taus = _parametric_taus("sphere", p)
+    system = hill_system(make_params("sphere", {"m": l, "kappa": kappa, "nu": nu}))
+    step = 2 * math.pi / STEPS_PER_PERIOD
+    every = STEPS_PER_PERIOD // SAMPLES_PER_PERIOD
+    steps = PERIODS * STEPS_PER_PERIOD
+    window = (FIT_FROM_PERIOD * 2 * math.pi, steps * step)
+    series, floquet_cases, exact, fitted, resolution = {}, {}, {}, {}, {}
+    for case, tau in taus.items():
+        case_data = _floquet_case("sphere", system, kappa, nu, l, tau, omega)
+        times, f, bound, resolution[case] = _stepped({(l, k): p["epsilon"]}, kappa, nu, tau,
+                                                     step, every, steps)
+        fit = fit_rate(times, f[:, 0], period=2 * math.pi, window=window)
+        name = f"amplitude_{case}"
+        series[name] = (R * f[:, 0], R * bound[:, 0])
+        floquet_cases[case] = case_data
+        exact[name] = (case_data["growth_rate"], case_data["frequency"])
+        fitted[name] = (fit.growth_rate * omega, fit.frequency * omega)
+    params = {**p, "kappa": kappa, "nu": nu, "tau_min": tip, "kind": kind,
+              "tau_below": taus["below"], "tau_above": taus["above"],
+              "sigma_star": IB_SPRING_FACTOR * p["sigma"], "forcing_period": 2 * math.pi / omega}
+    provenance = {**stamp(), "scheme": SCHEME, "dt": step / omega, "samples_every": every,
+                  "resolution": resolution, "method": STEPPING,
+                  "floquet": "Hill's method on the exact fluid (solvers/hill_exponents.py), "
+                             "eigen-shape the null vector of the truncated Hill matrix"}
+    return {"t": times / omega, "series": series, "params": params, "provenance": provenance,
+            "exact": exact, "fitted": fitted,
+            "score_window": (window[0] / omega, window[1] / omega),
+            "attrs": {"forcing_frequency": omega, "floquet": json_attr(floquet_cases)}}
+
+
+def _rate_window(rates, omega: float) -> tuple[float, float]:
+    """(start, end) in s of score's window for a run without reference series: from where the
+    next Floquet solution has decayed by e^-TRANSIENT_EFOLDS against the leading one (in the
+    slower of the cases) over SCORE_PERIODS forcing periods; ``rates`` = (leading, next)
+    growth rates in 1/s, one pair per case."""
+    start = max(TRANSIENT_EFOLDS / (leading - following) for leading, following in rates)
+    return start, start + SCORE_PERIODS * 2 * math.pi / omega
+
+
+def _fibre_parametric(p: dict[str, Any]) -> dict[str, Any]:
+    """Floquet exponents and eigen-shapes of fibre-parametric below and above tau_min -> the
+    eigen-shapes over one period (s) with their truncation bounds, and metadata; the window
+    where score fits a user's run starts when the next Floquet solution has decayed by
+    e^-TRANSIENT_EFOLDS against the leading one (the slower of the two cases)."""
+    omega = p["omega"]
+    kappa, nu, m, tip, kind, taus = _parametric_taus("fibre", p)
+    system = hill_system(make_params("fibre", {"m": m, "kappa": kappa, "nu": nu}))
+    cases = {case: _floquet_case("fibre", system, kappa, nu, m, tau, omega)
+             for case, tau in taus.items()}
+    series = {f"shape_{case}": (np.array(c["shape"]), np.array(c["shape_error"]))
+              for case, c in cases.items()}
+    exact = {f"{prefix}_{case}": (c["growth_rate"], c["frequency"])
+             for case, c in cases.items() for prefix in ("shape", "amplitude")}
+    params = {**p, "kappa": kappa, "nu": nu, "tau_min": tip, "kind": kind,
+              "tau_below": taus["below"], "tau_above": taus["above"],
+              "forcing_period": 2 * math.pi / omega}
+    provenance = {**stamp(), "method": "Hill's method on the exact fluid "
+                  "(solvers/hill_exponents.py); eigen-shape the null vector of the truncated "
+                  "Hill matrix, bound from the coarser truncation; no time stepping"}
+    return {"t": np.array(cases["below"]["shape_t"]), "series": series, "params": params,
+            "provenance": provenance, "exact": exact, "fitted": {},
+            "score_window": _rate_window(((c["growth_rate"], c["next_growth_rate"])
+                                          for c in cases.values()), omega),
+            "attrs": {"forcing_frequency": omega, "floquet": json_attr(cases)}}
 
 
 #: The reference computation of each registered problem.
-COMPUTE = {"sphere-release": _sphere_release}
+COMPUTE = {"sphere-release": _sphere_release, "sphere-parametric": _sphere_parametric,
+           "fibre-parametric": _fibre_parametric}
 assert set(COMPUTE) == set(BENCHMARKS)
 
 
 def benchmark(name: str, **params: Any) -> xr.Dataset:
     """Reference data of benchmark ``name`` at the given physical parameters (cgs; defaults
-    from the problem) -> ``xarray.Dataset`` over ``t`` (s): each quantity and its per-sample
-    error bound ``<quantity>_error`` (units in attrs); attributes: problem, title, params and
-    provenance (JSON: package and library versions, scheme, resolution), exact and fitted
-    late-time growth rate (1/s) and angular frequency (rad/s), fit window (s), specification."""
+    from the problem) -> ``xarray.Dataset`` over ``t`` (s): each quantity (attrs: units, the
+    exact growth rate (1/s) and angular frequency (rad/s) its late part follows and, where
+    fitted, the same fitted from it) and its per-sample error bound ``<quantity>_error``;
+    attributes: problem, title, params and provenance (JSON: package and library versions,
+    scheme, resolution), the window where score fits (s), the specification and the problem's
+    own (sphere-release: the exact and fitted decay; the parametric problems: the Floquet data;
+    fibre-parametric: the exact rates of the series a user's run gives, ``rate_only``)."""
     problem = benchmark_problem(name)
     p = benchmark_params(problem, params)
     ref = COMPUTE[name](p)
     units = {q.name: q for q in problem.quantities}
     data = {}
+    rate_only = {q.name: dict(zip(("exact_growth_rate", "exact_frequency"), ref["exact"][q.name]))
+                 for q in problem.rate_only}
     for q, (values, bound) in ref["series"].items():
         data[q] = variable(("t",), values, units[q].description, units[q].units)
+        rates = {"exact": ref["exact"][q], **({"fitted": ref["fitted"][q]} if q in ref["fitted"]
+                                              else {})}
+        for which, (rate, frequency) in rates.items():
+            data[q][2].update({f"{which}_growth_rate": rate, f"{which}_frequency": frequency})
         data[q + ERROR_SUFFIX] = variable(("t",), bound, f"error bound of {q}", units[q].units)
     attrs = {"title": f"spectralshell benchmark {name}: {problem.title}", "problem": name,
              "params": json_attr(ref["params"]), "provenance": json_attr(ref["provenance"]),
-             "exact_growth_rate": ref["exact"][0], "exact_frequency": ref["exact"][1],
-             "fitted_growth_rate": ref["fitted"][0], "fitted_frequency": ref["fitted"][1],
-             "fit_window": list(ref["fit_window"]),
+             "score_window": list(ref["score_window"]), **ref["attrs"],
+             **({"rate_only": json_attr(rate_only)} if rate_only else {}),
              "specification": specification_text(name, **params)}
     return dataset(data, {"t": variable(("t",), ref["t"], "time t", "s")}, attrs)
+
+
+def _release_fields(p: dict[str, Any]) -> dict[str, Any]:
+    """The specification's values of sphere-release."""
+    phys = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"])
+    T = phys.time_scale
+    exact = complex(natural_modes("sphere", m=p["l"], kappa=1.0, nu=phys.zeta, count=1).gamma[0])
+    return {"T": T, "zeta": phys.zeta, "growth_rate": exact.real / T,
+            "frequency": exact.imag / T, "growth_rate_nd": exact.real, "frequency_nd": exact.imag,
+            "lamb": phys.lamb_frequency(p["l"]), "efolds": EFOLDS,
+            "jump_factor": pressure_jump_factor(p)}
+
+
+def _parametric_fields(model: str, p: dict[str, Any]) -> dict[str, Any]:
+    """The specification's values of a parametric problem of ``model`` (tau_min, both
+    exponents; the fibre: score's window)."""
+    kappa, nu, m, tip, kind, taus = _parametric_taus(model, p)
+    omega = p["omega"]
+    out = {"kappa": kappa, "nu": nu, "tau_min": tip, "kind": kind,
+           "forcing_period": 2 * math.pi / omega, "periods": PERIODS,
+           "shape_period": (4 if kind == "subharmonic" else 2) * math.pi / omega,
+           "transient_efolds": TRANSIENT_EFOLDS}
+    rates = []
+    for case, tau in taus.items():
+        gamma = exponents(model, m=m, kappa=kappa, nu=nu, tau=tau, count=2).gamma
+        out.update({f"tau_{case}": tau, f"rate_{case}": gamma[0].real * omega,
+                    f"rate_{case}_nd": gamma[0].real,
+                    f"growth_{case}": math.exp(2 * math.pi * gamma[0].real)})
+        rates.append((gamma[0].real * omega, gamma[1].real * omega))
+    start, end = _rate_window(rates, omega)
+    return {**out, "score_start": start, "score_end": end}
+
+
+FIELDS = {"sphere-release": _release_fields,
+          "sphere-parametric": lambda p: _parametric_fields("sphere", p),
+          "fibre-parametric": lambda p: _parametric_fields("fibre", p)}
 
 
 def specification_text(name: str, **params: Any) -> str:
     """The one-page specification of problem ``name`` at the given (or default) parameters."""
     problem = benchmark_problem(name)
     p = benchmark_params(problem, params)
-    phys = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"])
-    T = phys.time_scale
-    exact = complex(natural_modes("sphere", m=p["l"], kappa=1.0, nu=phys.zeta, count=1).gamma[0])
     return problem.specification.format(
-        **p, amplitude=p["epsilon"] * p["radius"], T=T, zeta=phys.zeta,
-        growth_rate=exact.real / T, frequency=exact.imag / T, growth_rate_nd=exact.real,
-        frequency_nd=exact.imag, lamb=phys.lamb_frequency(p["l"]), efolds=EFOLDS,
+        **p, **FIELDS[name](p), amplitude=p.get("epsilon", 0.0) * p["radius"],
         sigma_star=IB_SPRING_FACTOR * p["sigma"], reference=problem.reference)
 
 
 def score_window(ds) -> tuple[float, float]:
-    """(t_a, t_b) in s where score fits a user's series: from the start of the reference's fit
-    window over SCORE_EFOLDS e-folds of the exact mode (longer windows let the algebraic tail
-    bias the fit)."""
-    t_a = float(ds.attrs["fit_window"][0])
-    return t_a, t_a + SCORE_EFOLDS / -float(ds.attrs["exact_growth_rate"])
+    """(t_a, t_b) in s where score fits a user's series (and the reference alike): sphere-release
+    from the start of the reference's fit window over SCORE_EFOLDS e-folds of the exact mode
+    (longer windows let the algebraic tail bias the fit); sphere-parametric from period
+    FIT_FROM_PERIOD to the end; fibre-parametric after the transient (:func:`_rate_window`)."""
+    return tuple(float(v) for v in ds.attrs["score_window"])
 
 
-def _fit(t: np.ndarray, x: np.ndarray, window: tuple[float, float], guess: complex):
+def _fit(t: np.ndarray, x: np.ndarray, window: tuple[float, float], guess: complex,
+         forcing: float | None):
     """(rate, frequency, error) of x in the window, or (None, None, None) if it cannot be fitted."""
     inside = (t >= window[0]) & (t <= window[1])
     try:
-        return fit_damped_oscillation(t[inside], x[inside], guess=guess)
+        return fit_damped_oscillation(t[inside], x[inside], guess=guess, forcing=forcing)
     except SpectralShellError:
         return None, None, None
 
 
-def _score_quantity(ds, name: str, t_user: np.ndarray, x_user: np.ndarray,
-                    guess: complex) -> QuantityScore:
+def _score_quantity(ds, name: str, t_user: np.ndarray, x_user: np.ndarray) -> QuantityScore:
     """Errors of one user series against the reference (interpolated by a cubic spline onto
-    the reference times inside the user's range) and its fitted rate and frequency."""
+    the reference times inside the user's range) and its fitted rate and frequency (a damped
+    cosine, or forced a Floquet solution, started from the exact values)."""
     t_ref = ds["t"].values
     inside = (t_ref >= t_user[0]) & (t_ref <= t_user[-1])
     if inside.sum() < 2 or t_user.size < 4:
@@ -189,15 +423,39 @@ def _score_quantity(ds, name: str, t_user: np.ndarray, x_user: np.ndarray,
                              "times (or it has fewer than 4 samples)")
     ref = ds[name].values[inside]
     diff = CubicSpline(t_user, x_user)(t_ref[inside]) - ref
-    t_a, t_b = score_window(ds)
-    rate, frequency, error = _fit(t_user, x_user, (t_a, t_b), guess)
-    ref_fit = _fit(t_ref, ds[name].values, (t_a, t_b), guess)
-    return QuantityScore(name=name, units=ds[name].attrs.get("units", ""),
+    attrs = ds[name].attrs
+    guess = complex(attrs["exact_growth_rate"], attrs["exact_frequency"])
+    forcing = ds.attrs.get("forcing_frequency")
+    window = score_window(ds)
+    rate, frequency, error = _fit(t_user, x_user, window, guess, forcing)
+    ref_fit = _fit(t_ref, ds[name].values, window, guess, forcing)
+    return QuantityScore(name=name, units=attrs.get("units", ""),
+                         exact_growth_rate=float(guess.real), exact_frequency=float(guess.imag),
                          reference_growth_rate=ref_fit[0], reference_frequency=ref_fit[1],
                          relative_l2=float(np.linalg.norm(diff) / np.linalg.norm(ref)),
                          max_error=float(np.max(np.abs(diff))),
                          reference_error=float(np.max(ds[name + ERROR_SUFFIX].values[inside])),
                          growth_rate=rate, frequency=frequency, fit_error=error,
+                         samples=int(inside.sum()))
+
+
+def _score_rate(ds, name: str, t_user: np.ndarray, x_user: np.ndarray,
+                exact: dict[str, float]) -> QuantityScore:
+    """The growth rate and frequency of a user series the reference has no samples of
+    (fibre-parametric), fitted in the score window, against the exact ones; ParameterError when
+    the run does not cover the window."""
+    window = score_window(ds)
+    if t_user[0] > window[0] or t_user[-1] < window[1]:
+        raise ParameterError(f"user data column {name} is invalid: its times "
+                             f"{t_user[0]:g}..{t_user[-1]:g} s must cover the fit window "
+                             f"{window[0]:.6g}..{window[1]:.6g} s (after the transient)")
+    guess = complex(exact["exact_growth_rate"], exact["exact_frequency"])
+    rate, frequency, error = _fit(t_user, x_user, window, guess, ds.attrs["forcing_frequency"])
+    inside = (t_user >= window[0]) & (t_user <= window[1])
+    return QuantityScore(name=name, units="", exact_growth_rate=float(guess.real),
+                         exact_frequency=float(guess.imag), relative_l2=None, max_error=None,
+                         reference_error=None, growth_rate=rate, frequency=frequency,
+                         fit_error=error, reference_growth_rate=None, reference_frequency=None,
                          samples=int(inside.sum()))
 
 
@@ -208,7 +466,8 @@ def score(name: str, path: str | Path, *, reference: xr.Dataset | None = None,
     (score, reference Dataset, (t_user, {column: values})) ."""
     ds = reference if reference is not None else benchmark(name, **params)
     t_user, columns = read_series(path)
-    known = reference_columns(ds)
+    rate_only = attrs_json(ds, "rate_only") if "rate_only" in ds.attrs else {}
+    known = reference_columns(ds) + list(rate_only)
     unknown = [c for c in columns if c not in known and not c.endswith(ERROR_SUFFIX)]
     if unknown:
         raise ParameterError(f"user data column {unknown[0]!r} is unknown: expected "
@@ -217,12 +476,14 @@ def score(name: str, path: str | Path, *, reference: xr.Dataset | None = None,
     if not scored:
         raise ParameterError(f"user data {str(path)!r} has no quantity column: expected one of "
                              f"{', '.join(known)}")
-    guess = complex(ds.attrs["exact_growth_rate"], ds.attrs["exact_frequency"])
     result = BenchmarkScore(problem=name, params=attrs_json(ds, "params"),
-                            exact_growth_rate=float(guess.real), exact_frequency=float(guess.imag),
+                            exact_growth_rate=ds.attrs.get("exact_growth_rate"),
+                            exact_frequency=ds.attrs.get("exact_frequency"),
                             fit_window=score_window(ds),
-                            quantities=tuple(_score_quantity(ds, c, t_user, columns[c], guess)
-                                             for c in scored))
+                            quantities=tuple(
+                                _score_rate(ds, c, t_user, columns[c], rate_only[c])
+                                if c in rate_only else _score_quantity(ds, c, t_user, columns[c])
+                                for c in scored))
     return result, ds, (t_user, {c: columns[c] for c in scored})
 
 

@@ -328,11 +328,23 @@ def open_pool(executor: str = "processes", *, workers: int | None = None,
     n = workers or os.cpu_count() or 1
     n = max(1, min(n, max_tasks)) if max_tasks else n
     threads = max(1, (os.cpu_count() or 1) // n)
+    others = set(multiprocessing.active_children())
     pool = ProcessPoolExecutor(max_workers=n, mp_context=_process_context(),
                                initializer=_init_worker, initargs=(threads, os.getpid()))
     try:
         yield Pool(pool, n, "processes", f"{n} processes")
     except BaseException:
-        pool.shutdown(wait=False, cancel_futures=True)
+        _stop_now(pool, others)
         raise
     pool.shutdown(wait=True)
+
+
+def _stop_now(pool: ProcessPoolExecutor, others: set) -> None:
+    """Stop ``pool`` without waiting for its tasks: cancel the queued ones, terminate its
+    workers (the child processes not in ``others``, those alive before it started), and join
+    its management thread, which then ends at once. Returning before that thread ends would
+    leave it racing the interpreter's exit hook for its wake-up pipe (Python 3.11: the hook can
+    write to the pipe just closed, and prints an OSError traceback after our last line)."""
+    for child in set(multiprocessing.active_children()) - others:
+        child.terminate()
+    pool.shutdown(wait=True, cancel_futures=True)

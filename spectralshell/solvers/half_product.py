@@ -380,21 +380,47 @@ class SmallestTaus:
     n_eigenvalues: int
 
 
-def _dominant(op: spla.LinearOperator, k: int, ncv: int) -> np.ndarray | None:
-    """The k (or k + 1, a conjugate pair) eigenvalues of largest modulus, by modulus descending."""
+def arpack_restarts(products: float, k: int, ncv: int) -> int | None:
+    """ARPACK's ``maxiter`` (implicit restarts) that keeps a run of ``eigs(k=k, ncv=ncv)``
+    within about ``products`` operator products: ncv for the first Arnoldi factorisation, then
+    ncv - k per restart; 0 when not even the first fits, None (ARPACK's default) for inf."""
+    if not np.isfinite(products):
+        return None
+    if products < ncv:
+        return 0
+    return max(1, int((products - ncv) // max(ncv - k, 1)))
+
+
+def _dominant(op: spla.LinearOperator, k: int, ncv: int,
+              maxiter: int | None = None) -> np.ndarray | None:
+    """The k (or k + 1, a conjugate pair) eigenvalues of largest modulus, by modulus descending;
+    None when ARPACK has not converged within ``maxiter`` restarts (default: its own, 10 n)."""
     n = op.shape[0]
     v0 = np.random.default_rng(20240611).standard_normal(n).astype(op.dtype)
     try:
-        lam = spla.eigs(op, k=k, which="LM", v0=v0, tol=0.0, ncv=ncv,
+        lam = spla.eigs(op, k=k, which="LM", v0=v0, tol=0.0, ncv=ncv, maxiter=maxiter,
                         return_eigenvectors=False)
     except spla.ArpackNoConvergence:
         return None
     return lam[np.argsort(-np.abs(lam), kind="stable")]
 
 
+class _Counted(spla.LinearOperator):
+    """A LinearOperator that counts its products (``products``)."""
+
+    def __init__(self, op: spla.LinearOperator):
+        super().__init__(dtype=op.dtype, shape=op.shape)
+        self.op, self.products = op, 0
+
+    def _matvec(self, x: np.ndarray) -> np.ndarray:
+        self.products += 1
+        return self.op.matvec(x)
+
+
 def smallest_taus(hill: HillMatrices, *, tau_max: float = np.inf,
                   inverses: BlockInverses | None = None,
-                  max_rounds: int | None = None) -> SmallestTaus | None:
+                  max_rounds: int | None = None,
+                  max_products: float | None = None) -> SmallestTaus | None:
     """The smallest real tau >= 0 of a real-form Hill pencil by Arnoldi iteration.
 
     Returns the real tau up to a radius r >= min(tau_min, tau_max), with every real tau <= r
@@ -403,6 +429,11 @@ def smallest_taus(hill: HillMatrices, *, tau_max: float = np.inf,
     ``max_rounds``: after that many values of k, return what is certified so far even if it is
     short of min(tau_min, tau_max): no real tau up to ``complete_to`` (a partial answer, the
     start of an interval cover, :mod:`spectralshell.solvers.shift_invert`).
+    ``max_products``: give up (None) rather than apply the operator more often than this over
+    all rounds (ARPACK's restarts are capped accordingly, :func:`arpack_restarts`). Uncapped,
+    ARPACK may restart 10 n times where the dominant eigenvalues cluster: on one Fig 5.18
+    point (gerbil, 116.9 Hz, sigma = 1.16e9; no real tau <= 1/2, so N rose to 141) 23 such runs
+    took 290 s of the point's 392 s, most of them ending in the dense solve anyway.
     Cost: O(K s^3) for the block inverses (``inverses``, if already known), O(K s^2) per step.
     """
     if not hill.is_real:
@@ -412,13 +443,18 @@ def smallest_taus(hill: HillMatrices, *, tau_max: float = np.inf,
         return None
     op, squared = krylov_operator(hill, inverses)
     n = op.shape[0]
+    counted = _Counted(op)
     k = K_START if squared else 2 * K_START  # T has each +-mu pair, W one mu^2
     rounds = 0
     while True:
         ncv = max(2 * k + 1, 4 * K_START)
         if KRYLOV_FRACTION * ncv > n:
             return None
-        lam = _dominant(op, k, ncv)
+        maxiter = arpack_restarts(np.inf if max_products is None
+                                  else max_products - counted.products, k, ncv)
+        if maxiter == 0:
+            return None
+        lam = _dominant(counted, k, ncv, maxiter)
         if lam is None:
             return None
         floor = 64 * np.finfo(float).eps * abs(lam[0])

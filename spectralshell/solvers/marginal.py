@@ -34,6 +34,10 @@ truncation:
   would need more than a third of the operator (a short truncation, or many eigenvalues with
   |tau| below the wanted ones) or A is ill conditioned, the truncation is solved by the dense
   path instead, and the Arnoldi work is lost.
+  The run gives up past ARNOLDI_WORK_FRACTION (= 1) of the dense solve's estimated work
+  (:func:`~spectralshell.solvers.shift_invert.dense_work`, counted in operator products):
+  where the wanted eigenvalues cluster ARPACK otherwise restarts up to 10 n times (on one
+  Fig 5.18 point, 290 s of its 392 s; 148 s in all with the cap).
   With a finite tau_max that run is cut to one Arnoldi step (k = 8 eigenvalues of W, 16 of T),
   and if it does not reach min(tau_min, tau_max) the rest of [0, tau_max] is covered by
   shift-invert Arnoldi at real shifts (:mod:`spectralshell.solvers.shift_invert`, result
@@ -120,7 +124,7 @@ from ..results.records import MarginalTau
 from . import tridiagonal
 from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
                            smallest_taus, tau_from_squares, tridiagonal_half_product)
-from .shift_invert import Shift, interval_taus
+from .shift_invert import Shift, dense_work, interval_taus
 
 ZERO_CLUSTER = 1e-6
 N_MAX = 400
@@ -128,6 +132,9 @@ N_MAX = 400
 FIRST_MARGIN = 8
 METHODS = ("auto", "dense", "krylov")
 KRYLOV_MIN_ORDER = 600
+#: The smallest-|tau| Arnoldi run of a truncation gives up past this fraction of the estimated
+#: cost of its dense solve (:func:`~spectralshell.solvers.shift_invert.dense_work`).
+ARNOLDI_WORK_FRACTION = 1.0
 EPS = np.finfo(float).eps
 #: A non-real eigenvalue certifies "no real tau here" once its distance from the real axis is
 #: SEPARATION x its change between two truncations (:func:`certified_bound`); measured: 1e3..1e13
@@ -386,8 +393,9 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
     if krylov:
         hill, inv = pencils.get(n_temporal, "real")
         bounded = bool(np.isfinite(tau_max))
-        found = None if inv is None else smallest_taus(hill, tau_max=tau_max, inverses=inv,
-                                                       max_rounds=1 if bounded else None)
+        found = None if inv is None else smallest_taus(
+            hill, tau_max=tau_max, inverses=inv, max_rounds=1 if bounded else None,
+            max_products=ARNOLDI_WORK_FRACTION * dense_work(hill))
         if found is not None and (found.tau.size or found.complete_to >= tau_max):
             return Truncation(tau=found.tau, method="krylov", complete_to=found.complete_to)
         if bounded and inv is not None:

@@ -21,7 +21,7 @@ import scipy.sparse.linalg as spla
 
 from ..discretise.fourier import GAMMA, two_sided_indices
 from ..discretise.hill import assemble
-from ..errors import ConvergenceError
+from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
 
 
@@ -121,9 +121,15 @@ def marginal_mode(system: HillSystem, kind: str, tau: float, n_temporal: int, *,
     """
     A, B = _pencil(system, kind, n_temporal)
     v, residual = _null_vector(A, B, tau, max_iter)
+    return _real_mode(system, kind, tau, n_temporal, v, residual)
+
+
+def _real_mode(system: HillSystem, kind: str, tau: float, n_temporal: int, v: np.ndarray,
+               residual: float) -> MarginalMode:
+    """The MarginalMode of a null vector v: rotated by the phase that maximises the norm of
+    the solution's real part (then real), largest |u_k| entry 1."""
     k = two_sided_indices(kind, n_temporal)
     coef = v.reshape(len(k), system.block_size)
-    # make the solution real: rotate by the phase that maximises the real part's norm
     t = np.linspace(0.0, 4 * np.pi, 64, endpoint=False)
     field = np.exp(1j * np.outer(t, GAMMA[kind] + k)) @ coef
     theta = 0.5 * np.angle(np.sum(field * field))
@@ -131,3 +137,32 @@ def marginal_mode(system: HillSystem, kind: str, tau: float, n_temporal: int, *,
     coef /= np.abs(coef).max()
     return MarginalMode(kind=kind, tau=float(tau), n_temporal=int(n_temporal), indices=k,
                         coefficients=coef, gamma=GAMMA[kind], residual=residual)
+
+
+def floquet_mode(system: HillSystem, tau: float, exponent: complex,
+                 n_temporal: int) -> MarginalMode:
+    """The periodic part p(t) of the Floquet solution exp(Re gamma t) p(t) of a locked exponent
+    gamma (Im gamma = 0 harmonic, 1/2 subharmonic, mod 1) at amplitude ``tau``: the null
+    vector of the truncated Hill matrix T_N(g) = A(g) - tau B at g = Re gamma (the right
+    singular vector of its smallest singular value; dense SVD).
+
+    Raises
+    ------
+    ParameterError : gamma is not locked (Im gamma not 0 or 1/2 mod 1 to 1e-9).
+    ConvergenceError : T_N(g) is not singular to 1e-8 relative (gamma is not an exponent of
+        this truncation).
+    """
+    offset = float(np.mod(exponent.imag, 1.0))
+    locked = {kind: min(abs(offset - GAMMA[kind]), abs(offset - GAMMA[kind] - 1.0))
+              for kind in GAMMA}
+    kind = min(locked, key=locked.get)
+    if locked[kind] > 1e-9:
+        raise ParameterError(f"exponent = {exponent:.6g} is invalid: its Floquet solution is not "
+                             "periodic up to exp(Re gamma t) (Im gamma must be 0 or 1/2 mod 1)")
+    T = assemble(system, kind, n_temporal, "two-sided", shift=exponent.real).dense(tau)
+    _, singular, vh = np.linalg.svd(T)
+    residual = float(singular[-1] / singular[0])
+    if residual > 1e-8:
+        raise ConvergenceError(f"no null vector of the Hill matrix at gamma = {exponent:.6g}, "
+                               f"tau = {tau:g} (relative residual {residual:.1e})")
+    return _real_mode(system, kind, tau, n_temporal, vh[-1].conj(), residual)

@@ -60,7 +60,8 @@ The work is counted in products with S^{-1} B (each costs ~ K (s0^2 + s^2): a pe
 overhead, s0 = BLOCK_OVERHEAD, and the block products), each weighted up by Arnoldi's own
 orthogonalisation (~ K s ncv), a factorisation as 2 + s^2 / 1000 of them (measured ratios). It
 is capped at ``work_limit``, by default WORK_FRACTION of the estimated cost of dense eig of the
-same truncation (:func:`dense_work`); past it (or past MAX_SHIFTS disks) the function returns
+same truncation (:func:`dense_work`), within each disk too (ARPACK's restarts are capped by
+what is left); past it (or past MAX_SHIFTS disks) the function returns
 None and the caller solves the truncation densely; when the limit is below one disk it returns
 None at once.
 
@@ -78,7 +79,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from ..discretise.hill import HillMatrices, realify
-from .half_product import is_realified, coupling_rows
+from .half_product import arpack_restarts, coupling_rows, is_realified
 
 RADIUS_MARGIN = 1e-3
 K_START = 24
@@ -251,11 +252,19 @@ class _Disk:
     close: bool      # sigma nearly on an eigenvalue: the others lost accuracy (module notes)
 
 
-def _disk(hill: HillMatrices, sigma: float, k: int, b_product) -> _Disk | None:
+def _disk(hill: HillMatrices, sigma: float, k: int, b_product,
+          work_left: float = np.inf) -> _Disk | None:
     """The k eigenvalues nearest to sigma by shift-invert Arnoldi (module notes), or None when
-    the factorisation is unstable or ARPACK does not converge."""
+    the factorisation is unstable or ARPACK does not converge within ``work_left`` (the work
+    model's units; its restarts are capped accordingly)."""
     K, s, _ = hill.diag.shape
     n = K * s
+    ncv = min(n - 1, 2 * k + NCV_EXTRA)
+    orthogonalisation = 2.5 * s * ncv / (BLOCK_OVERHEAD**2 * _product_cost(s))
+    factorisation = 2.0 + s * s / 1000.0
+    maxiter = arpack_restarts((work_left - factorisation) / (1.0 + orthogonalisation), k, ncv)
+    if maxiter == 0:
+        return None
     solve = shifted_solver(hill, sigma)
     if solve is None or _backward_error(hill, sigma, solve, b_product) > BACKWARD_LIMIT:
         return None
@@ -267,9 +276,8 @@ def _disk(hill: HillMatrices, sigma: float, k: int, b_product) -> _Disk | None:
 
     op = spla.LinearOperator((n, n), matvec=matvec, dtype=float)
     v0 = np.random.default_rng(20240611).standard_normal(n)
-    ncv = min(n - 1, 2 * k + NCV_EXTRA)
     try:
-        theta = spla.eigs(op, k=k, which="LM", v0=v0, tol=ARPACK_TOL, ncv=ncv,
+        theta = spla.eigs(op, k=k, which="LM", v0=v0, tol=ARPACK_TOL, ncv=ncv, maxiter=maxiter,
                           return_eigenvectors=False)
     except spla.ArpackNoConvergence:
         return None
@@ -281,8 +289,7 @@ def _disk(hill: HillMatrices, sigma: float, k: int, b_product) -> _Disk | None:
     finite = size[size > floor]
     close = bool(finite.max() > CLOSE_LIMIT * finite.min())
     tau = np.sort(sigma + 1.0 / theta.real[real])
-    orthogonalisation = 2.5 * s * ncv / (BLOCK_OVERHEAD**2 * _product_cost(s))
-    work = count[0] * (1.0 + orthogonalisation) + 2.0 + s * s / 1000.0  # + the factorisation
+    work = count[0] * (1.0 + orthogonalisation) + factorisation
     return _Disk(shift=Shift(sigma=float(sigma), n_eigenvalues=k, radius=float(radius)),
                  tau=tau[np.abs(tau - sigma) < radius], work=work, close=close)
 
@@ -375,11 +382,11 @@ def interval_taus(hill: HillMatrices, tau_max: float, *, hint: float | None = No
             sigma = 0.5 * (a + c) if c - a <= 1.6 * radius else a + 0.8 * radius
             k_here = k
         k_here = min(k_here, K * s // 4)
-        disk = _disk(hill, sigma, k_here, b_product)
+        disk = _disk(hill, sigma, k_here, b_product, limit - work)
         if disk is not None and disk.close:  # move off the eigenvalue by 1 % of the radius
             work += disk.work
             sigma -= 0.01 * min(disk.shift.radius, max(abs(sigma), 1e-3))
-            disk = _disk(hill, sigma, k_here, b_product)
+            disk = _disk(hill, sigma, k_here, b_product, limit - work)
         if disk is None or disk.close or len(disks) == MAX_SHIFTS:
             return None
         work += disk.work
