@@ -227,13 +227,28 @@ def _physical(args: argparse.Namespace, units: dict[str, str] | None = None) -> 
     return {k: parse_real(k, getattr(args, k)) for k in units if getattr(args, k, None) is not None}
 
 
+def _nonuniform(args: argparse.Namespace) -> dict[str, Any]:
+    """The sphere's kappa given as an expression in theta, phi (kept as text) and --l-max
+    ('auto' or an integer); {} otherwise (a number keeps the per-degree path)."""
+    if args.model != "sphere":
+        return {}
+    out: dict[str, Any] = {}
+    if args.kappa is not None and _is_text(args.kappa):
+        out["kappa"] = args.kappa
+    if args.l_max is not None:
+        out["l_max"] = args.l_max if args.l_max == "auto" else _integer("l_max", args.l_max)
+    return out
+
+
 def cmd_floquet(args) -> int:
     extra = _physical(args)
     for name in ("tol_spatial", "max_seconds"):
-        if hasattr(args, name):
+        if getattr(args, name, None) is not None:
             extra.update(_given(args, name, parse_real))
+    text = _nonuniform(args)
     res = _api().floquet(args.model, kind=args.kind, **_solver(args), **extra, **_tau_max(args),
-                      progress=_progress(args), **_params(args, args.model))
+                         progress=_progress(args), **_params(args, args.model, skip=tuple(text)),
+                         **text)
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), res.summary)
 
@@ -684,6 +699,14 @@ def _floquet_options(p: argparse.ArgumentParser, model: str) -> None:
                        help="without --n-spatial: tolerance of tau_min in the number of spatial "
                             "modes (default 1e-3)")
         _max_seconds_flag(p)
+    if model == "sphere":
+        p.add_argument("--l-max", dest="l_max", metavar="L",
+                       help="with --kappa an expression in theta, phi (non-uniform stiffness): "
+                            "the degree truncation, 'auto' (default: raised until tau_min "
+                            "settles to --tol-spatial) or an integer")
+        p.add_argument("--tol-spatial", dest="tol_spatial", metavar="X",
+                       help="with --l-max auto: tolerance of tau_min in the degree truncation "
+                            "(default 1e-6)")
 
 
 def _tongues_options(p: argparse.ArgumentParser, model: str) -> None:

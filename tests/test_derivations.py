@@ -15,3 +15,11 @@ def test_derivation_script_passes(script):
     done = subprocess.run([sys.executable, str(DERIVATIONS / script)], capture_output=True, text=True,
                           timeout=300)
     assert done.returncode == 0, done.stdout + done.stderr
+
+
+@pytest.mark.slow
+def test_nonuniform_stiffness_derivation_passes():
+    """derivations/sphere_nonuniform.py (about 80 s: exact sympy integrals)."""
+    done = subprocess.run([sys.executable, str(DERIVATIONS / "sphere_nonuniform.py")],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr

@@ -85,9 +85,7 @@ class KappaLoad:
                 radial[pos], sph[pos] = -q1 * X[:, 0], -q1 * X[:, 1]
             else:
                 tor[pos] = -q1 * X[:, 0]
-        load_r = grid.analyse_array(self.weight * grid.synthesise_array(radial))
-        vt, vp = grid.synthesise_tangential_array(sph, tor)
-        load_s, load_t = grid.analyse_tangential_array(self.weight * vt, self.weight * vp)
+        load_r, load_s, load_t = weighted_load(grid, self.weight, radial, sph, tor)
         out = np.zeros(v.shape)
         for g, pos, B in zip(self.groups, self.positions, self.responses):
             F = (np.vstack([load_r[pos], load_s[pos]]) if g.component == "poloidal"
@@ -154,16 +152,22 @@ class CoupledSystem:
         return np.concatenate([np.concatenate(p) if p else np.zeros(0) for p in parts.values()])
 
 
+def weighted_load(grid: Grid, weight: np.ndarray, radial: np.ndarray, sph: np.ndarray,
+                  tor: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Coefficient vectors (radial, spheroidal, toroidal) of P[w F]: the membrane field F with
+    coefficient vectors (radial, sph, tor) multiplied on the grid by the weight field w and
+    analysed (exact up to degree l_max; the product of the module docstring)."""
+    load_r = grid.analyse_array(weight * grid.synthesise_array(radial))
+    vt, vp = grid.synthesise_tangential_array(sph, tor)
+    load_s, load_t = grid.analyse_tangential_array(weight * vt, weight * vp)
+    return load_r, load_s, load_t
+
+
 def _products(grid: Grid, weight: np.ndarray, mode: tuple[int, int], component: str) -> tuple:
     """Coefficients (radial, spheroidal, toroidal) of weight times the unit field of a mode."""
-    if component == "poloidal":
-        radial = grid.analyse(weight * grid.synthesise({mode: 1.0}))
-        vt, vp = grid.synthesise_tangential({mode: 1.0}, {})
-    else:
-        radial = {}
-        vt, vp = grid.synthesise_tangential({}, {mode: 1.0})
-    sph, tor = grid.analyse_tangential(weight * vt, weight * vp)
-    return radial, sph, tor
+    unit, zero = grid.vector({mode: 1.0}), np.zeros(len(grid.modes))
+    fields = (unit, unit, zero) if component == "poloidal" else (zero, zero, unit)
+    return tuple(dict(zip(grid.modes, c.tolist())) for c in weighted_load(grid, weight, *fields))
 
 
 def _allocate(grid: Grid, coupling: np.ndarray, start: set,
@@ -187,6 +191,46 @@ def _allocate(grid: Grid, coupling: np.ndarray, start: set,
                 found[comp].add(mk)
                 frontier.append((mk, comp))
     return found, truncated
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class StiffnessField:
+    """kappa(theta, phi) on a grid, truncated to degrees <= l_max: ``weight`` (grid values),
+    ``coefficients`` {(m, k): c}, ``mean`` (its average over the sphere), ``degree`` (its
+    highest degree above COUPLING_TOL relative to the mean) and ``warnings``."""
+
+    weight: np.ndarray
+    coefficients: dict
+    mean: float
+    degree: int
+    warnings: tuple[str, ...]
+
+
+def stiffness_field(grid: Grid, kappa: Callable[[np.ndarray, np.ndarray], np.ndarray]
+                    ) -> StiffnessField:
+    """The stiffness field of a numpy function kappa(theta, phi) on ``grid`` (degrees <= its
+    l_max; a warning when kappa is not resolved by them).
+
+    Raises
+    ------
+    ParameterError : kappa not positive everywhere on the grid.
+    """
+    values = grid.evaluate(kappa)
+    coeffs = grid.analyse(values)
+    weight = grid.synthesise(coeffs)                 # kappa truncated to degrees <= l_max
+    warnings = []
+    residual = np.max(np.abs(weight - values)) / np.max(np.abs(values))
+    if residual > 1e-8:
+        warnings.append(f"kappa is not resolved by degrees <= l_max = {grid.l_max} (relative "
+                        f"residual {residual:.1e}); its higher degrees are left out")
+    if np.min(weight) <= 0:
+        raise ParameterError(f"kappa = expression is invalid: must be > 0 everywhere (minimum "
+                             f"{np.min(weight):.3g} on the grid)")
+    degree = max((m for (m, _), c in coeffs.items()
+                  if m > 0 and abs(c) > COUPLING_TOL * abs(coeffs[0, 0])), default=0)
+    return StiffnessField(weight=weight, coefficients=coeffs,
+                          mean=float(coeffs[0, 0] / np.sqrt(4 * np.pi)), degree=degree,
+                          warnings=tuple(warnings))
 
 
 def coupled_system(*, kappa: Callable[[np.ndarray, np.ndarray], np.ndarray],
@@ -217,20 +261,9 @@ def coupled_system(*, kappa: Callable[[np.ndarray, np.ndarray], np.ndarray],
     if bad:
         raise ParameterError(f"shape mode {bad[0]} is invalid: its degree exceeds l_max = {l_max}")
     grid = dealiased_grid(l_max)
-    values = grid.evaluate(kappa)
-    coeffs = grid.analyse(values)
-    weight = grid.synthesise(coeffs)                 # kappa truncated to degrees <= l_max
-    warnings = []
-    residual = np.max(np.abs(weight - values)) / np.max(np.abs(values))
-    if residual > 1e-8:
-        warnings.append(f"kappa is not resolved by degrees <= l_max = {l_max} (relative residual "
-                        f"{residual:.1e}); its higher degrees are left out")
-    if np.min(weight) <= 0:
-        raise ParameterError(f"kappa = expression is invalid: must be > 0 everywhere (minimum "
-                             f"{np.min(weight):.3g} on the grid)")
-    mean = coeffs[0, 0] / np.sqrt(4 * np.pi)
-    kappa_degree = max((m for (m, _), c in coeffs.items()
-                        if m > 0 and abs(c) > COUPLING_TOL * abs(coeffs[0, 0])), default=0)
+    field = stiffness_field(grid, kappa)
+    weight, coeffs, mean, kappa_degree = field.weight, field.coefficients, field.mean, field.degree
+    warnings = list(field.warnings)
     if max_degree is None:
         max_degree = min(l_max, max(m for m, _ in shape) + 2 * kappa_degree)
     max_degree = require_int_in_range("max_degree", max_degree, 2, l_max)

@@ -36,6 +36,7 @@ from .._validate import (require_choice, require_choices, require_int_in_range, 
 from ..errors import ParameterError
 from .grid import parse_range
 from .registry import make_params
+from .sphere import is_nonuniform, nonuniform_params
 
 TASKS = ("floquet", "tongues", "exponents")
 _OPTIONS = {
@@ -156,6 +157,12 @@ def plan(scene: str | Path | Mapping) -> Plan:
         tasks.append(Task(name=name, kinds=kinds, options=options))
     params = dict(params_table)
     for task in tasks:  # validate the parameters each task will use (tongues sweep kappa)
+        if is_nonuniform(model, params):
+            if task.name != "floquet":
+                raise ParameterError(f"ask = {task.name!r} is invalid with a non-uniform kappa: "
+                                     "only 'floquet' is computed for it")
+            nonuniform_params(params)
+            continue
         values = {**params, "kappa": task.options["kappa"][0]} if task.name == "tongues" else params
         make_params(model, values)
     output = data.get("output", {})

@@ -14,10 +14,11 @@ import numpy as np
 from ..runner.floquet import floquet, stability, tau_map as solve_tau_map, tongues
 from ..runner.modes import natural_modes as solve_natural_modes
 from ..runner.response import response
+from ..runner.nonuniform import p2_branches
 from ..runner.progress import tracked
 from ..params.physical import CARDIAC, TABLE_6_1, PhysicalSphere, bpm_to_rad_per_s
 from ..models.sphere import lambda0_squared
-from ..plots import degree_stability, ince_strutt, natural_modes, tau_map
+from ..plots import degree_stability, ince_strutt, natural_modes, nonuniform, tau_map
 from ..results.maps import map_dict, minimum_map, unstable_at, write_npz
 
 
@@ -525,6 +526,21 @@ def _cochlea_tau_maps(out: Path, *, progress: bool, workers: int | None,
     return [png, _write_json(out / "fig-5.18.json", summary), *paths]
 
 
+def _sphere_p2(out: Path, *, progress: bool, workers: int | None,
+               eps: np.ndarray | None = None) -> list[Path]:
+    """Beyond the thesis: tau_min <= 1/2 of the sphere with kappa = kappa0 (1 + eps P_2(cos theta))
+    against eps, kappa0 = 0.02, nu = 0.006, degrees <= 8: the subharmonic tau_min of degree 3
+    splits into its orders |k| = 0..3."""
+    eps = np.linspace(-0.5, 0.5, 20) if eps is None else eps   # eps = 0 (degenerate) left out
+    case = {"kappa0": 0.02, "nu": 0.006, "l_max": 8, "tau_max": 0.5}
+    rows = [row for e in tracked(eps, "fig-sphere-p2", "eps", progress)
+            for row in p2_branches(eps=np.array([e]), **case)]
+    png = nonuniform.save(rows, out / "fig-sphere-p2.png",
+                          title=f"sphere, κ₀ = {case['kappa0']}, ν = {case['nu']}: branches of "
+                                f"τ_min ≤ 1/2 (degrees ≤ {case['l_max']})")
+    return [png, _write_json(out / "fig-sphere-p2.json", {**case, "branches": rows})]
+
+
 FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
     "fig-2.2": ("Ince-Strutt diagram of the undamped Mathieu equation (nu = 0)",
                 lambda out, **kw: _diagrams("fig-2.2", out, [{"nu": 0.0}], kappa="0:3:301",
@@ -556,6 +572,8 @@ FIGURES: dict[str, tuple[str, Callable[..., list[Path]]]] = {
     "fig-cylinder": ("periodic cylinder (thesis 8.1): minimum tau over m = 1..6 against k R and "
                      "kappa at nu = 2e-4, and the unstable (m, k R) at tau = 0.45",
                      _cylinder_map),
+    "fig-sphere-p2": ("sphere, non-uniform stiffness kappa0 (1 + eps P_2(cos theta)): tau_min "
+                      "against eps, one branch per degree and order (l, |k|)", _sphere_p2),
     "fig-5.5": ("cochlea: convergence of tau_min in N and M at omega = 1600 rad/s (Figs 5.5-5.6)",
                 _cochlea_convergence),
     "fig-5.7": ("cochlea: zero contours of det T and the natural modes, zeta = 2e-5 and 1e-2",

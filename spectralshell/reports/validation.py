@@ -546,6 +546,23 @@ def sphere_cases() -> list[Case]:
         source="thesis 6.4.2 (simulated modes)", source_kind="thesis",
         expected=", ".join(f"{c}: {m}" for c, m in CASE_MODES.items()), compute=fig_6_6, tolerance=0.0))
 
+    def fig_sphere_p2(ctx):
+        data = ctx.figure("fig-sphere-p2")
+        rows = [r for r in data["branches"] if r["kind"] == "subharmonic" and r["l"] == 3]
+        nearest = min(abs(r["eps"]) for r in rows)
+        meet = [r["tau_min"] for r in rows if abs(r["eps"]) == nearest]
+        uniform = floquet("sphere", m=3, kappa=data["kappa0"], nu=data["nu"],
+                          kind="subharmonic").subharmonic.tau_min
+        return Measured(max(abs(t - uniform) for t in meet),
+                        f"{len(meet)} branches at |eps| = {nearest:.3g}, uniform {uniform:.10g}")
+
+    cases.append(Case(
+        name="fig-sphere-p2.uniform-limit", section=SPHERE,
+        quantity="non-uniform kappa0 (1 + eps P_2): the degree-3 subharmonic branches meet the "
+                 "per-degree tau_min as eps -> 0 (largest distance at the eps nearest 0)",
+        source="the per-degree Floquet solver at uniform kappa0", source_kind="second method",
+        expected=0.0, compute=fig_sphere_p2, tolerance=1e-3))
+
     def fig_6_12(ctx):
         panels = ctx.figure("fig-6.12")
         kappa = np.array(panels[0]["kappa"])

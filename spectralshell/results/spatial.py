@@ -13,6 +13,22 @@ if TYPE_CHECKING:
     import xarray as xr
 
 
+def truncation_reason(m: MarginalTau, change: float | None, provenance: dict[str, Any], *,
+                      pair: str, what: str, size: str, fixed: str) -> str | None:
+    """Why the error estimate of ``m`` is above tol when a spatial truncation (``what``, its
+    ``size`` compared between ``pair``) changes tau_min by ``change``: a tau_min at one of the
+    pair only, or the change, stopped by tol_spatial (from ``provenance``) or ``fixed``; None
+    when the temporal estimate is the larger part."""
+    if change is None:
+        return f"there is a tau_min at only one of {pair}, so the estimate is tau_min itself"
+    if change < m.error_estimate:
+        return None
+    tol_spatial = provenance.get("options", {}).get("tol_spatial")
+    stop = (fixed if tol_spatial is None else
+            f"{size} is refined only until this change is <= tol_spatial = {tol_spatial:g}")
+    return f"{what}: tau_min changes by {change:.1e} between {pair} ({stop})"
+
+
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class SpatialFloquetResult(FloquetResult):
     """Marginal amplitudes at a spatial truncation, with the spatial part of the error estimate.
@@ -51,17 +67,11 @@ class SpatialFloquetResult(FloquetResult):
         only; otherwise that of :meth:`FloquetResult.error_reason`."""
         if self.n_spatial_previous is None:
             return super().error_reason(kind, m)
-        change = self.spatial_change.get(kind)
-        pair = f"M = {self.n_spatial_previous} and M = {self.n_spatial} spatial modes"
-        if change is None:
-            return (f"there is a tau_min at only one of {pair}, so the estimate is tau_min "
-                    "itself")
-        if change < m.error_estimate:
-            return super().error_reason(kind, m)
-        tol_spatial = self.provenance.get("options", {}).get("tol_spatial")
-        stop = ("n_spatial is fixed" if tol_spatial is None else
-                f"M is refined only until this change is <= tol_spatial = {tol_spatial:g}")
-        return f"the spatial truncation: tau_min changes by {change:.1e} between {pair} ({stop})"
+        reason = truncation_reason(
+            m, self.spatial_change.get(kind), self.provenance,
+            pair=f"M = {self.n_spatial_previous} and M = {self.n_spatial} spatial modes",
+            what="the spatial truncation", size="M", fixed="n_spatial is fixed")
+        return super().error_reason(kind, m) if reason is None else reason
 
     def to_xarray(self) -> xr.Dataset:
         """The Dataset of :meth:`FloquetResult.to_xarray`, with n_spatial (a scalar),

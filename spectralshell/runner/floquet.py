@@ -22,6 +22,7 @@ from ..params.grid import parse_int_range, parse_range
 from ..params.limits import RESULT_BYTES, SECONDS, check_grid, check_points
 from ..params.sweep_grid import physical_names, sweep_spec
 from ..params.physical import physical_inputs
+from ..params.sphere import is_nonuniform, nonuniform_params
 from ..params.stiffness import amplitude_warnings, threshold_warnings
 from ..params.registry import (check_model, get_model, int_bounds, make_params, param_fields,
                                physical_values, require_capability)
@@ -76,17 +77,25 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     tol_spatial : models with spatial modes (a parameter ``n_spatial``, e.g. 'cochlea') only:
         with ``n_spatial=None`` the number of spatial modes is doubled from 16 until every
         tau_min changes by at most ``tol_spatial`` (absolute; default 1e-3), see
-        :func:`_floquet_spatial`.
+        :func:`_floquet_spatial`. The sphere with a non-uniform kappa: the tolerance of
+        tau_min in the degree truncation l_max (default 1e-6).
     max_seconds : models with spatial modes only: raise the limit on the estimated cost
         (default :data:`spectralshell.params.limits.SECONDS`, 600 s, or
         $SPECTRALSHELL_MAX_SECONDS). The truncations N and M a solve needs are priced from the
         parameters before it starts (:mod:`spectralshell.solvers.cost`); a solve whose least
         work is estimated above the limit is refused with what it needs.
-    progress : models with spatial modes only: a progress bar over the spatial truncations
-        M on stderr, its label stating the estimate.
+    progress : models with spatial modes, and the non-uniform sphere, only: a progress bar
+        over the spatial truncations M on stderr, its label stating the estimate (the sphere:
+        over the sector solves of each l_max).
     **params : the model's parameters, e.g. ``kappa``, ``nu`` for 'mathieu'; for 'cochlea' also
         the cgs inputs rho, mu, sigma, length, lambda_c, omega (Table 5.1 defaults for the
         missing ones; omega required), converted by :func:`params.physical.cochlea_params`.
+        For 'sphere', ``kappa`` given as text, an expression in theta and phi (e.g.
+        ``"0.02*(1 + 0.3*cos(theta)**2)"``), is a non-uniform stiffness: the degrees couple,
+        ``m`` and ``component`` are refused, ``l_max`` ('auto', the default, or an integer
+        4..64) is the degree truncation, and the result is a
+        :class:`~spectralshell.results.nonuniform.NonUniformFloquetResult`
+        (:mod:`spectralshell.runner.nonuniform`).
 
     Notes
     -----
@@ -101,6 +110,8 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     model = check_model(model)
     kinds = expand_kind(kind)
     options = solver_options(tol, n_temporal, tau_max)
+    if is_nonuniform(model, params):
+        return _floquet_nonuniform(kind, options, params, tol_spatial, max_seconds, progress)
     params, physical = physical_values(model, dict(params))
     if get_model(model).spatial:
         return _floquet_spatial(model, kind, options, params, physical, tol_spatial,
@@ -118,6 +129,20 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     return FloquetResult(model=model, params=dataclasses.asdict(p), harmonic=res.get("harmonic"),
                          subharmonic=res.get("subharmonic"),
                          provenance=provenance({"kind": kind, **options}), warnings=tuple(warnings))
+
+
+def _floquet_nonuniform(kind: str, options: dict[str, Any], params: dict[str, Any],
+                        tol_spatial: float | None, max_seconds: float | None, progress: bool):
+    """The sphere with stiffness kappa(theta, phi) given as an expression
+    (:func:`spectralshell.runner.nonuniform.floquet_nonuniform`)."""
+    from .nonuniform import floquet_nonuniform
+
+    p = nonuniform_params(params)
+    if max_seconds is not None:
+        raise ParameterError(f"max_seconds = {max_seconds!r} is invalid with a non-uniform "
+                             "kappa: its solve is not priced")
+    return floquet_nonuniform(p, kind=kind, tol_spatial=tol_spatial, options=options,
+                              progress=progress)
 
 
 def priced_spatial(model: str, factory, kinds: tuple[str, ...], options: dict[str, Any],

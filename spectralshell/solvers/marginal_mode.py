@@ -53,17 +53,16 @@ class MarginalMode:
         return (phase @ self.coefficients).real
 
 
-def marginal_mode(system: HillSystem, kind: str, tau: float, n_temporal: int, *,
-                  max_iter: int = 8) -> MarginalMode:
-    """The solution at the marginal amplitude ``tau`` of ``kind`` (see the module docstring).
-
-    Raises
-    ------
-    ConvergenceError : the inverse iteration did not settle (tau is not a simple marginal value
-        of this truncation).
-    """
+def _pencil(system: HillSystem, kind: str, n_temporal: int):
+    """A and B of the two-sided form, complex CSC."""
     hill = assemble(system, kind, n_temporal, "two-sided")
-    A, B = hill.A.tocsc().astype(complex), hill.B.tocsc().astype(complex)
+    return hill.A.tocsc().astype(complex), hill.B.tocsc().astype(complex)
+
+
+def _null_vector(A, B, tau: float, max_iter: int) -> tuple[np.ndarray, float]:
+    """(v, relative residual): the unit null vector of A - tau B by inverse iteration.
+
+    Raises ConvergenceError when the residual stays above 1e-8 (tau is not an eigenvalue)."""
     lu = spla.splu((A - tau * B).tocsc())
     v = np.random.default_rng(1).standard_normal(A.shape[0]) + 0j
     v /= np.linalg.norm(v)
@@ -82,6 +81,46 @@ def marginal_mode(system: HillSystem, kind: str, tau: float, n_temporal: int, *,
     if residual > 1e-8:
         raise ConvergenceError(f"no null vector of A - tau B at tau = {tau:g} (relative residual "
                                f"{residual:.1e}): tau is not a marginal value of this truncation")
+    return v, residual
+
+
+def marginal_sensitivity(system: HillSystem, derivative: HillSystem, kind: str, tau: float,
+                         n_temporal: int, *, max_iter: int = 8) -> float:
+    """d tau / d eps at a simple marginal ``tau`` of a system D(s; eps), G(eps) whose derivative
+    in eps is the system ``derivative`` (D' independent of s, G'), by the eigenvector formula
+
+        d tau / d eps = w^H (A' - tau B') v / (w^H B v),
+
+    v and w the right and left null vectors of the two-sided pencil A - tau B and A', B' the
+    pencil of ``derivative`` (the assembly is linear in D and G).
+
+    Raises
+    ------
+    ConvergenceError : tau is not a marginal value of this truncation; a complex result (tau
+        not simple).
+    """
+    A, B = _pencil(system, kind, n_temporal)
+    dA, dB = _pencil(derivative, kind, n_temporal)
+    v, _ = _null_vector(A, B, tau, max_iter)
+    w, _ = _null_vector(A.conj().T.tocsc(), B.conj().T.tocsc(), tau, max_iter)
+    value = np.vdot(w, dA @ v - tau * (dB @ v)) / np.vdot(w, B @ v)
+    if abs(value.imag) > 1e-6 * max(abs(value), 1e-300):
+        raise ConvergenceError(f"d tau / d eps = {value:.6g} at tau = {tau:g} is not real: tau is "
+                               "not a simple marginal value")
+    return float(value.real)
+
+
+def marginal_mode(system: HillSystem, kind: str, tau: float, n_temporal: int, *,
+                  max_iter: int = 8) -> MarginalMode:
+    """The solution at the marginal amplitude ``tau`` of ``kind`` (see the module docstring).
+
+    Raises
+    ------
+    ConvergenceError : the inverse iteration did not settle (tau is not a simple marginal value
+        of this truncation).
+    """
+    A, B = _pencil(system, kind, n_temporal)
+    v, residual = _null_vector(A, B, tau, max_iter)
     return _real_mode(system, kind, tau, n_temporal, v, residual)
 
 

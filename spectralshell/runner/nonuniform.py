@@ -1,0 +1,259 @@
+"""Floquet analysis of the sphere with non-uniform stiffness kappa(theta, phi) (issue 28, part 2).
+
+The degrees 2..l_max of the membrane couple through the product of kappa with the shape
+(:mod:`spectralshell.discretise.sphere_nonuniform`); the slots split into decoupled sectors,
+each a Hill system. Per kind, tau_min is the smallest over the sectors: the sectors are solved in
+turn (lowest degrees first), each with tau_max lowered to the smallest tau_min found so far, so a
+sector only has to prove it has nothing below it (:func:`sector_minimum`).
+
+Truncation in degree (``l_max = 'auto'``, the default): l_max = start, start + 2, ... (a step of
+2 adds a degree of each parity) until every kind's tau_min changes by at most ``tol_spatial``
+between l_max - 2 and l_max (as the cochlea's M, :mod:`spectralshell.solvers.spatial_refinement`,
+whose change and error rules are used); start is the first degree whose natural frequency at
+the mean stiffness lies above the harmonic resonance 1, plus one (at least 4). An integer l_max
+is solved as given, with its change from l_max - 2 as the spatial error.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from .._validate import require_positive
+from ..discretise.fourier import GAMMA, expand_kind
+from ..discretise.sphere_nonuniform import (L_MAX_LIMIT, NonUniformSphere, Sector,
+                                            nonuniform_sphere, perturbation_system)
+from ..discretise.shtns_adapter import grid as dealiased_grid
+from ..discretise.sphere_coupled import stiffness_field
+from ..errors import ConvergenceError, ParameterError
+from ..models.base import HillSystem
+from ..models.sphere import lambda0_squared
+from ..params.expression import parse_expression
+from ..params.sphere import NonUniformSphereParams
+from ..params.stiffness import threshold_warnings
+from .progress import progress_bar
+from ..results.floquet import certification_warnings, provenance, resolution_warnings
+from ..results.nonuniform import NonUniformFloquetResult
+from ..results.records import MarginalTau
+from ..solvers.hill_exponents import pencil_family
+from ..solvers.marginal import finer, marginal_tau
+from ..solvers.marginal_mode import marginal_mode, marginal_sensitivity
+from ..solvers.nonlinear_eigen import newton
+from ..solvers.spatial_refinement import spatial_change, spatial_error
+
+#: Default tolerance of tau_min in the degree truncation l_max (absolute).
+TOL_DEGREES = 1e-6
+SHARE_FLOOR = 1e-4     # smallest share of a mode listed in a result's content
+
+
+def sector_minimum(systems: tuple[HillSystem, ...], kind: str, options: dict[str, Any],
+                   bar=None) -> tuple[MarginalTau, int | None]:
+    """(the MarginalTau of the sector with the smallest tau_min, its index; None: no sector has
+    a tau <= tau_max): each sector solved with tau_max lowered to the smallest tau_min so far;
+    ``bar`` (a progress bar) moves by one per sector."""
+    cap = options.get("tau_max") or math.inf
+    best, where = None, None
+    for i, system in enumerate(systems):
+        found = marginal_tau(system, kind, **{**options, "tau_max": cap})
+        if bar is not None:
+            bar.update(1)
+        if found.tau_min is not None and (best is None or found.tau_min < best.tau_min):
+            best, where, cap = found, i, found.tau_min
+        elif best is None:
+            best = found
+    return best, where
+
+
+def mode_content(sector: Sector, coefficients: np.ndarray) -> list[dict[str, Any]]:
+    """Share of each mode (l, k, component) of a sector in the squared displacement norm
+    |X^Y|^2 + l(l+1) (|X^Psi|^2 + |X^Phi|^2) of Fourier coefficients (n, slots), largest first."""
+    power = np.sum(np.abs(coefficients) ** 2, axis=0)
+    weight = np.array([1.0 if n == "Y" else l * (l + 1.0) for l, _, n in sector.slots])
+    energy: dict[tuple, float] = {}
+    for (l, k, n), e in zip(sector.slots, power * weight):
+        key = (l, k, "poloidal" if n != "Phi" else "toroidal")
+        energy[key] = energy.get(key, 0.0) + float(e)
+    total = sum(energy.values())
+    rows = [{"l": l, "k": k, "component": c, "share": e / total}
+            for (l, k, c), e in energy.items() if e >= SHARE_FLOOR * total]
+    return sorted(rows, key=lambda r: -r["share"])
+
+
+def solve_truncation(kappa: Callable, nu: float, l_max: int, kinds: tuple[str, ...],
+                     options: dict[str, Any], progress: bool = False
+                     ) -> tuple[NonUniformSphere, dict]:
+    """The sectors at ``l_max`` and per kind (MarginalTau, critical sector index); with
+    ``progress`` a bar over the sector solves."""
+    sphere = nonuniform_sphere(kappa=kappa, nu=nu, l_max=l_max)
+    with progress_bar(len(sphere.systems) * len(kinds), f"sphere, degrees <= {l_max}", "sector",
+                      progress, leave=False) as bar:
+        return sphere, {k: sector_minimum(sphere.systems, k, options, bar) for k in kinds}
+
+
+def start_degree(kappa_mean: float) -> int:
+    """The first l_max of the refinement: one above the first degree whose natural frequency
+    at the mean stiffness exceeds 1 (the harmonic resonance), at least 4."""
+    lowest = next((l for l in range(2, L_MAX_LIMIT)
+                   if lambda0_squared(l, kappa_mean) > 1.0), L_MAX_LIMIT - 3)
+    return max(4, lowest + 1)
+
+
+def _mean(kappa: Callable) -> float:
+    """The average of kappa(theta, phi) over the sphere."""
+    return stiffness_field(dealiased_grid(4), kappa).mean
+
+
+def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
+                       tol_spatial: float | None = None, options: dict[str, Any],
+                       progress: bool = False) -> NonUniformFloquetResult:
+    """Marginal tau of the sphere with stiffness kappa(theta, phi) (module docstring).
+
+    Parameters
+    ----------
+    p : kappa (an expression), nu and l_max ('auto': refined to ``tol_spatial``, default
+        :data:`TOL_DEGREES`; or an integer degree truncation).
+    options : marginal_tau options (tol, n_temporal, tau_max).
+    progress : a progress bar over the sector solves of each truncation on stderr (a kappa
+        without symmetry couples many modes: degrees <= 10 take minutes).
+
+    Raises
+    ------
+    ParameterError : an argument out of range.
+    ConvergenceError : tau_min did not settle in l_max by L_MAX_LIMIT, or in N.
+    """
+    expr = parse_expression("kappa", p.kappa, positive=True)
+    nu, l_max = p.nu, p.l_max
+    kinds = expand_kind(kind)
+    auto = l_max == "auto"
+    if not auto and tol_spatial is not None:
+        raise ParameterError(f"tol_spatial = {tol_spatial!r} is invalid with a fixed l_max: "
+                             "it sets when the automatic refinement in l_max stops")
+    tol_spatial = require_positive("tol_spatial", TOL_DEGREES if tol_spatial is None
+                                   else tol_spatial)
+    cap = options.get("tau_max") or math.inf
+    fine_l = l_max if not auto else start_degree(_mean(expr.function))
+    coarse = solve_truncation(expr.function, nu, fine_l - 2, kinds, options, progress)[1]
+    while True:
+        sphere, fine = solve_truncation(expr.function, nu, fine_l, kinds, options, progress)
+        change = {k: spatial_change(fine[k][0], coarse[k][0], cap) for k in kinds}
+        if not auto or all(c is not None and c <= tol_spatial for c in change.values()):
+            break
+        if fine_l + 2 > L_MAX_LIMIT:
+            raise ConvergenceError(
+                f"tau_min did not settle to tol_spatial={tol_spatial:g} in the degree truncation "
+                f"by l_max={fine_l} (last changes {list(change.values())}); relax tol_spatial or "
+                "give l_max")
+        fine_l, coarse = fine_l + 2, fine
+    res = {k: spatial_error(fine[k][0], change[k]) for k in kinds}
+    content = {k: _content(sphere, k, *fine[k]) for k in kinds if fine[k][1] is not None}
+    multiplicity = {k: sphere.sectors[fine[k][1]].copies for k in content}
+    warnings = list(sphere.field.warnings) + threshold_warnings(
+        {k: [m.tau_min] for k, m in res.items()}) + certification_warnings(res)
+    opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
+    result = NonUniformFloquetResult(
+        model="sphere", params=dataclasses.asdict(p),
+        harmonic=res.get("harmonic"), subharmonic=res.get("subharmonic"),
+        provenance=provenance(opts), warnings=tuple(warnings), l_max=fine_l,
+        l_max_previous=fine_l - 2, l_change=change, content=content,
+        multiplicity=multiplicity, sectors=len(sphere.sectors))
+    notes = resolution_warnings(res, options["tol"], result.error_reason)
+    return dataclasses.replace(result, warnings=result.warnings + tuple(notes))
+
+
+def tau_min_sensitivity(*, kappa: str, direction: str, nu: float, kind: str, l_max: int,
+                        tol: float = 1e-10) -> tuple[float, float]:
+    """(tau_min, d tau_min / d eps) of ``kind`` for the stiffness kappa + eps w at eps = 0, w the
+    expression ``direction`` (any sign; e.g. kappa0 P_2(cos theta)), at the degree truncation
+    l_max, from the eigenvector formula of
+    :func:`spectralshell.solvers.marginal_mode.marginal_sensitivity` in the critical sector.
+
+    Raises
+    ------
+    ParameterError : an argument out of range. ConvergenceError : no tau_min (or not simple).
+    """
+    l_max = NonUniformSphereParams(kappa=kappa, nu=nu, l_max=l_max).l_max
+    expr = parse_expression("kappa", kappa, positive=True)
+    w = parse_expression("direction", direction)
+    sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
+    found, where = sector_minimum(sphere.systems, kind, {"tol": tol, "n_temporal": None})
+    if where is None:
+        raise ConvergenceError(f"no {kind} tau_min to differentiate")
+    g = dealiased_grid(l_max)
+    weight = g.synthesise(g.analyse(g.evaluate(w.function)))    # degrees <= l_max, as kappa
+    derivative = perturbation_system(sphere.sectors[where], weight, l_max)
+    slope = marginal_sensitivity(sphere.systems[where], derivative, kind, found.tau_min,
+                                 found.n_temporal)
+    return float(found.tau_min), slope
+
+
+def _content(sphere: NonUniformSphere, kind: str, m: MarginalTau, where: int) -> list[dict]:
+    mode = marginal_mode(sphere.systems[where], kind, m.tau_min, m.n_temporal)
+    return mode_content(sphere.sectors[where], mode.coefficients)
+
+
+#: P_2(cos theta) as an expression
+P2 = "(1.5*cos(theta)**2 - 0.5)"
+
+
+def p2_branches(*, kappa0: float, nu: float, eps: np.ndarray, l_max: int = 8,
+                tau_max: float = 0.5, tol: float = 1e-8) -> list[dict[str, Any]]:
+    """Marginal tau of every sector against eps for kappa = kappa0 (1 + eps P_2(cos theta)):
+    rows {"eps", "kind", "l", "k", "tau_min"}, one per eps, kind and sector with a tau_min
+    <= tau_max, the branch named by the dominant mode (l, |k|) of its critical solution (the
+    orders of a degree split; eps = 0, where they are degenerate, belongs to no sector).
+
+    Raises
+    ------
+    ParameterError : eps = 0, or an argument out of range.
+    """
+    rows = []
+    for e in np.asarray(eps, dtype=float):
+        if e == 0.0:
+            raise ParameterError("eps = 0 is invalid here: the orders of a degree are degenerate "
+                                 "there, so no branch is defined (use eps != 0)")
+        expr = parse_expression("kappa", f"{kappa0!r}*(1 + {float(e)!r}*{P2})", positive=True)
+        sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
+        for sector, system in zip(sphere.sectors, sphere.systems):
+            for kind in ("harmonic", "subharmonic"):
+                m = marginal_tau(system, kind, tol=tol, tau_max=tau_max)
+                if m.tau_min is None:
+                    continue
+                mode = marginal_mode(system, kind, m.tau_min, m.n_temporal)
+                lead = mode_content(sector, mode.coefficients)[0]
+                rows.append({"eps": float(e), "kind": kind, "l": lead["l"], "k": abs(lead["k"]),
+                             "tau_min": float(m.tau_min)})
+    return rows
+
+
+def critical_exponent(*, kappa: str, nu: float, kind: str, tau: float, l_max: int,
+                      tol: float = 1e-10) -> tuple[complex, float]:
+    """(gamma, error estimate): the Floquet exponent at amplitude ``tau`` that crosses
+    Re gamma = 0 at the ``kind``'s tau_min, in the critical sector of kappa(theta, phi) at the
+    degree truncation l_max: Newton's method on the truncated Hill determinant
+    (:mod:`spectralshell.solvers.hill_exponents`) from g = 0, gamma = g + i GAMMA[kind]; the
+    error estimate is its change from the truncation N to the next. For tau near tau_min (the
+    exponent near the locking line; the time stepper's growth rate is Re gamma).
+
+    Raises
+    ------
+    ConvergenceError : no tau_min, or Newton's method did not converge.
+    """
+    l_max = NonUniformSphereParams(kappa=kappa, nu=nu, l_max=l_max).l_max
+    expr = parse_expression("kappa", kappa, positive=True)
+    sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
+    found, where = sector_minimum(sphere.systems, kind, {"tol": tol, "n_temporal": None})
+    if where is None:
+        raise ConvergenceError(f"no {kind} tau_min: no exponent crosses Re gamma = 0")
+    values = []
+    for n in (found.n_temporal, finer(found.n_temporal)):
+        T, dT = pencil_family(sphere.systems[where], kind, n)(float(tau))
+        got = newton(T, dT, 0j, tol=1e-14)
+        if got is None:
+            raise ConvergenceError(f"Newton's method for the {kind} exponent at tau = {tau:g} "
+                                   f"did not converge (n_temporal = {n})")
+        values.append(got[0] + 1j * GAMMA[kind])
+    return complex(values[1]), float(abs(values[1] - values[0]))
