@@ -65,8 +65,9 @@ LINES = {
 }
 #: Lines run once each way (minutes per run), not best of 3.
 ONCE = {name for name in LINES if name.startswith("cochlea")}
-#: Random map points per Fig 5.18 panel whose cost is measured for the projection (seed 0).
-MAP_SAMPLE = 4
+#: Random map points per Fig 5.18 panel whose cost is measured for the projection (seed 0;
+#: issue 25 asks for >= 100 in all).
+MAP_SAMPLE = 50
 
 
 def _payload(points: int):
@@ -283,24 +284,43 @@ def continuation() -> dict[str, float]:
     return out
 
 
+def _cell_cost(_where: str, point: dict) -> tuple[float, int]:
+    """(compute seconds, largest M) of one map point solved alone (a worker's task)."""
+    run = run_sweep(point, executor="serial")
+    return run.compute_seconds, int(run.dataset["n_spatial"].max())
+
+
 def fig_5_18_sample() -> list[tuple[str, float]]:
     """Cost of MAP_SAMPLE random points of each thesis-size Fig 5.18 scene (the packaged
-    200 x 200 scenes, seed 0), each solved alone (both kinds, M refined, no continuation)."""
+    200 x 200 scenes, seed 0), each solved alone (both kinds, M refined, no continuation), the
+    points spread over one process per core (each point's own compute time is what counts)."""
     print(f"\n== measured Fig 5.18 per-point cost: {MAP_SAMPLE} random points (seed 0) of each "
-          "packaged 200 x 200 scene, each alone (both kinds, M refined, continuation off)")
+          "packaged 200 x 200 scene, each alone (both kinds, M refined, continuation off; "
+          "one process per core)")
     rng = np.random.default_rng(0)
-    out = []
+    tasks = []
     for panel in ("human", "gerbil"):
         scene = fig_5_18_scene(panel)
         spec = sweep_spec(scene)
         freq, sigma = (np.asarray(spec.axis(a).values) for a in ("frequency", "sigma"))
         for i, j in zip(rng.integers(0, freq.size, MAP_SAMPLE), rng.integers(0, sigma.size, MAP_SAMPLE)):
             point = {**scene, "grid": {"frequency": [float(freq[i])], "sigma": [float(sigma[j])]}}
-            run = run_sweep(point, executor="serial")
-            where = f"{panel} f = {freq[i]:.4g} Hz, sigma = {sigma[j]:.3g}"
-            out.append((where, run.compute_seconds))
-            n_spatial = int(run.dataset["n_spatial"].max())
-            print(f"  {where:<46} {run.compute_seconds:8.2f} s  (largest M {n_spatial})")
+            tasks.append((f"{panel} f = {freq[i]:.4g} Hz, sigma = {sigma[j]:.3g}", point))
+    costs: dict[str, float] = {}
+
+    def record(task: tuple, result: tuple[float, int]) -> None:
+        costs[task[0]] = result[0]
+        print(f"  {task[0]:<46} {result[0]:8.2f} s  (largest M {result[1]})", flush=True)
+
+    with open_pool("processes") as pool:
+        run_tasks(pool.executor, _cell_cost, tasks,
+                  in_flight=pool.slots, on_result=record)
+    out = [(where, costs[where]) for where, _ in tasks]  # in sample order: reproducible
+    values = np.array([c for _, c in out])
+    order = np.sort(values)[::-1]
+    top = max(1, values.size // 10)
+    print(f"  {values.size} points: median {np.median(values):.2f} s, mean {values.mean():.2f} s; "
+          f"the costliest tenth holds {100 * order[:top].sum() / values.sum():.0f} % of the time")
     return out
 
 
