@@ -14,6 +14,7 @@ from spectralshell.models.registry import hill_system
 from spectralshell.params.registry import make_params
 from spectralshell.runner.benchmark import real_harmonic
 from spectralshell.solvers.laplace import release, release_transforms, talbot
+from spectralshell.solvers.rate_fit import fit_rate
 
 
 def test_damped_oscillator_closed_form():
@@ -61,6 +62,18 @@ def test_sphere_release_matches_the_time_stepper(sphere):
         floor = 1e-12 * np.max(np.abs(ref))
         assert np.all(np.abs(ours - ref) <= bound + ref_bound + floor), name
         assert np.max(bound) < np.max(ref_bound)
+
+
+def test_sphere_late_decay_matches_the_dispersion_relation(sphere):
+    """The decay rate and frequency fitted (DMD) from the Laplace release over sphere-release's
+    fit window (the mode's decay by e^-12 after 4 periods) agree with the least damped root of
+    the sphere's dispersion relation to 1e-8 in units of 1/T."""
+    ds, p, _, run = sphere
+    window = tuple(v / p["T"] for v in ds.attrs["fit_window"])
+    fit = fit_rate(ds["t"].values / p["T"], run.position[:, 0], window=window)
+    mode = complex(ss.natural_modes("sphere", m=p["l"], kappa=1.0, nu=p["zeta"], count=1).gamma[0])
+    assert abs(fit.growth_rate - mode.real) < 1e-8
+    assert abs(fit.frequency - mode.imag) < 1e-8
 
 
 def test_split_matches_a_plain_talbot_inversion(sphere):
