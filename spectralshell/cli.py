@@ -588,7 +588,7 @@ BENCHMARK_FLAGS = {"rho": "fluid density (g/cm^3)", "mu": "dynamic viscosity (g/
                    "radius": "equilibrium radius R (cm)",
                    "sigma": "membrane stiffness (dyn/cm; the fibre: g cm/s^2)",
                    "l": "degree of the initial shape", "k": "order of the initial shape",
-                   "m": "wavenumber of the fibre's shape (fibre-parametric)",
+                   "m": "wavenumber of the fibre's shape (fibre problems)",
                    "epsilon": "initial amplitude A0 / R",
                    "omega": "forcing angular frequency (rad/s; parametric problems)",
                    "margin": "tau = (1 -+ margin) tau_min (parametric problems)"}

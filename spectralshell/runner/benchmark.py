@@ -13,6 +13,11 @@ e^-``EFOLDS`` (the fit window), then one more period. Error bound per sample: |f
 :func:`~spectralshell.solvers.rate_fit.fit_rate`, on the fit window) are stored next to the
 exact ones of the dispersion relation (:func:`spectralshell.runner.modes.natural_modes`).
 
+fibre-release. The same window and sampling from the fibre's least damped mode, but no
+stepping: the release from rest is inverted exactly from its Laplace transform
+(:func:`spectralshell.solvers.laplace.release`: residues at the natural modes, Talbot contour
+for the continuous spectrum), error bound from two contour resolutions.
+
 sphere-parametric and fibre-parametric. tau_min from :func:`spectralshell.runner.floquet.floquet`,
 at tau = (1 -+ margin) tau_min the two least stable Floquet exponents
 (:func:`spectralshell.runner.floquet.exponents`) and the periodic eigen-shape
@@ -36,15 +41,17 @@ from scipy.special import lpmv
 from .._version import stamp
 from ..discretise.sphere_stepping import N_STEP, scene_blocks
 from ..errors import ParameterError, SpectralShellError
+from ..models.fibre import lambda0_squared
 from ..models.registry import hill_system
-from ..params.benchmarks import (BENCHMARKS, IB_SPRING_FACTOR, benchmark_params,
-                                 benchmark_problem)
+from ..params.benchmarks import (BENCHMARKS, FIBRE_ZETA_RANGE, IB_SPRING_FACTOR,
+                                 benchmark_params, benchmark_problem, release_scales)
 from ..params.physical import PhysicalSphere, fibre_forced
 from ..params.registry import make_params
 from ..results.benchmark import (ERROR_SUFFIX, BenchmarkScore, QuantityScore, attrs_json,
                                  read_series, reference_columns, write_csv, write_netcdf)
 from ..results.notebook import dataset, json_attr, variable
 from ..solvers.marginal import coarser
+from ..solvers.laplace import CIRCLE_NODES, TALBOT_NODES, release
 from ..solvers.marginal_mode import floquet_mode
 from ..solvers.oscillation_fit import fit_damped_oscillation
 from ..solvers.rate_fit import fit_rate
@@ -63,6 +70,9 @@ FIT_START = 4.0          # periods of transient (continuous spectrum) before the
 EFOLDS = 12.0            # the fit window: the mode's decay by e^-EFOLDS
 SCORE_EFOLDS = 3.0       # score's fit of a user's series (and of the reference, alike)
 POINTS = {"pole": (0.0, 0.0), "equator": (math.pi / 2, 0.0)}   # (theta, phi)
+LAPLACE = ("exact Laplace inversion of the release from rest (solvers/laplace.py): residues at "
+           "the natural modes plus a Talbot contour around the branch cut; bound from 8 fewer "
+           "contour nodes and half the circle nodes")
 STEPPING = ("IMEX time stepping of the radial Chebyshev system of degree l "
             "(discretise/sphere_stepping.py); bound from 2 dt and n - 8 nodes")
 # sphere-parametric (time unit 1 / omega, forcing period 2 pi)
@@ -145,9 +155,7 @@ def _sphere_release(p: dict[str, Any]) -> dict[str, Any]:
     phys = PhysicalSphere(rho=p["rho"], mu=p["mu"], radius=p["radius"], sigma=p["sigma"])
     T, zeta, l, k = phys.time_scale, phys.zeta, p["l"], p["k"]
     exact = complex(natural_modes("sphere", m=l, kappa=1.0, nu=zeta, count=1).gamma[0])
-    period = 2 * math.pi / exact.imag
-    t_a = FIT_START * period
-    t_b = t_a + EFOLDS / -exact.real
+    period, t_a, t_b = _release_window(exact)
     step = DT_FACTOR / abs(exact)
     every = 2 * max(1, round(period / SAMPLES_PER_PERIOD / step / 2))
     steps = math.ceil((t_b + period) / (every * step)) * every
@@ -164,6 +172,24 @@ def _sphere_release(p: dict[str, Any]) -> dict[str, Any]:
               "lamb_frequency": phys.lamb_frequency(l)}
     provenance = {**stamp(), "scheme": SCHEME, "dt": step * T, "samples_every": every,
                   **resolution, "method": STEPPING}
+    return _release_reference(times, series, params, provenance, exact, fit, T, (t_a, t_b))
+
+
+def _release_window(exact: complex) -> tuple[float, float, float]:
+    """(period, t_a, t_b) of a release problem (units of T) from its least damped mode: the fit
+    window starts after FIT_START periods of transient and covers the decay by e^-EFOLDS."""
+    period = 2 * math.pi / exact.imag
+    t_a = FIT_START * period
+    return period, t_a, t_a + EFOLDS / -exact.real
+
+
+def _release_reference(times: np.ndarray, series: dict, params: dict, provenance: dict,
+                       exact: complex, fit, T: float, window: tuple[float, float]
+                       ) -> dict[str, Any]:
+    """The reference of a release problem from its dimensionless run (times, fit, window in
+    units of T) and physical series: every series follows the exact mode; score fits over
+    SCORE_EFOLDS e-folds from the window's start."""
+    t_a, t_b = window
     rate = (exact.real / T, exact.imag / T)
     return {"t": times * T, "series": series, "params": params, "provenance": provenance,
             "exact": dict.fromkeys(series, rate), "fitted": {},
@@ -171,6 +197,29 @@ def _sphere_release(p: dict[str, Any]) -> dict[str, Any]:
             "attrs": {"exact_growth_rate": rate[0], "exact_frequency": rate[1],
                       "fitted_growth_rate": fit.growth_rate / T,
                       "fitted_frequency": fit.frequency / T, "fit_window": [t_a * T, t_b * T]}}
+
+
+def _fibre_release(p: dict[str, Any]) -> dict[str, Any]:
+    """fibre-release by exact Laplace inversion (:func:`spectralshell.solvers.laplace.release`)
+    of the fibre's unforced system at kappa = 1, nu = zeta -> physical series, bounds and
+    metadata; sampled SAMPLES_PER_PERIOD times per period over the window of sphere-release."""
+    T, zeta = release_scales("fibre-release", p)
+    m, R = p["m"], p["radius"]
+    modes = natural_modes("fibre", m=m, kappa=1.0, nu=zeta).gamma
+    exact = complex(modes[0])
+    period, t_a, t_b = _release_window(exact)
+    dt = period / SAMPLES_PER_PERIOD
+    times = dt * np.arange(math.ceil((t_b + period) / dt) + 1)
+    system = hill_system(make_params("fibre", {"m": m, "kappa": 1.0, "nu": zeta}))
+    run = release(system.unforced, np.array([p["epsilon"], 0.0]), times, modes)
+    fit = fit_rate(times, run.position[:, 0], window=(t_a, t_b))
+    series = {"amplitude": (R * run.position[:, 0], R * run.position_error[:, 0]),
+              "u_r": (R / T * run.velocity[:, 0], R / T * run.velocity_error[:, 0])}
+    params = {**p, "T": T, "zeta": zeta}
+    provenance = {**stamp(), "method": LAPLACE, "talbot_nodes": TALBOT_NODES,
+                  "circle_nodes": CIRCLE_NODES,
+                  "poles": [[g.real, g.imag] for g in map(complex, modes)]}
+    return _release_reference(times, series, params, provenance, exact, fit, T, (t_a, t_b))
 
 
 def tau_min(model: str, kappa: float, nu: float, m: int) -> tuple[float, str]:
@@ -313,7 +362,7 @@ def _fibre_parametric(p: dict[str, Any]) -> dict[str, Any]:
 
 #: The reference computation of each registered problem.
 COMPUTE = {"sphere-release": _sphere_release, "sphere-parametric": _sphere_parametric,
-           "fibre-parametric": _fibre_parametric}
+           "fibre-parametric": _fibre_parametric, "fibre-release": _fibre_release}
 assert set(COMPUTE) == set(BENCHMARKS)
 
 
@@ -324,8 +373,9 @@ def benchmark(name: str, **params: Any) -> xr.Dataset:
     fitted, the same fitted from it) and its per-sample error bound ``<quantity>_error``;
     attributes: problem, title, params and provenance (JSON: package and library versions,
     scheme, resolution), the window where score fits (s), the specification and the problem's
-    own (sphere-release: the exact and fitted decay; the parametric problems: the Floquet data;
-    fibre-parametric: the exact rates of the series a user's run gives, ``rate_only``)."""
+    own (the release problems: the exact and fitted decay; the parametric problems: the
+    Floquet data; fibre-parametric: the exact rates of the series a user's run gives,
+    ``rate_only``)."""
     problem = benchmark_problem(name)
     p = benchmark_params(problem, params)
     ref = COMPUTE[name](p)
@@ -379,7 +429,17 @@ def _parametric_fields(model: str, p: dict[str, Any]) -> dict[str, Any]:
     return {**out, "score_start": start, "score_end": end}
 
 
-FIELDS = {"sphere-release": _release_fields,
+def _fibre_release_fields(p: dict[str, Any]) -> dict[str, Any]:
+    """The specification's values of fibre-release."""
+    T, zeta = release_scales("fibre-release", p)
+    exact = complex(natural_modes("fibre", m=p["m"], kappa=1.0, nu=zeta, count=1).gamma[0])
+    return {"T": T, "zeta": zeta, "growth_rate": exact.real / T, "frequency": exact.imag / T,
+            "growth_rate_nd": exact.real, "frequency_nd": exact.imag, "efolds": EFOLDS,
+            "rayleigh": math.sqrt(lambda0_squared(p["m"], 1.0)) / T,
+            "zeta_lo": FIBRE_ZETA_RANGE[0], "zeta_hi": FIBRE_ZETA_RANGE[1]}
+
+
+FIELDS = {"sphere-release": _release_fields, "fibre-release": _fibre_release_fields,
           "sphere-parametric": lambda p: _parametric_fields("sphere", p),
           "fibre-parametric": lambda p: _parametric_fields("fibre", p)}
 
@@ -394,9 +454,9 @@ def specification_text(name: str, **params: Any) -> str:
 
 
 def score_window(ds) -> tuple[float, float]:
-    """(t_a, t_b) in s where score fits a user's series (and the reference alike): sphere-release
-    from the start of the reference's fit window over SCORE_EFOLDS e-folds of the exact mode
-    (longer windows let the algebraic tail bias the fit); sphere-parametric from period
+    """(t_a, t_b) in s where score fits a user's series (and the reference alike): the release
+    problems from the start of the reference's fit window over SCORE_EFOLDS e-folds of the
+    exact mode (longer windows let the algebraic tail bias the fit); sphere-parametric from period
     FIT_FROM_PERIOD to the end; fibre-parametric after the transient (:func:`_rate_window`)."""
     return tuple(float(v) for v in ds.attrs["score_window"])
 
