@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from threadpoolctl import threadpool_limits
 
 import spectralshell as ss
-from spectralshell.models.cylinder import lambda0_squared
+from spectralshell.models.cylinder import ZETA_MAX, ZETA_MIN, lambda0_squared
 from spectralshell.models.nonlinear_coefficients import NOT_NORMAL_MODES
 from spectralshell.params.registry import models
 
@@ -38,6 +38,8 @@ def _amplitude(lo: float, hi: float):
     return st.floats(lo, hi).filter(lambda x: x == 0.0 or abs(x) >= 1e-100)
 
 
+#: zeta = nu/sqrt(kappa) range of the cylinder's natural modes (exponents continue from them).
+CYLINDER_ZETA = (ZETA_MIN, ZETA_MAX)
 NU = st.one_of(st.just(0.0), _log(-9, 1))
 KAPPA = _log(-4, 3)
 DEGREE = st.integers(2, 60)
@@ -209,8 +211,9 @@ def _exponents(model, params, tau, n_temporal):
         with pytest.raises(ss.ParameterError, match=r"^parameters .* are invalid for Floquet exponents"):
             ss.exponents(model, tau=tau, n_temporal=n_temporal, **params)
         return
-    if model == "cylinder" and params["nu"] > 0:  # no natural-mode solver to continue from
-        with pytest.raises(ss.ParameterError, match=r"^model = 'cylinder' is invalid for Floquet exponents"):
+    zeta = params["nu"] / math.sqrt(params["kappa"])
+    if model == "cylinder" and params["nu"] > 0 and not CYLINDER_ZETA[0] <= zeta <= CYLINDER_ZETA[1]:
+        with pytest.raises(ss.ParameterError, match=r"^zeta = .* is invalid: .* continued from"):
             ss.exponents(model, tau=tau, n_temporal=n_temporal, **params)
         return
     if model == "cochlea" and params["nu"] > 0 and "spatial_mode" in params:  # no natural modes
