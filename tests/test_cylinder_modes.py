@@ -173,9 +173,12 @@ def _folded(gamma: np.ndarray) -> np.ndarray:
     return np.sort_complex(np.unique(np.round(both.real + 1j * im, 12)))
 
 
-def test_exponents_at_tau_zero_are_the_natural_modes():
-    modes = _modes(**_EXPONENT_CASE).gamma
-    ex = ss.exponents("cylinder", tau=0.0, **_EXPONENT_CASE).gamma
+@pytest.mark.parametrize("params", [_EXPONENT_CASE, {"m": 0, "k": 1.5, "kappa": 1.0, "nu": 0.3}])
+def test_exponents_at_tau_zero_are_the_natural_modes(params):
+    """Including an overdamped mode -nu k^2 < gamma < 0 (the second case): off the cylinder's
+    cut (-inf, -nu k^2], so listed and counted."""
+    modes = _modes(**params).gamma
+    ex = ss.exponents("cylinder", tau=0.0, **params).gamma
     np.testing.assert_allclose(np.sort_complex(ex), _folded(modes), atol=1e-10)
 
 

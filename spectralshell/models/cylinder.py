@@ -175,7 +175,7 @@ def hill_system(*, m: int, k: float, kappa: float, nu: float,
     m_, k_, kappa_, nu_, c_ = p.m, p.k, p.kappa, p.nu, p.component
     return HillSystem(name="cylinder", block_size=len(idx), forcing=G,
                       unforced=lambda s: unforced(s, m=m_, k=k_, kappa=kappa_, nu=nu_, component=c_),
-                      n_resonant=float(resonant))
+                      n_resonant=float(resonant), branch_point=-p.nu * p.k * p.k)
 
 
 def _hill_system(p: CylinderParams) -> HillSystem:
