@@ -23,6 +23,10 @@ Inviscid limit nu -> 0: the tangential rows slave X^theta = -m X^r/q, X^z = k X^
 row is the Mathieu equation with lambda0^2 = kappa (q - 1)/M(m, k),
 M = I_m(k)/(k I_m'(k)) - K_m(k)/(k K_m'(k)) (added mass; 2/m at k = 0, the fibre's Rayleigh
 frequency kappa m (m^2 - 1)/2). ``nu = 0`` therefore reuses the Mathieu model.
+
+Natural modes (tau = 0): det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2) (:func:`modal_system`,
+one mode per component; the cut of D is gamma <= -nu k^2, ``HillSystem.branch_point``), from which
+the Floquet exponents are continued.
 """
 
 from __future__ import annotations
