@@ -32,7 +32,7 @@ def _modes(**params):
     return ss.natural_modes("cylinder", **params)
 
 
-@pytest.mark.parametrize("m,kappa,nu", [(2, 1.0, 0.01), (3, 0.02, 2e-4), (5, 0.3, 0.1)])
+@pytest.mark.parametrize("m,kappa,nu", [(2, 1.0, 0.01), (3, 0.02, 2e-4), (5, 0.3, 0.02)])
 def test_k_zero_modes_are_the_fibre_modes(m, kappa, nu):
     cyl = _modes(m=m, k=0.0, kappa=kappa, nu=nu)
     fibre = ss.natural_modes("fibre", m=m, kappa=kappa, nu=nu)
@@ -107,7 +107,7 @@ def _count(component: str, m: int, k: float, zeta: float) -> tuple[int, float]:
     return int(np.sum(beta.real >= delta)), count
 
 
-@pytest.mark.parametrize("component,m,k,zeta", [("coupled", 2, 1.0, 0.01), ("coupled", 0, 1.5, 0.3),
+@pytest.mark.parametrize("component,m,k,zeta", [("coupled", 2, 1.0, 0.01), ("coupled", 0, 1.5, 0.05),
                                                  ("torsion", 0, 0.5, 1e-4), ("axial", 2, 0.0, 0.01)])
 def test_mode_count_agrees_with_the_argument_principle(component, m, k, zeta):
     found, count = _count(component, m, k, zeta)
@@ -119,7 +119,7 @@ def test_mode_count_agrees_with_the_argument_principle(component, m, k, zeta):
                                            ("coupled", 6, 2.0), ("coupled", 20, 5.0),
                                            ("coupled", 1, 3.0), ("coupled", 0, 4.0),
                                            ("torsion", 0, 3.0), ("coupled", 5, 0.0)])
-@pytest.mark.parametrize("zeta", [1e-8, 1e-6, 1e-4, 1e-2, 0.3])
+@pytest.mark.parametrize("zeta", [1e-8, 1e-6, 1e-4, 1e-2, 0.05])
 def test_mode_count_agrees_with_the_argument_principle_over_the_range(component, m, k, zeta):
     found, count = _count(component, m, k, zeta)
     assert abs(count - round(count)) < 1e-6 and round(count) == found
@@ -142,8 +142,8 @@ def test_kappa_and_nu_enter_through_zeta_only():
 
 
 def test_out_of_range_is_refused_with_the_range():
-    with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.3\]"):
-        _modes(m=2, k=1.0, kappa=1.0, nu=1.0)
+    with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.05\]"):
+        _modes(m=2, k=1.0, kappa=1.0, nu=0.2)
     with pytest.raises(ParameterError, match="k = 0.5 is invalid"):
         _modes(m=0, k=0.5, kappa=1.0, nu=0.01)
 
@@ -173,7 +173,7 @@ def _folded(gamma: np.ndarray) -> np.ndarray:
     return np.sort_complex(np.unique(np.round(both.real + 1j * im, 12)))
 
 
-@pytest.mark.parametrize("params", [_EXPONENT_CASE, {"m": 0, "k": 1.5, "kappa": 1.0, "nu": 0.3}])
+@pytest.mark.parametrize("params", [_EXPONENT_CASE, {"m": 0, "k": 1.01, "kappa": 1.0, "nu": 0.05}])
 def test_exponents_at_tau_zero_are_the_natural_modes(params):
     """Including an overdamped mode -nu k^2 < gamma < 0 (the second case): off the cylinder's
     cut (-inf, -nu k^2], so listed and counted."""
