@@ -79,7 +79,8 @@ def test_list_is_complete_in_the_stated_region():
     lo, hi = res.complete_in
     system = hill_system(make_params("sphere", SPHERE))
     T, _ = pencil_family(system, "harmonic", res.n_temporal)(0.3)
-    assert count_by_winding(T, _contour(lo, hi, slit_width(res.gamma))) == len(res.gamma)
+    branch = system.branch_point
+    assert count_by_winding(T, _contour(lo, hi, slit_width(res.gamma, branch), branch)) == len(res.gamma)
     assert np.all((res.gamma.real > lo) & (res.gamma.real <= hi))
 
 

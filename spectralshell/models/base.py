@@ -67,6 +67,9 @@ class HillSystem:
         where the model knows it (cochlea: of its M spatial modes), else None: the truncation at
         which every mode's resonances lie inside, used to price a solve before it starts
         (:mod:`spectralshell.solvers.cost`).
+    branch_point : b, where D(s) is analytic off the real half-line (-inf, b] (its branch cut,
+        the fluid's continuous spectrum; b <= 0): 0 for sqrt(s/nu), -nu k^2 for
+        sqrt(s/nu + k^2). Floquet exponents on the cut are not listed.
     """
 
     name: str
@@ -76,6 +79,7 @@ class HillSystem:
     polynomial: tuple[np.ndarray, ...] | None = None
     n_resonant: float = 0.0
     n_highest: float | None = None
+    branch_point: float = 0.0
 
 
 def modal_system_in_beta(name: str, *, nu: float, n_modes: int, residual, residual_mp, seeds,

@@ -23,19 +23,28 @@ Inviscid limit nu -> 0: the tangential rows slave X^theta = -m X^r/q, X^z = k X^
 row is the Mathieu equation with lambda0^2 = kappa (q - 1)/M(m, k),
 M = I_m(k)/(k I_m'(k)) - K_m(k)/(k K_m'(k)) (added mass; 2/m at k = 0, the fibre's Rayleigh
 frequency kappa m (m^2 - 1)/2). ``nu = 0`` therefore reuses the Mathieu model.
+
+Natural modes (tau = 0): det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2) (:func:`modal_system`,
+one mode per component; the cut of D is gamma <= -nu k^2, ``HillSystem.branch_point``), from which
+the Floquet exponents are continued.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
+from collections.abc import Iterator
 
+import mpmath
 import numpy as np
 
+from .._validate import invalid
+from ..errors import ParameterError
 from ..params.cylinder import CYLINDER_UNITS, CylinderParams, cylinder_physical
 from ..params.registry import Model, PhysicalInput, register
 from ..special.cylindrical import logderiv_i, logderiv_k
 from . import mathieu
-from .base import HillSystem, boundary_layer
+from .base import HillSystem, ModalSystem, boundary_layer, damped_newton
 
 _S = np.array([1.0, -1j, -1j])  # complex amplitude of (cos, sin, sin) per real coefficient
 
@@ -65,26 +74,32 @@ def components(m: int, k: float, component: str = "coupled") -> list[int]:
     return [0, 1, 2]
 
 
+def _interface_entries(m: int, k: float, s, nu, lam, L) -> tuple[list, list]:
+    """V, T at r = 1 per amplitude (a, A, C) as 3 x 3 nested lists of entries: numpy arrays over
+    s (broadcast by the caller) or mpmath numbers."""
+    b2 = s / nu + k * k
+    V = [[-lam / s, 1j * m, 1j * k * L],
+         [-1j * m / s, -L, -m * k],
+         [-1j * k / s, 0, -b2]]
+    du = [[-(k * k + m * m - lam) / s, 1j * m * (L - 1), 1j * k * (b2 + m * m - L)],
+          [-1j * m * (lam - 1) / s, -(b2 + m * m - L), -m * k * (L - 1)],
+          [-1j * k * lam / s, 0, -b2 * L]]
+    T = [[2 * nu * d for d in du[0]],
+         [nu * (du[1][j] - V[1][j] + 1j * m * V[0][j]) for j in range(3)],
+         [nu * (du[2][j] + 1j * k * V[0][j]) for j in range(3)]]
+    T[0][0] -= 1
+    return V, T
+
+
 def _interface(m: int, k: float, s: np.ndarray, nu: float, lam: np.ndarray | float,
                L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """V, T (shape (len(s), 3, 3)): velocity and traction at r = 1 per amplitude (a, A, C)."""
-    n = s.size
-    b2 = s / nu + k * k
-    one = np.ones(n, dtype=complex)
-    zero = np.zeros(n, dtype=complex)
-    lam = lam * one
-    V = np.stack([np.stack([-lam / s, 1j * m * one, 1j * k * L], -1),
-                  np.stack([-1j * m / s, -L, -m * k * one], -1),
-                  np.stack([-1j * k / s, zero, -b2], -1)], -2)
-    du = np.stack([np.stack([-(k * k + m * m - lam) / s, 1j * m * (L - 1), 1j * k * (b2 + m * m - L)], -1),
-                   np.stack([-1j * m * (lam - 1) / s, -(b2 + m * m - L), -m * k * (L - 1)], -1),
-                   np.stack([-1j * k * lam / s, zero, -b2 * L], -1)], -2)
-    T = np.empty_like(V)
-    T[:, 0] = 2 * nu * du[:, 0]
-    T[:, 0, 0] -= 1.0
-    T[:, 1] = nu * (du[:, 1] - V[:, 1] + 1j * m * V[:, 0])
-    T[:, 2] = nu * (du[:, 2] + 1j * k * V[:, 0])
-    return V, T
+    V, T = _interface_entries(m, k, s, nu, lam, L)
+
+    def stacked(rows: list) -> np.ndarray:
+        return np.stack([np.stack(np.broadcast_arrays(s, *row)[1:], -1) for row in rows], -2)
+
+    return stacked(V).astype(complex), stacked(T).astype(complex)
 
 
 def _pressure_logderivs(m: int, k: float) -> tuple[float, float]:
@@ -164,17 +179,195 @@ def hill_system(*, m: int, k: float, kappa: float, nu: float,
     m_, k_, kappa_, nu_, c_ = p.m, p.k, p.kappa, p.nu, p.component
     return HillSystem(name="cylinder", block_size=len(idx), forcing=G,
                       unforced=lambda s: unforced(s, m=m_, k=k_, kappa=kappa_, nu=nu_, component=c_),
-                      n_resonant=float(resonant))
+                      n_resonant=float(resonant), branch_point=-p.nu * p.k * p.k)
 
 
 def _hill_system(p: CylinderParams) -> HillSystem:
     return hill_system(m=p.m, k=p.k, kappa=p.kappa, nu=p.nu, component=p.component)
 
 
+# ----------------------------------------------------------------------------- natural modes
+#
+# The dispersion relation det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2), gamma = nu (beta^2 - k^2):
+# the Bessel functions of beta r carry the branch point beta = 0 (gamma = -nu k^2) and the cut
+# gamma <= -nu k^2, which opens into the imaginary beta axis; Re beta > 0 is the physical sheet
+# (the exterior field decays) and maps onto the gamma-plane cut along (-inf, -nu k^2]. The
+# pressure's I_m(k r), K_m(k r) do not depend on gamma. An overdamped mode with
+# -nu k^2 < gamma < 0 has a real beta in (0, k): on the physical sheet, off the cut.
+
+#: Range of zeta = nu/sqrt(kappa) over which the mode count was checked by the argument principle
+#: (tests/test_cylinder_modes.py) and the seeds find every mode for m <= 200, k <= 10 (checked on
+#: grids; from zeta ~ 0.07 the modes of large m reach the cut, where they can miss one).
+ZETA_MIN = 1e-8
+ZETA_MAX = 0.05
+#: Relative step of the 4-point derivative of the determinant in beta (error ~ step^4).
+_STEP = 1e-3
+
+
+def natural_matrix(beta: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
+                   component: str = "coupled") -> np.ndarray:
+    """D(gamma)/kappa at gamma = nu (beta^2 - k^2) for each beta with Re beta > 0, shape
+    (len(beta), b, b); its determinant vanishes at the natural modes e^{gamma t}."""
+    beta = np.asarray(beta, dtype=complex).ravel()
+    return unforced(nu * (beta * beta - k * k), m=m, k=k, kappa=kappa, nu=nu,
+                    component=component) / kappa
+
+
+def _four_point(f: list, h) -> object:
+    """f'(x) from f at x + h, x - h, x + ih, x - ih (analytic f; error ~ h^4 f^(5))."""
+    return (f[0] - f[1] - 1j * (f[2] - f[3])) / (4 * h)
+
+
+def modal_residual(beta: complex, *, m: int, k: float, kappa: float, nu: float,
+                   component: str = "coupled") -> tuple[complex, complex]:
+    """(det D/kappa^b, its beta-derivative) at gamma = nu (beta^2 - k^2), in double precision.
+
+    The derivative is the 4-point difference with step 1e-3 |beta| (relative error ~1e-12, enough
+    for Newton's method, whose root is that of the determinant itself)."""
+    beta = complex(beta)
+    h = _STEP * abs(beta)
+    points = beta + h * np.array([0, 1, -1, 1j, -1j])
+    det = np.linalg.det(natural_matrix(points, m=m, k=k, kappa=kappa, nu=nu, component=component))
+    return complex(det[0]), complex(_four_point(list(det[1:]), h))
+
+
+def _logderivs_mp(m: int, z) -> tuple:
+    """(z I_m'(z)/I_m(z), z K_m'(z)/K_m(z)) in mpmath (DLMF 10.29.2); (m, -m) at z = 0."""
+    if z == 0:
+        return mpmath.mpf(m), -mpmath.mpf(m)
+    return (m + z * mpmath.besseli(m + 1, z) / mpmath.besseli(m, z),
+            m - z * mpmath.besselk(m + 1, z) / mpmath.besselk(m, z))
+
+
+def natural_determinant_mp(beta, *, m: int, k: float, kappa: float, nu: float,
+                           component: str = "coupled"):
+    """det D(gamma)/kappa^b at gamma = nu (beta^2 - k^2) in mpmath at the current precision
+    (beta on the physical sheet, gamma != 0): :func:`natural_matrix` with mpmath's Bessel
+    functions."""
+    beta, k_, nu_ = mpmath.mpc(beta), mpmath.mpf(k), mpmath.mpf(nu)
+    s = nu_ * (beta * beta - k_ * k_)
+    lam = _logderivs_mp(m, k_)
+    L = _logderivs_mp(m, beta)
+    Z = []
+    for side in range(2):
+        V, T = (mpmath.matrix(a) for a in _interface_entries(m, k_, s, nu_, lam[side], L[side]))
+        Z.append(T * mpmath.inverse(V))
+    idx = components(m, k, component)
+    E = elastic_matrix(m, k)
+    D = mpmath.matrix(len(idx), len(idx))
+    for a, i in enumerate(idx):
+        for c, j in enumerate(idx):
+            D[a, c] = s * (Z[0][i, j] - Z[1][i, j]) * _S[j] / _S[i] / kappa + E[i, j]
+    return mpmath.det(D)
+
+
+def modal_residual_mp(beta, *, m: int, k: float, kappa: float, nu: float,
+                      component: str = "coupled"):
+    """:func:`modal_residual` in mpmath: the derivative by the 4-point difference with step
+    10^(-dps/3) |beta| (error ~10^(-4 dps/3))."""
+    beta = mpmath.mpc(beta)
+    h = mpmath.mpf(10) ** (-(mpmath.mp.dps // 3)) * abs(beta)
+    det = [natural_determinant_mp(beta + d, m=m, k=k, kappa=kappa, nu=nu, component=component)
+           for d in (0, h, -h, 1j * h, -1j * h)]
+    return det[0], _four_point(det[1:], h)
+
+
+def _asymptotic_modes(m: int, k: float, kappa: float, nu: float, component: str) -> list[complex]:
+    """Starting values of gamma, one per mode of the set ``component``, from the two limits.
+
+    * small zeta: the inviscid oscillation gamma = i lambda0 (for a set containing X^r) and, per
+      tangential component, the Stokes-layer relaxation 2 nu beta gamma = -kappa q (each side's
+      shear stress is nu beta gamma per unit tangential displacement at large beta, the tangential
+      stiffness is q, X^r is held by the added mass), gamma = (kappa q/(2 sqrt nu))^(2/3) e^(2 pi i/3);
+    * large zeta: the steady-Stokes relaxations det(kappa E + gamma H(s0)/s0) = 0, with H(s0)/s0
+      the viscous resistance at a small s0 (for k > 0 the modes lie in -nu k^2 < gamma < 0).
+    """
+    idx = components(m, k, component)
+    q = m * m + k * k
+    tangential = len(idx) - (0 in idx)
+    small = [1j * np.sqrt(lambda0_squared(m, k, kappa))] if 0 in idx else []
+    small += [(kappa * q / (2 * np.sqrt(nu))) ** (2 / 3) * np.exp(2j * np.pi / 3)] * tangential
+    s0 = 1e-6 * nu * max(k * k, 1.0)
+    resistance = fluid_load(np.array([s0]), m=m, k=k, nu=nu)[0][np.ix_(idx, idx)] / s0
+    E = kappa * elastic_matrix(m, k)[np.ix_(idx, idx)]
+    large = list(np.linalg.eigvals(-np.linalg.solve(resistance, E)))
+    return [complex(g) for g in small + large]
+
+
+def modal_seeds(*, m: int, k: float, kappa: float, nu: float,
+                component: str = "coupled") -> Iterator[complex]:
+    """Starting points beta for the natural modes, best first (lazy): the roots that deflated
+    Newton's method reaches from each value of :func:`_asymptotic_modes` in turn (each root found
+    so far and its images -beta, +-conj(beta) divided out of the determinant, so that the nearly
+    equal Stokes-layer values of the two tangential components lead to two different modes)."""
+    fixed = {"m": m, "k": k, "kappa": kappa, "nu": nu, "component": component}
+    known: list[complex] = []
+
+    def deflated(beta: complex) -> tuple[complex, complex]:
+        f, fp = modal_residual(beta, **fixed)
+        return f, fp - f * sum(1 / (beta - r) for r in known)
+
+    for gamma in _asymptotic_modes(m, k, kappa, nu, component):
+        beta = np.sqrt(complex(gamma) / nu + k * k)
+        root = damped_newton(deflated, complex(abs(beta.real), abs(beta.imag)), rtol=1e-12,
+                             max_iter=60, failures=(ParameterError, ZeroDivisionError))
+        if root is None or root.real <= 0:
+            continue
+        known += [root, root.conjugate(), -root, -root.conjugate()]
+        yield root
+
+
+def modal_system(*, m: int, k: float, kappa: float, nu: float,
+                 component: str = "coupled") -> ModalSystem:
+    """Natural modes of the mode (m, k) of the cylinder as a :class:`ModalSystem` in beta.
+
+    Notes
+    -----
+    x = beta = sqrt(gamma/nu + k^2) (Re beta > 0 on the physical sheet), gamma = nu (beta^2 - k^2),
+    residual det D(gamma)/kappa^b (:func:`modal_residual`, :func:`modal_residual_mp`), seeds
+    :func:`modal_seeds`. n_modes is the number b of components of the set (3 coupled, 2 for the
+    sausage pair (m = 0) and the fibre pair (k = 0), 1 for torsion or axial): one oscillation
+    (gamma -> i lambda0 as nu -> 0) for a set containing X^r, one Stokes-layer relaxation per
+    tangential component. Argument-principle counts of det D over the first beta-quadrant find
+    exactly b roots (tests/test_cylinder_modes.py); at k = 0 the pair is the fibre's.
+
+    Raises
+    ------
+    ParameterError : invalid parameters (:class:`CylinderParams`), nu = 0 (the one inviscid mode
+        is gamma = i lambda0) or zeta = nu/sqrt(kappa) outside [ZETA_MIN, ZETA_MAX].
+    """
+    p = CylinderParams(m=m, k=k, kappa=kappa, nu=nu, component=component)
+    if p.nu == 0:
+        raise invalid("nu", p.nu, "> 0 for the viscous natural modes (the inviscid one is "
+                      "gamma = i lambda0, lambda0^2 = kappa (m^2 + k^2 - 1)/M(m, k))")
+    zeta = p.nu / np.sqrt(p.kappa)
+    if not ZETA_MIN <= zeta <= ZETA_MAX:
+        raise invalid("zeta", zeta, f"in [{ZETA_MIN:g}, {ZETA_MAX:g}] (zeta = nu/sqrt(kappa): the "
+                      "range over which the mode count is verified)")
+    fixed = {"m": p.m, "k": p.k, "kappa": p.kappa, "nu": p.nu, "component": p.component}
+    nu_, k2 = p.nu, p.k * p.k
+    return ModalSystem(name="cylinder", n_modes=len(components(p.m, p.k, p.component)),
+                       residual=functools.partial(modal_residual, **fixed),
+                       residual_mp=functools.partial(modal_residual_mp, **fixed),
+                       seeds=functools.partial(modal_seeds, **fixed),
+                       to_gamma=lambda beta: nu_ * (beta * beta - k2),
+                       sheet_margin=lambda beta: beta.real)
+
+
+def _modal_system(p: CylinderParams) -> ModalSystem:
+    return modal_system(m=p.m, k=p.k, kappa=p.kappa, nu=p.nu, component=p.component)
+
+
+def _inviscid_modes(p: CylinderParams, kappa):
+    return lambda0_squared(p.m, p.k, kappa)
+
+
 MODEL = register(Model(
     name="cylinder",
     summary="periodic cylindrical membrane in viscous fluid, one mode (m, k R) (thesis 8.1)",
-    params=CylinderParams, hill_system=_hill_system,
+    params=CylinderParams, hill_system=_hill_system, modal_system=_modal_system,
+    inviscid_modes=_inviscid_modes,
+    inviscid_method="closed form lambda0^2 = kappa (m^2 + k^2 - 1)/M(m, k) (derivations/cylinder.py)",
     physical=PhysicalInput(units=CYLINDER_UNITS, convert=cylinder_physical,
                            note="rho, mu, radius, sigma, omega required together; period L with "
                                 "j gives k = 2 pi j R/L")))

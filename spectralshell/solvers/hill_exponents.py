@@ -10,7 +10,8 @@ the two-sided pencil of :func:`spectralshell.discretise.hill.assemble` at a ``sh
 T_N(g) = A(g) - tau B, with gamma = g + i GAMMA[kind]: a nonlinear eigenproblem in g (D depends
 on s through Bessel ratios of sqrt(s / nu)), solved by the Newton/continuation/winding machinery
 of :mod:`spectralshell.solvers.nonlinear_eigen`. D(s) is taken analytic off the cut
-s in (-inf, 0] (principal square roots; true of every viscous model of the package). The
+s in (-inf, b], b = ``HillSystem.branch_point`` (principal square roots: b = 0 for the sphere,
+fibre and cochlea, b = -nu k^2 for the cylinder's sqrt(s/nu + k^2)). The
 companion-form route of :mod:`spectralshell.solvers.exponents` needs a polynomial D and does
 not apply.
 
@@ -27,10 +28,10 @@ Method
 3. Completeness: the argument principle (:func:`~spectralshell.solvers.nonlinear_eigen.
    count_by_winding`) counts the zeros of det T_N (harmonic window, g = gamma) in the region
    R = {re_lo <= Re gamma <= re_hi, -1/4 <= Im gamma <= 3/4}, a period of the exponents, minus
-   the band |Im gamma| < w, Re gamma < w along the cut of D(s_0) (the fluid's continuous
+   the band |Im gamma| < w, Re gamma < b + w along the cut of D(s_0) (the fluid's continuous
    spectrum, with the interior fluid's poles on it; exponents there are not counted and not
-   listed, except within w of the branch point gamma = 0, which are listed: at the harmonic
-   tau_min an exponent passes through it). The half-width w is SLIT, or half the smallest
+   listed, except within w of the branch point gamma = b, which are listed: for b = 0 at the
+   harmonic tau_min an exponent passes through it). The half-width w is SLIT, or half the smallest
    |Im gamma| of an exponent found nearer the cut (just below a harmonic tau_min a pair
    approaches the cut from both sides): a conjugate pair inside the band would pass the
    contour on one side within a sampling step and alias its phase by 2 pi. When the count exceeds the
@@ -69,7 +70,7 @@ import numpy as np
 
 from ..discretise.fourier import GAMMA, KINDS, frequencies, two_sided_indices
 from ..discretise.hill import HillMatrices, assemble
-from ..errors import ConvergenceError
+from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
 from ..results.records import Exponents
 from .exponents import N_MAX, distance, first_truncation, fold
@@ -88,9 +89,9 @@ ON_CUT = 1e-12
 START_FRACTION = 1e-3
 #: Relative step of the 4-point derivative D'(s) ~ [D(s+h) - D(s-h) - i D(s+ih) + i D(s-ih)] / 4h.
 DERIVATIVE_STEP = 1e-3
-#: A harmonic exponent is born at the branch point gamma = 0 (a real one crossing from the
-#: cut); Newton's method is always tried from here.
-BRANCH_SEED = complex(1e-3, 0.0)
+#: A harmonic exponent is born at the branch point gamma = b (a real one crossing from the
+#: cut); Newton's method is always tried from b + BRANCH_SEED.
+BRANCH_SEED = 1e-3
 #: Where a continued branch is lost (a pair meeting its locking line is a double root there),
 #: Newton's method restarts at tau from the branch, its mirror image and the points this far
 #: beyond |Im g| on either side along the line; the count then checks nothing was missed.
@@ -263,20 +264,22 @@ def region(gamma: np.ndarray) -> tuple[float, float]:
     return lo - 0.5 - 0.5 * abs(lo), max(hi + 1.0, 1.0)
 
 
-def slit_width(gamma: Sequence[complex]) -> float:
-    """Half-width w of the band around the cut that R leaves out (module notes, step 3)."""
-    near = [abs(g.imag) for g in gamma if g.real < 0 and ON_CUT < abs(g.imag) < SLIT]
+def slit_width(gamma: Sequence[complex], branch: float = 0.0) -> float:
+    """Half-width w of the band around the cut (-inf, ``branch``] that R leaves out (module
+    notes, step 3)."""
+    near = [abs(g.imag) for g in gamma if g.real < branch and ON_CUT < abs(g.imag) < SLIT]
     return min([SLIT] + [0.5 * y for y in near])
 
 
-def _contour(re_lo: float, re_hi: float, slit: float) -> list[complex]:
-    """The counter-clockwise boundary of R slit along [re_lo, w] with half-width w = ``slit``
-    (module notes, step 3): the slit ends w to the right of the branch point, so that the
-    contour misses an exponent at gamma = 0 (the harmonic tau_min)."""
+def _contour(re_lo: float, re_hi: float, slit: float, branch: float) -> list[complex]:
+    """The counter-clockwise boundary of R slit along [re_lo, b + w] with half-width w = ``slit``
+    (module notes, step 3): the slit ends w to the right of the branch point b = ``branch``, so
+    that the contour misses an exponent at gamma = b (at b = 0: the harmonic tau_min)."""
     bottom, top = STRIP
     path = [complex(re_hi, bottom), complex(re_hi, top), complex(re_lo, top)]
-    if re_lo < 0:
-        path += [complex(re_lo, slit), complex(slit, slit), complex(slit, -slit),
+    if re_lo < branch:
+        end = branch + slit
+        path += [complex(re_lo, slit), complex(end, slit), complex(end, -slit),
                  complex(re_lo, -slit)]
     return path + [complex(re_lo, bottom)]
 
@@ -287,19 +290,19 @@ def _in_strip(gamma: np.ndarray) -> np.ndarray:
     return gamma.real + 1j * im
 
 
-def _in_slit(gamma: complex, slit: float) -> bool:
+def _in_slit(gamma: complex, slit: float, branch: float) -> bool:
     """gamma lies in the band of half-width ``slit`` that R leaves out (it is not counted)."""
-    return gamma.real < slit and abs(gamma.imag) < slit
+    return gamma.real < branch + slit and abs(gamma.imag) < slit
 
 
-def _on_cut(gamma: complex, slit: float) -> bool:
+def _on_cut(gamma: complex, slit: float, branch: float) -> bool:
     """gamma lies in the band, not within ``slit`` of the branch point (it is not listed)."""
-    return _in_slit(gamma, slit) and gamma.real < -slit
+    return _in_slit(gamma, slit, branch) and gamma.real < branch - slit
 
 
-def _counted(found: Sequence[complex], slit: float) -> int:
+def _counted(found: Sequence[complex], slit: float, branch: float) -> int:
     """How many of ``found`` the winding count sees (those outside the band)."""
-    return sum(not _in_slit(g, slit) for g in found)
+    return sum(not _in_slit(g, slit, branch) for g in found)
 
 
 def _completed(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int,
@@ -308,25 +311,30 @@ def _completed(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: in
     step 3), and R's real extent."""
     re_lo, re_hi = region(gamma)
     T, dT = pencil_family(system, "harmonic", n_temporal, dense)(tau)
-    slit = slit_width(gamma)
-    found = [g for g in _in_strip(gamma) if not _on_cut(g, slit)]
+    branch = system.branch_point
+    slit = slit_width(gamma, branch)
+    found = [g for g in _in_strip(gamma) if not _on_cut(g, slit, branch)]
     bottom, top = STRIP
     grid = np.linspace(re_lo, re_hi, max(3, int(SEARCH_DENSITY * (re_hi - re_lo))))
     searched = [complex(x, y) for y in np.linspace(bottom, top, SEARCH_DENSITY + 1)[1:-1]
                 for x in grid]
-    count = count_by_winding(T, _contour(re_lo, re_hi, slit))
-    for seed in [BRANCH_SEED] + searched:  # the branch seed always: the count misses its root
-        if seed != BRANCH_SEED and _counted(found, slit) >= count:
+    count = count_by_winding(T, _contour(re_lo, re_hi, slit, branch))
+    branch_seed = complex(branch + BRANCH_SEED, 0.0)
+    for seed in [branch_seed] + searched:  # the branch seed always: the count misses its root
+        if seed != branch_seed and _counted(found, slit, branch) >= count:
             break
-        out = newton(T, dT, seed, known=found, tol=tol)
+        try:
+            out = newton(T, dT, seed, known=found, tol=tol)
+        except ParameterError:  # an iterate at the branch point b (beta = 0): D undefined there
+            out = None
         if out is not None:
             g = complex(_in_strip(np.array([out[0]]))[0])
-            if _new(g, found) and re_lo < g.real < re_hi and not _on_cut(g, slit):
+            if _new(g, found) and re_lo < g.real < re_hi and not _on_cut(g, slit, branch):
                 found.append(g)
-    if _counted(found, slit) != count:
+    if _counted(found, slit, branch) != count:
         raise ConvergenceError(
             f"the argument principle counts {count} Floquet exponents with Re gamma in "
-            f"[{re_lo:.4g}, {re_hi:.4g}] at n_temporal={n_temporal}, but {_counted(found, slit)} were "
+            f"[{re_lo:.4g}, {re_hi:.4g}] at n_temporal={n_temporal}, but {_counted(found, slit, branch)} were "
             "found: give n_temporal= or a nearby tau")
     return fold(np.array(found, dtype=complex)), (re_lo, re_hi)
 

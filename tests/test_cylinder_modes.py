@@ -1,0 +1,210 @@
+"""Natural modes and Floquet exponents of the periodic cylinder (models/cylinder.py, thesis 8.1).
+
+Independent references: the 2D fibre's own dispersion relation (models/fibre.py, a different
+derivation and code) at k = 0; the closed-form inviscid frequency lambda0^2 = kappa (q - 1)/M(m, k);
+the scalar shear-flow relations of the decoupled torsion (m = 0) and axial (k = 0) motions, written
+here from mpmath's Bessel functions; argument-principle counts of det D (vectorised unforced) over
+the first beta-quadrant; for the exponents, the marginal tau of ``ss.floquet`` (a different solver:
+the Hill determinant's marginal-stability root in tau).
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import mpmath
+import numpy as np
+import pytest
+
+import spectralshell as ss
+from spectralshell.errors import ParameterError
+from spectralshell.models.cylinder import (elastic_matrix, fluid_load, lambda0_squared,
+                                           natural_matrix)
+
+sys.path.insert(0, str(Path(__file__).parent))
+from test_sphere_modes import _winding  # noqa: E402  (the shared argument-principle counter)
+
+
+def _modes(**params):
+    return ss.natural_modes("cylinder", **params)
+
+
+@pytest.mark.parametrize("m,kappa,nu", [(2, 1.0, 0.01), (3, 0.02, 2e-4), (5, 0.3, 0.02)])
+def test_k_zero_modes_are_the_fibre_modes(m, kappa, nu):
+    cyl = _modes(m=m, k=0.0, kappa=kappa, nu=nu)
+    fibre = ss.natural_modes("fibre", m=m, kappa=kappa, nu=nu)
+    assert cyl.gamma.size == fibre.gamma.size == 2
+    np.testing.assert_allclose(cyl.gamma, fibre.gamma, rtol=0, atol=1e-10 * np.abs(fibre.gamma).max())
+
+
+def _shear_relation(order: int, gamma, *, nu: float, k: float, kappa: float, q: float):
+    """nu gamma (beta I'/I - beta K'/K)(order, beta) + kappa q: the load of a purely tangential
+    shear flow (axial w e^{i m theta}, order m; swirl v e^{i k z}, order 1), beta^2 = gamma/nu + k^2."""
+    beta = mpmath.sqrt(gamma / nu + k * k)
+    inside = order + beta * mpmath.besseli(order + 1, beta) / mpmath.besseli(order, beta)
+    outside = order - beta * mpmath.besselk(order + 1, beta) / mpmath.besselk(order, beta)
+    return nu * gamma * (inside - outside) + kappa * q
+
+
+@pytest.mark.parametrize("component,m,k,order,q", [("axial", 3, 0.0, 3, 9.0),
+                                                    ("torsion", 0, 1.3, 1, 1.69)])
+def test_decoupled_tangential_modes_solve_the_shear_relation(component, m, k, order, q):
+    kappa, nu = 0.5, 0.02
+    res = _modes(m=m, k=k, kappa=kappa, nu=nu, component=component, precision=25)
+    assert res.gamma.size == 1
+    with mpmath.workdps(30):
+        gamma = mpmath.mpc(*res.gamma_digits[0])
+        assert abs(_shear_relation(order, gamma, nu=nu, k=k, kappa=kappa, q=q)) < 1e-10 * kappa * q
+
+
+def test_m_zero_full_system_decouples_into_torsion_and_sausage():
+    """At m = 0 the 3 x 3 D(s) couples X^theta to neither X^r nor X^z, so its determinant vanishes
+    at the torsion mode and at both sausage modes."""
+    m, k, kappa, nu = 0, 1.5, 1.0, 0.01
+    torsion = _modes(m=m, k=k, kappa=kappa, nu=nu, component="torsion").gamma
+    sausage = _modes(m=m, k=k, kappa=kappa, nu=nu).gamma
+    assert torsion.size == 1 and sausage.size == 2
+    gamma = np.concatenate([torsion, sausage])
+    D = fluid_load(gamma, m=m, k=k, nu=nu) + kappa * elastic_matrix(m, k)
+    scale = np.linalg.norm(D, axis=(1, 2)) ** 3
+    assert np.all(np.abs(D[:, 1, [0, 2]]) < 1e-12 * np.abs(D[:, 1, 1, None]))
+    assert np.all(np.abs(np.linalg.det(D)) < 1e-10 * scale)
+
+
+@pytest.mark.parametrize("m,k", [(2, 1.0), (0, 1.5), (3, 0.2)])
+def test_inviscid_limit_approaches_the_closed_form(m, k):
+    """The oscillation tends to i lambda0 with a Stokes-layer correction O(sqrt(nu)): the error
+    falls tenfold per hundredfold nu."""
+    kappa = 0.5
+    lam0 = np.sqrt(lambda0_squared(m, k, kappa))
+    errors = []
+    for nu in (1e-4, 1e-6, 1e-8):
+        gamma = _modes(m=m, k=k, kappa=kappa, nu=nu).gamma
+        errors.append(np.min(np.abs(gamma - 1j * lam0)))
+    assert errors[-1] < 1e-3 * lam0
+    np.testing.assert_allclose(np.array(errors[:-1]) / np.array(errors[1:]), 10.0, rtol=0.05)
+    inviscid = _modes(m=m, k=k, kappa=kappa, nu=0.0)
+    np.testing.assert_allclose(inviscid.gamma, [1j * lam0], rtol=1e-15)
+
+
+def _count(component: str, m: int, k: float, zeta: float) -> tuple[int, float]:
+    """(modes found with Re beta >= delta, argument-principle count of det D over
+    delta <= Re beta <= L, 0 <= Im beta <= L), the box dipping 1e-9 L below the real axis (a real
+    beta in (0, k) is an overdamped mode -nu k^2 < gamma < 0, counted once)."""
+    gamma = _modes(m=m, k=k, kappa=1.0, nu=zeta, component=component).gamma
+    beta = np.sqrt(gamma / zeta + k * k)
+    size = 4 * max(np.max(np.abs(beta)), 2 * m + 10)
+    delta, dip = 1e-3 * np.min(np.abs(beta)), 1e-9 * size
+
+    def f(b):
+        return np.linalg.det(natural_matrix(b, m=m, k=k, kappa=1.0, nu=zeta, component=component))
+
+    count = _winding(f, [complex(delta, -dip), complex(size, -dip), complex(size, size),
+                         complex(delta, size)])
+    return int(np.sum(beta.real >= delta)), count
+
+
+@pytest.mark.parametrize("component,m,k,zeta", [("coupled", 2, 1.0, 0.01), ("coupled", 0, 1.5, 0.05),
+                                                 ("torsion", 0, 0.5, 1e-4), ("axial", 2, 0.0, 0.01)])
+def test_mode_count_agrees_with_the_argument_principle(component, m, k, zeta):
+    found, count = _count(component, m, k, zeta)
+    assert abs(count - round(count)) < 1e-6 and round(count) == found
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("component,m,k", [("coupled", 2, 1.0), ("coupled", 1, 0.5), ("coupled", 3, 0.2),
+                                           ("coupled", 6, 2.0), ("coupled", 20, 5.0),
+                                           ("coupled", 1, 3.0), ("coupled", 0, 4.0),
+                                           ("torsion", 0, 3.0), ("coupled", 5, 0.0)])
+@pytest.mark.parametrize("zeta", [1e-8, 1e-6, 1e-4, 1e-2, 0.05])
+def test_mode_count_agrees_with_the_argument_principle_over_the_range(component, m, k, zeta):
+    found, count = _count(component, m, k, zeta)
+    assert abs(count - round(count)) < 1e-6 and round(count) == found
+
+
+def test_double_agrees_with_25_digit_polish():
+    """The least damped mode polished in mpmath (mpmath's own Bessel functions, a separate
+    evaluation of D) agrees with the double-precision root within its error estimate."""
+    params = {"m": 2, "k": 1.0, "kappa": 1.0, "nu": 0.01, "count": 1}
+    double, polished = _modes(**params), _modes(**params, precision=25)
+    with mpmath.workdps(30):
+        exact = complex(mpmath.mpc(*polished.gamma_digits[0]))
+    assert abs(double.gamma[0] - exact) <= double.error_estimate[0] < 1e-12 * abs(exact)
+
+
+def test_kappa_and_nu_enter_through_zeta_only():
+    a = _modes(m=2, k=1.0, kappa=4.0, nu=0.02).gamma
+    b = _modes(m=2, k=1.0, zeta=0.01).gamma
+    np.testing.assert_allclose(a, 2.0 * b, rtol=1e-12)
+
+
+def test_out_of_range_is_refused_with_the_range():
+    with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.05\]"):
+        _modes(m=2, k=1.0, kappa=1.0, nu=0.2)
+    with pytest.raises(ParameterError, match="k = 0.5 is invalid"):
+        _modes(m=0, k=0.5, kappa=1.0, nu=0.01)
+
+
+def test_cli_modes_cylinder():
+    cmd = [sys.executable, "-m", "spectralshell", "modes", "cylinder", "--m", "2", "--k", "1",
+           "--kappa", "1", "--nu", "0.01"]
+    out = subprocess.run(cmd + ["--json"], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    ref = _modes(m=2, k=1.0, kappa=1.0, nu=0.01).gamma
+    assert data["model"] == "cylinder" and data["params"]["k"] == 1.0
+    assert str(ref[0].real)[:10] in out.stdout
+    bad = subprocess.run(cmd[:-1] + ["5"], capture_output=True, text=True, timeout=120)
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "zeta" in bad.stderr
+
+
+# ----------------------------------------------------------------------------- exponents
+
+_EXPONENT_CASE = {"m": 2, "k": 1.0, "kappa": 0.3, "nu": 0.02}
+
+
+def _folded(gamma: np.ndarray) -> np.ndarray:
+    """Both members of each conjugate pair, Im folded into (-1/2, 1/2], sorted."""
+    both = np.concatenate([gamma, gamma.conj()])
+    im = both.imag - np.ceil(both.imag - 0.5)
+    return np.sort_complex(np.unique(np.round(both.real + 1j * im, 12)))
+
+
+@pytest.mark.parametrize("params", [_EXPONENT_CASE, {"m": 0, "k": 1.01, "kappa": 1.0, "nu": 0.05}])
+def test_exponents_at_tau_zero_are_the_natural_modes(params):
+    """Including an overdamped mode -nu k^2 < gamma < 0 (the second case): off the cylinder's
+    cut (-inf, -nu k^2], so listed and counted."""
+    modes = _modes(**params).gamma
+    ex = ss.exponents("cylinder", tau=0.0, **params).gamma
+    np.testing.assert_allclose(np.sort_complex(ex), _folded(modes), atol=1e-10)
+
+
+@pytest.mark.parametrize("kind,line", [("harmonic", 0.0), ("subharmonic", 0.5)])
+def test_exponents_at_tau_min_are_marginal(kind, line):
+    floquet = ss.floquet("cylinder", **_EXPONENT_CASE)
+    tau = getattr(floquet, kind).tau_min
+    ex = ss.exponents("cylinder", tau=tau, **_EXPONENT_CASE).gamma
+    marginal = ex[np.argmin(np.abs(ex.real))]
+    assert abs(marginal.real) < 1e-10 and abs(abs(marginal.imag) - line) < 1e-10
+    if tau == min(floquet.harmonic.tau_min, floquet.subharmonic.tau_min):  # nothing grows yet
+        assert ex.real.max() < 1e-10
+
+
+def test_exponents_are_continuous_in_tau():
+    floquet = ss.floquet("cylinder", **_EXPONENT_CASE)
+    tau = 0.5 * min(floquet.harmonic.tau_min, floquet.subharmonic.tau_min)
+    a = ss.exponents("cylinder", tau=tau, **_EXPONENT_CASE).gamma
+    b = ss.exponents("cylinder", tau=tau + 1e-4, **_EXPONENT_CASE).gamma
+    assert a.size == b.size == 6
+    nearest = np.abs(a[:, None] - b[None, :]).min(axis=1)
+    assert nearest.max() < 1e-2 and nearest.max() > 0
+
+
+def test_torsion_exponents_start_from_the_torsion_mode():
+    params = {"m": 0, "k": 1.5, "kappa": 1.0, "nu": 0.01, "component": "torsion"}
+    modes = _modes(**params).gamma
+    ex = ss.exponents("cylinder", tau=0.0, **params).gamma
+    np.testing.assert_allclose(np.sort_complex(ex), _folded(modes), atol=1e-10)
