@@ -149,3 +149,27 @@ def test_cli_exponents_bad_input_exits_2_with_one_line(capsys, argv):
     rc = main(["exponents", "sphere", *[x for kv in base.items() for x in kv]])
     err = capsys.readouterr().err.strip()
     assert rc == 2 and len(err.splitlines()) == 1 and argv[0].lstrip("-") in err
+
+
+def test_count_falls_back_to_the_default_slit_when_an_exponent_lies_on_the_contour():
+    """_slit_count: det T = s - z0 with z0 on the first contour (the slit's edge, Im z0 = the
+    slit) is counted on the contour of the default SLIT, which leaves z0 in the band (not
+    counted); z0 on both contours (the right edge) is refused with what to change."""
+    from spectralshell.errors import ConvergenceError
+    from spectralshell.solvers.hill_exponents import SLIT, _slit_count
+
+    z0 = complex(-1.0, 1e-9)
+    assert _slit_count(lambda s: np.array([[s - z0]]), -2.0, 1.0, 1e-9, 0.0) == (SLIT, 0)
+    assert _slit_count(lambda s: np.array([[s - z0]]), -2.0, 1.0, 1e-10, 0.0) == (1e-10, 1)
+    edge = complex(1.0, 0.3)
+    with pytest.raises(ConvergenceError, match="cannot be counted: give a nearby tau or n_temporal="):
+        _slit_count(lambda s: np.array([[s - edge]]), -2.0, 1.0, 1e-9, 0.0)
+
+
+def test_exponents_next_to_the_cut_are_counted():
+    """The fibre at m = 12, kappa = nu = 1, tau = -1.138 (found by test_stress): an exponent a
+    few 1e-11 off the cut made the slit as narrow and the count failed with 'an eigenvalue lies
+    on the contour'; now it answers as its neighbours in tau do."""
+    near = [ss.exponents("fibre", m=12, kappa=1.0, nu=1.0, tau=tau) for tau in (-1.1, -1.138)]
+    assert near[0].complete_in == near[1].complete_in
+    assert len(near[0].gamma) == len(near[1].gamma)

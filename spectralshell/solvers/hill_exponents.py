@@ -305,6 +305,25 @@ def _counted(found: Sequence[complex], slit: float, branch: float) -> int:
     return sum(not _in_slit(g, slit, branch) for g in found)
 
 
+def _slit_count(T, re_lo: float, re_hi: float, slit: float, branch: float) -> tuple[float, int]:
+    """(slit half-width, winding count of R) with the slit of :func:`slit_width`, or, where an
+    exponent lies on that contour to rounding (an exponent a few 1e-11 off the cut makes the
+    slit as narrow: the fibre at m = 12, kappa = nu = 1, tau = -1.138), with the default SLIT,
+    which leaves such exponents in the band (on the cut to working precision).
+
+    Raises
+    ------
+    ConvergenceError : both contours meet an exponent; the message says what to change.
+    """
+    for width in dict.fromkeys((slit, SLIT)):
+        try:
+            return width, count_by_winding(T, _contour(re_lo, re_hi, width, branch))
+        except ConvergenceError as exc:
+            failure = exc
+    raise ConvergenceError(f"{failure}, so the Floquet exponents there cannot be counted: give "
+                           "a nearby tau or n_temporal=")
+
+
 def _completed(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int,
                tol: float, dense: bool) -> tuple[np.ndarray, tuple[float, float]]:
     """``gamma`` with any exponent the winding count finds missing in R added (module notes,
@@ -312,13 +331,12 @@ def _completed(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: in
     re_lo, re_hi = region(gamma)
     T, dT = pencil_family(system, "harmonic", n_temporal, dense)(tau)
     branch = system.branch_point
-    slit = slit_width(gamma, branch)
+    slit, count = _slit_count(T, re_lo, re_hi, slit_width(gamma, branch), branch)
     found = [g for g in _in_strip(gamma) if not _on_cut(g, slit, branch)]
     bottom, top = STRIP
     grid = np.linspace(re_lo, re_hi, max(3, int(SEARCH_DENSITY * (re_hi - re_lo))))
     searched = [complex(x, y) for y in np.linspace(bottom, top, SEARCH_DENSITY + 1)[1:-1]
                 for x in grid]
-    count = count_by_winding(T, _contour(re_lo, re_hi, slit, branch))
     branch_seed = complex(branch + BRANCH_SEED, 0.0)
     for seed in [branch_seed] + searched:  # the branch seed always: the count misses its root
         if seed != branch_seed and _counted(found, slit, branch) >= count:
