@@ -10,11 +10,12 @@ from spectralshell.results.benchmark import write_csv, write_netcdf
 from spectralshell.runner.benchmark import score
 
 
-def user_csv(path, t, columns):
-    """``columns`` ({name: values} at times t) as a user's CSV at ``path`` (with a comment)."""
+def user_csv(path, t, columns, first="t"):
+    """``columns`` ({name: values} at times t, or the positions of the first column named
+    ``first``) as a user's CSV at ``path`` (with a comment)."""
     names = list(columns)
     rows = np.column_stack([t] + [columns[n] for n in names])
-    path.write_text("# my IB run\n" + ",".join(["t", *names]) + "\n"
+    path.write_text("# my IB run\n" + ",".join([first, *names]) + "\n"
                     + "\n".join(",".join(repr(float(v)) for v in r) for r in rows) + "\n")
     return path
 
