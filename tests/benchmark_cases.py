@@ -1,13 +1,33 @@
-"""Helpers shared by the benchmark tests (tests/test_benchmark*.py): a user's run written as
+"""Helpers shared by the benchmark tests (tests/test_benchmark*.py): a reference timed, its
+parameters, a user's run written as
 score's CSV and scored, the checks of the reference's own score and of two perturbations, and
 the check that the CLI writes the bytes of a computation made in Python."""
+
+import json
+import time
 
 import numpy as np
 import pytest
 
+import spectralshell as ss
+
 from spectralshell.cli import main
 from spectralshell.results.benchmark import write_csv, write_netcdf
 from spectralshell.runner.benchmark import score
+
+
+def timed_benchmark(name):
+    """The default reference of problem ``name``, with the seconds it took in attrs['seconds']
+    (remove it before comparing written bytes)."""
+    start = time.perf_counter()
+    ds = ss.benchmark(name)
+    ds.attrs["seconds"] = time.perf_counter() - start
+    return ds
+
+
+def reference_params(ds):
+    """The parameters (JSON attribute) of a reference Dataset."""
+    return json.loads(ds.attrs["params"])
 
 
 def user_csv(path, t, columns, first="t"):

@@ -4,7 +4,6 @@ envelopes with known perturbations, bit-identical writing through the CLI, bad i
 
 import json
 import math
-import time
 
 import numpy as np
 import pytest
@@ -15,25 +14,18 @@ from spectralshell.errors import ParameterError
 from spectralshell.models.cochlea import tone_response
 from spectralshell.runner.benchmark import score
 
-from benchmark_cases import cli_writes, user_csv
+from benchmark_cases import cli_writes, reference_params, timed_benchmark, user_csv
 
 
 @pytest.fixture(scope="module")
 def reference():
-    start = time.perf_counter()
-    ds = ss.benchmark("cochlea-tone")
-    ds.attrs["seconds"] = time.perf_counter() - start
-    return ds
-
-
-def _params(ds):
-    return json.loads(ds.attrs["params"])
+    return timed_benchmark("cochlea-tone")
 
 
 def test_reference_is_normalised_bounded_and_fast(reference):
     """The envelope has maximum 1 on x in [0, L] cm; its bounds and the peak's are small; the
     peak lies inside the membrane past the load; written in under a minute (measured ~4 s)."""
-    p = _params(reference)
+    p = reference_params(reference)
     x = reference["x"].values
     assert x[0] == 0.0 and x[-1] == pytest.approx(p["length"], rel=1e-15)
     assert np.max(reference["envelope"].values) == 1.0
@@ -54,7 +46,7 @@ def test_peak_is_the_maximum_on_a_finer_grid_and_truncation(reference):
     """The envelope of twice the reference's modes (1024), summed directly on a grid 100 times
     finer than the reference's around the peak, is largest within the stated error bound of
     the reported peak, and its refined maximum is a local maximum there."""
-    p = _params(reference)
+    p = reference_params(reference)
     peak, bound = reference.attrs["peak_x_cm"], reference.attrs["peak_error_cm"]
     dx = p["length"] / 2000 / 100
     x = peak + dx * np.arange(-2000, 2001)
@@ -67,7 +59,7 @@ def test_peak_is_the_maximum_on_a_finer_grid_and_truncation(reference):
 def test_reported_envelope_matches_the_finer_truncation(reference):
     """The envelope at 1024 modes, normalised alike, differs from the reference by no more than
     its per-sample bound (plus 1e-12) everywhere past the load."""
-    p = _params(reference)
+    p = reference_params(reference)
     x = reference["x"].values
     fine = _fine_envelope(p, 2 * p["n_spatial"], x)
     fine /= fine.max()
