@@ -586,11 +586,15 @@ def cmd_simulate(args) -> int:
 
 BENCHMARK_FLAGS = {"rho": "fluid density (g/cm^3)", "mu": "dynamic viscosity (g/(cm s))",
                    "radius": "equilibrium radius R (cm)",
-                   "sigma": "membrane stiffness (dyn/cm; the fibre: g cm/s^2)",
+                   "sigma": "membrane stiffness (dyn/cm; the fibre: g cm/s^2; cochlea-tone: "
+                            "g/(cm^2 s^2) at the base)",
+                   "length": "basilar-membrane length L (cm; cochlea-tone)",
+                   "lambda_c": "stiffness decay rate (1/cm; cochlea-tone)",
                    "l": "degree of the initial shape", "k": "order of the initial shape",
                    "m": "wavenumber of the fibre's shape (fibre problems)",
                    "epsilon": "initial amplitude A0 / R",
-                   "omega": "forcing angular frequency (rad/s; parametric problems)",
+                   "omega": "forcing angular frequency (rad/s; parametric problems and the "
+                            "tone of cochlea-tone)",
                    "margin": "tau = (1 -+ margin) tau_min (parametric problems)"}
 
 
@@ -622,9 +626,10 @@ def cmd_benchmark(args) -> int:
         _atomic_write(paths[0], lambda p: bench.write_netcdf(ds, p))
         _atomic_write(paths[1], lambda p: bench.write_csv(ds, p))
         exact = {q: {k: ds[q].attrs[f"exact_{k}"] for k in ("growth_rate", "frequency")}
-                 for q in bench.reference_columns(ds)}
+                 for q in bench.reference_columns(ds) if "exact_growth_rate" in ds[q].attrs}
         data = {"problem": args.name, "files": [str(p) for p in paths],
-                "samples": int(ds.sizes["t"]),
+                "samples": int(ds.sizes[bench.axis(ds)]),
+                **{k: ds.attrs[k] for k in ("peak_x_cm", "peak_error_cm") if k in ds.attrs},
                 "exact_growth_rate": ds.attrs.get("exact_growth_rate"),
                 "exact_frequency": ds.attrs.get("exact_frequency"), "exact": exact}
         return _report(args.json, data, lambda: f"{args.name}: {data['samples']} samples",
@@ -657,7 +662,8 @@ def _benchmark_parser(sub) -> None:
             q.add_argument("--out", required=True, help="output directory (created if needed)")
         if action == "score":
             q.add_argument("file", help="your run: CSV with header t,<quantity>,... (t in s; "
-                                        "units as in `benchmark show`)")
+                                        "cochlea-tone: x,envelope with x in cm; units as in "
+                                        "`benchmark show`)")
             q.add_argument("--png", help=f"write reference and your run to {FIGURE_FILE}")
         for name, help_text in BENCHMARK_FLAGS.items():
             q.add_argument(f"--{name}", metavar="X", help=help_text)

@@ -1,20 +1,41 @@
-"""Helpers shared by the benchmark tests (tests/test_benchmark*.py): a user's run written as
+"""Helpers shared by the benchmark tests (tests/test_benchmark*.py): a reference timed, its
+parameters, a user's run written as
 score's CSV and scored, the checks of the reference's own score and of two perturbations, and
 the check that the CLI writes the bytes of a computation made in Python."""
 
+import json
+import time
+
 import numpy as np
 import pytest
+
+import spectralshell as ss
 
 from spectralshell.cli import main
 from spectralshell.results.benchmark import write_csv, write_netcdf
 from spectralshell.runner.benchmark import score
 
 
-def user_csv(path, t, columns):
-    """``columns`` ({name: values} at times t) as a user's CSV at ``path`` (with a comment)."""
+def timed_benchmark(name):
+    """The default reference of problem ``name``, with the seconds it took in attrs['seconds']
+    (remove it before comparing written bytes)."""
+    start = time.perf_counter()
+    ds = ss.benchmark(name)
+    ds.attrs["seconds"] = time.perf_counter() - start
+    return ds
+
+
+def reference_params(ds):
+    """The parameters (JSON attribute) of a reference Dataset."""
+    return json.loads(ds.attrs["params"])
+
+
+def user_csv(path, t, columns, first="t"):
+    """``columns`` ({name: values} at times t, or the positions of the first column named
+    ``first``) as a user's CSV at ``path`` (with a comment)."""
     names = list(columns)
     rows = np.column_stack([t] + [columns[n] for n in names])
-    path.write_text("# my IB run\n" + ",".join(["t", *names]) + "\n"
+    path.write_text("# my IB run\n" + ",".join([first, *names]) + "\n"
                     + "\n".join(",".join(repr(float(v)) for v in r) for r in rows) + "\n")
     return path
 

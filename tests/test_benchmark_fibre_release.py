@@ -3,9 +3,7 @@ dispersion relation over the offered range, the early times against a plain Talb
 that uses no natural modes, the velocity against the amplitude's derivative, score on
 synthetic runs with known perturbations, bit-identical writing through the CLI, bad input."""
 
-import json
 import math
-import time
 
 import numpy as np
 import pytest
@@ -19,19 +17,12 @@ from spectralshell.runner.benchmark import score_window
 from spectralshell.solvers.laplace import release, release_transforms, talbot
 
 from benchmark_cases import (amplitude_scorer, check_rate_and_noise, check_self_score,
-                             cli_writes)
+                             cli_writes, reference_params, timed_benchmark)
 
 
 @pytest.fixture(scope="module")
 def reference():
-    start = time.perf_counter()
-    ds = ss.benchmark("fibre-release")
-    ds.attrs["seconds"] = time.perf_counter() - start
-    return ds
-
-
-def _params(ds):
-    return json.loads(ds.attrs["params"])
+    return timed_benchmark("fibre-release")
 
 
 def _mu(zeta, p):
@@ -45,8 +36,8 @@ def test_range_corners_match_the_dispersion_relation(reference, zeta, m):
     transient) from the series agree with the least damped root of the fibre's dispersion
     relation to 1e-8 in units of 1/T at the corners of the offered range (measured <= 1.3e-9);
     the series has decayed to the continuous spectrum's tail by its end."""
-    ds = ss.benchmark("fibre-release", mu=_mu(zeta, _params(reference)), m=m)
-    T = _params(ds)["T"]
+    ds = ss.benchmark("fibre-release", mu=_mu(zeta, reference_params(reference)), m=m)
+    T = reference_params(ds)["T"]
     mode = complex(ss.natural_modes("fibre", m=m, kappa=1.0, nu=zeta, count=1).gamma[0])
     assert abs(ds.attrs["fitted_growth_rate"] * T - mode.real) < 1e-8
     assert abs(ds.attrs["fitted_frequency"] * T - mode.imag) < 1e-8
@@ -57,7 +48,7 @@ def test_range_corners_match_the_dispersion_relation(reference, zeta, m):
 def test_reference_starts_at_rest_and_is_bounded(reference):
     """A(0) = epsilon R, u_r(0) = 0; error bounds below 1e-10 of the largest value; written in
     under a minute (measured ~4 s)."""
-    p = _params(reference)
+    p = reference_params(reference)
     assert reference["amplitude"].values[0] == p["epsilon"] * p["radius"]
     assert reference["u_r"].values[0] == 0.0
     for name in ("amplitude", "u_r"):
@@ -72,7 +63,7 @@ def test_early_times_match_a_plain_talbot_inversion(reference):
     (it crosses the imaginary axis near 34 / T; the fast Stokes-layer mode has |Im gamma| ~ 12 / T),
     the transform inverted as a whole (no modes used) equals the reference method's residues
     plus continuous part to 1e-11 of A0."""
-    p = _params(reference)
+    p = reference_params(reference)
     system = hill_system(make_params("fibre", {"m": p["m"], "kappa": 1.0, "nu": p["zeta"]}))
     modes = ss.natural_modes("fibre", m=p["m"], kappa=1.0, nu=p["zeta"]).gamma
     t = np.linspace(0.01, 0.5, 25)

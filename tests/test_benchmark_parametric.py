@@ -181,7 +181,8 @@ def test_cli_writes_the_same_bytes(reference, tmp_path, capsys):
     assert out["exact"] == {"growth_rate": None, "frequency": None}
     assert main(["benchmark", "list", "--json"]) == 0
     names = [p["name"] for p in json.loads(capsys.readouterr().out)["problems"]]
-    assert names == ["sphere-release", "sphere-parametric", "fibre-parametric", "fibre-release"]
+    assert names == ["sphere-release", "sphere-parametric", "fibre-parametric", "fibre-release",
+                     "cochlea-tone"]
     for argv in (["benchmark", "show", "sphere-parametric", "--margin", "0.9"],
                  ["benchmark", "show", "sphere-release", "--omega", "3"],
                  ["benchmark", "show", "sphere-parametric", "--l", "7"]):

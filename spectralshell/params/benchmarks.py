@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 from .._validate import require_int_in_range, require_nonnegative, require_positive
 from ..errors import ParameterError
-from .physical import PHYSICAL_UNITS, PhysicalSphere, fibre_forced
+from .physical import COCHLEA_UNITS, PHYSICAL_UNITS, TABLE_5_1, PhysicalSphere, fibre_forced
 
 #: sigma* = IB_SPRING_FACTOR sigma: thesis 6.4.1 (six springs per node, small spring length).
 IB_SPRING_FACTOR = math.log(3.0) / 2.0
@@ -60,6 +60,7 @@ class BenchmarkProblem:
     nu_range: tuple[float, float] | None = None
     rate_only: tuple[Quantity, ...] = ()
     zeta_range: tuple[float, float] = ZETA_RANGE
+    omega_range: tuple[float, float] | None = None
 
 
 #: The last part of every sphere specification: the IB spring constant and the reference.
@@ -379,9 +380,70 @@ FIBRE_RELEASE = BenchmarkProblem(
     zeta_range=FIBRE_ZETA_RANGE,
 )
 
+COCHLEA_TONE_SPEC = """\
+cochlea-tone: the 2D box cochlea's basilar-membrane response to a pure tone (peak position)
+
+Physical problem (cgs units; thesis chapter 5, Table 5.1, the box model of LeVeque, Peskin &
+Lax). A basilar membrane (BM) of length L = {length:g} cm lies on y = 0, x in [0, L] (base x = 0,
+apex x = L), between two fluid chambers of density rho = {rho:g} g/cm^3 and viscosity
+mu = {mu:g} g/(cm s), infinitely deep, with walls at x = 0 and x = L that the fluid neither
+penetrates nor slips along. The BM is massless, moves with the fluid, and its transverse
+displacement h(x, t) feels the pressure jump against a local spring of stiffness per unit area
+    K(x) = sigma exp(-lambda_c x),  sigma = {sigma:g} g/(cm^2 s^2), lambda_c = {lambda_c:g} 1/cm
+(no bending, no coupling along x: the BM force per unit area is -K(x) h). A pressure load
+concentrated at the base, proportional to exp(-(x / w)^2) with w = {width:g} L / pi =
+{width_cm:.6g} cm, oscillates as cos(omega t), omega = {omega:g} rad/s
+({hertz:.6g} Hz). After the start-up transient h(x, t) = Re(H(x) e^(i omega t)) (a passive,
+linear response: no pumping, tau = 0).
+
+Dimensionless form (thesis (5.2)-(5.10)). Lengths in L / pi (x in [0, pi]), time in 1 / omega:
+kappa = sigma pi / (rho L omega^2) = {kappa:.10g}, nu = mu pi^2 / (rho L^2 omega) = {nu:.10g},
+alpha = lambda_c L / pi = {alpha:.10g}; the load is exp(-(x / {width:g})^2). References are
+offered for omega in [{omega_lo:g}, {omega_hi:g}] rad/s (Table 5.1's range), where the peak lies
+well inside the membrane.
+
+Reported quantities (CSV columns after x in cm, {points} points from base to apex):
+  envelope  1  |H(x)| / max |H|: the BM displacement envelope, normalised to maximum 1 (the
+               load's amplitude is arbitrary: the problem is linear)
+and the scalar peak position x_peak (cm, the maximum of the envelope beyond 4 w from the base,
+past the load) with its error bound, in the attributes peak_x_cm and peak_error_cm:
+  x_peak = {peak_cm:.8g} cm +- {peak_error_cm:.2g} cm ({peak_share:.4g} % of L from the base)
+(the leading-order WKB estimate, for comparison: {wkb}).
+
+Comparing. Give your run's envelope as a CSV with columns x (cm) and envelope (max over a
+period of |h| after the transient, any normalisation: score divides it by its largest sample,
+as the reference is). score
+interpolates it (cubic spline) onto the reference x inside your range and reports the relative
+L2 and max errors of the envelope, and your peak position (the maximum of the spline, beyond
+4 w) against the exact one. An IB code needs no spring-constant relation here: the BM force
+is local, -K(x) h per unit area at each membrane point.
+
+Reference data: {reference}
+"""
+
+COCHLEA_TONE = BenchmarkProblem(
+    name="cochlea-tone",
+    title="2D box cochlea driven by a pure tone: basilar-membrane envelope and peak position",
+    inputs={k: COCHLEA_UNITS[k] for k in ("rho", "mu", "sigma", "length", "lambda_c", "omega")},
+    defaults={**{k: TABLE_5_1[k] for k in ("rho", "mu", "sigma", "length", "lambda_c")},
+              "omega": 1000.0},
+    quantities=(Quantity("envelope", "1", "BM displacement envelope |H(x)| / max |H|"),),
+    specification=COCHLEA_TONE_SPEC,
+    reference=("the cosine-Galerkin system of the box cochlea (M modes cos(k x), exact unsteady "
+               "Stokes transfer functions; models/cochlea.py) solved at s = i omega for the "
+               "base load, evaluated on the x grid (the response command, runner/response.py). "
+               "Error bound per sample: the largest |envelope(M) - envelope(M / 2)| within 10 "
+               "samples of it (M = 512; the change crosses zero where the two agree by "
+               "chance); of the peak: "
+               "|x_peak(M) - x_peak(M / 2)| + the grid spacing / 10 (a parabola through the "
+               "three samples around the maximum). No time stepping."),
+    omega_range=(TABLE_5_1["omega_range"][0], TABLE_5_1["omega_range"][1]),
+)
+
 #: The registered problems, by name.
 BENCHMARKS: dict[str, BenchmarkProblem] = {p.name: p for p in (SPHERE_RELEASE, SPHERE_PARAMETRIC,
-                                                                 FIBRE_PARAMETRIC, FIBRE_RELEASE)}
+                                                                 FIBRE_PARAMETRIC, FIBRE_RELEASE,
+                                                                 COCHLEA_TONE)}
 
 
 def benchmark_problem(name: str) -> BenchmarkProblem:
@@ -400,7 +462,8 @@ def benchmark_params(problem: BenchmarkProblem, values: Mapping[str, object]) ->
     (:func:`release_scales`) in problem.zeta_range (sphere-release, :data:`ZETA_RANGE`: above
     it the least damped mode nears the fluid's continuous spectrum and the radial resolution
     for 1e-11 exceeds the stepper's automatic limit; fibre-release, :data:`FIBRE_ZETA_RANGE`:
-    above it the algebraic tail spoils the fitted rate; below it runs grow as 1 / zeta)."""
+    above it the algebraic tail spoils the fitted rate; below it runs grow as 1 / zeta); the
+    cochlea (problem.omega_range set): length > 0, lambda_c >= 0, omega in omega_range."""
     given = {k: v for k, v in values.items() if v is not None}
     unknown = sorted(set(given) - set(problem.inputs))
     if unknown:
@@ -410,6 +473,10 @@ def benchmark_params(problem: BenchmarkProblem, values: Mapping[str, object]) ->
     out = {k: require_positive(k, p[k])
            for k in ("rho", "radius", "sigma", "epsilon", "omega") if k in p}
     out["mu"] = require_nonnegative("mu", p["mu"])
+    if problem.omega_range is not None:
+        return {**out, "length": require_positive("length", p["length"]),
+                "lambda_c": require_nonnegative("lambda_c", p["lambda_c"]),
+                "omega": _in_range("omega", p["omega"], problem.omega_range)}
     for name in ("l", "m"):
         if name in p:
             out[name] = int(require_int_in_range(name, p[name], 2, problem.l_max))

@@ -3,9 +3,10 @@ back, and the score of a user's run.
 
 CSV format (what ``spectralshell benchmark write`` writes and ``score`` reads): optional comment
 lines starting with '#', then one header line of comma-separated column names, then one row of
-numbers per sample. The first column is ``t`` (time in s, strictly increasing); the others are
-quantity names of the problem (``spectralshell benchmark show NAME``) in the units stated there;
-columns ending in ``_error`` (the reference's error bounds) are ignored by ``score``.
+numbers per sample. The first column is the problem's axis (:func:`axis`: ``t``, time in s, or
+for cochlea-tone ``x``, position in cm; strictly increasing); the others are quantity names of
+the problem (``spectralshell benchmark show NAME``) in the units stated there; columns ending
+in ``_error`` (the reference's error bounds) are ignored by ``score``.
 """
 
 from __future__ import annotations
@@ -30,6 +31,12 @@ def reference_columns(ds: xr.Dataset) -> list[str]:
     return [str(v) for v in ds.data_vars if not str(v).endswith(ERROR_SUFFIX)]
 
 
+def axis(ds: xr.Dataset) -> str:
+    """The one dimension of a reference Dataset: 't' (time series) or 'x' (cochlea-tone)."""
+    (name,) = ds.dims
+    return str(name)
+
+
 def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
     """``ds`` as NetCDF 3 (scipy engine: no timestamps in the file, so the bytes depend on
     the data and attributes only)."""
@@ -39,10 +46,10 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
 
 def write_csv(ds: xr.Dataset, path: str | Path) -> Path:
     """``ds`` as CSV: '# key: value' lines (attributes; each line of a multi-line value
-    commented), the header t,<q>,<q>_error,..., rows
+    commented), the header <axis>,<q>,<q>_error,..., rows
     with 17 significant digits (the doubles exactly)."""
-    names = ["t"] + [n for q in reference_columns(ds) for n in (q, q + ERROR_SUFFIX)]
-    units = [ds["t"].attrs.get("units", "")] + [ds[n].attrs.get("units", "") for n in names[1:]]
+    names = [axis(ds)] + [n for q in reference_columns(ds) for n in (q, q + ERROR_SUFFIX)]
+    units = [ds[names[0]].attrs.get("units", "")] + [ds[n].attrs.get("units", "") for n in names[1:]]
     lines = [f"# {line}" for k, v in ds.attrs.items() for line in f"{k}: {v}".splitlines()]
     lines.append("# units: " + ",".join(units))
     lines.append(",".join(names))
@@ -52,9 +59,10 @@ def write_csv(ds: xr.Dataset, path: str | Path) -> Path:
     return Path(path)
 
 
-def read_series(path: str | Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """(t, {column: values}) of a CSV in the format of the module docstring; ParameterError
-    (one line, naming the file and line) when it is not."""
+def read_series(path: str | Path, first: str = "t") -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """(axis values, {column: values}) of a CSV in the format of the module docstring, its
+    first column named ``first``; ParameterError (one line, naming the file and line) when it
+    is not."""
     path = Path(path)
     try:
         text = path.read_text()
@@ -66,9 +74,9 @@ def read_series(path: str | Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     if len(rows) < 2:
         raise ParameterError(f"user data {str(path)!r} is invalid: needs a header line and rows")
     header = [h.strip() for h in rows[0][1].split(",")]
-    if header[0] != "t" or len(header) < 2 or len(set(header)) != len(header):
+    if header[0] != first or len(header) < 2 or len(set(header)) != len(header):
         raise ParameterError(f"user data {str(path)!r} header {rows[0][1]!r} is invalid: must be "
-                             "t followed by distinct quantity names")
+                             f"{first} followed by distinct quantity names")
     values = []
     for number, line in rows[1:]:
         cells = line.split(",")
@@ -83,8 +91,8 @@ def read_series(path: str | Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     data = np.array(values)
     t = data[:, 0]
     if np.any(np.diff(t) <= 0):
-        raise ParameterError(f"user data {str(path)!r} column t is invalid: times must be "
-                             "strictly increasing")
+        raise ParameterError(f"user data {str(path)!r} column {first} is invalid: its values "
+                             "must be strictly increasing")
     return t, {name: data[:, j] for j, name in enumerate(header) if j > 0}
 
 
@@ -164,6 +172,46 @@ class BenchmarkScore:
                       f"(reference <= {q.reference_error:.1e})")
             lines.append(f"  {q.name}: {errors}  {fit}  [{q.samples} samples]")
         return "\n".join(lines)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PeakScore:
+    """How a user's envelope along the membrane compares with cochlea-tone's reference.
+
+    scale : the largest sample of the user's envelope, by which it is divided first (the reference is normalised to maximum 1); relative_l2, max_error : of the
+    normalised envelope against the reference over the reference x inside the user's range;
+    reference_error : the largest error bound of the reference there; peak_x, exact_peak_x,
+    exact_peak_error : the user's peak position (maximum of the spline past the load), the
+    reference's and its error bound (cm); samples : the reference points compared."""
+
+    problem: str
+    params: dict[str, Any]
+    scale: float
+    relative_l2: float
+    max_error: float
+    reference_error: float
+    peak_x: float
+    exact_peak_x: float
+    exact_peak_error: float
+    samples: int
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON of ``spectralshell benchmark score --json``."""
+        return {"problem": self.problem, "params": dict(self.params),
+                "quantities": {"envelope": {k: getattr(self, k) for k in (
+                    "scale", "relative_l2", "max_error", "reference_error", "samples")}},
+                "peak": {"x_cm": self.peak_x, "exact_x_cm": self.exact_peak_x,
+                         "exact_error_cm": self.exact_peak_error,
+                         "difference_cm": self.peak_x - self.exact_peak_x}}
+
+    def summary(self) -> str:
+        """The envelope's errors, then the peak position against the exact one."""
+        return (f"{self.problem}: envelope (yours divided by its maximum {self.scale:.6g}): "
+                f"relative L2 {self.relative_l2:.3e}  max error {self.max_error:.3e} "
+                f"(reference <= {self.reference_error:.1e}) [{self.samples} samples]\n"
+                f"  peak at x = {self.peak_x:.6g} cm (exact {self.exact_peak_x:.6g} +- "
+                f"{self.exact_peak_error:.1e} cm; difference "
+                f"{self.peak_x - self.exact_peak_x:+.3e} cm)")
 
 
 def attrs_json(ds: xr.Dataset, key: str) -> Any:

@@ -36,19 +36,22 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy.interpolate import CubicSpline
+from scipy.ndimage import maximum_filter1d
 from scipy.special import lpmv
 
 from .._version import stamp
 from ..discretise.sphere_stepping import N_STEP, scene_blocks
 from ..errors import ParameterError, SpectralShellError
+from ..models.cochlea import TONE_WIDTH
 from ..models.fibre import lambda0_squared
 from ..models.registry import hill_system
 from ..params.benchmarks import (BENCHMARKS, FIBRE_ZETA_RANGE, IB_SPRING_FACTOR,
                                  benchmark_params, benchmark_problem, release_scales)
-from ..params.physical import PhysicalSphere, fibre_forced
+from ..params.physical import PhysicalSphere, cochlea_forced, fibre_forced
 from ..params.registry import make_params
-from ..results.benchmark import (ERROR_SUFFIX, BenchmarkScore, QuantityScore, attrs_json,
-                                 read_series, reference_columns, write_csv, write_netcdf)
+from ..results.benchmark import (ERROR_SUFFIX, BenchmarkScore, PeakScore, QuantityScore,
+                                 attrs_json, axis, read_series, reference_columns, write_csv,
+                                 write_netcdf)
 from ..results.notebook import dataset, json_attr, variable
 from ..solvers.marginal import coarser
 from ..solvers.laplace import CIRCLE_NODES, TALBOT_NODES, release
@@ -58,6 +61,7 @@ from ..solvers.rate_fit import fit_rate
 from ..solvers.stepper import integrate
 from .floquet import exponents, floquet
 from .modes import natural_modes
+from .response import RESPONSE_POINTS, response
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -84,6 +88,9 @@ LOCKED = 1e-9            # |Im gamma - 0 or 1/2| of an exponent locked to the fo
 # fibre-parametric (no reference series): score's window for a user's run
 TRANSIENT_EFOLDS = 10.0  # starts when the next Floquet solution is e^-10 of the leading one
 SCORE_PERIODS = 40       # and lasts 40 forcing periods
+# cochlea-tone
+TONE_MODES = 512         # cosine modes of the reference (bound from TONE_MODES // 2)
+TONE_BOUND_REACH = 10    # the bound of a sample: the largest change within 10 samples of it
 
 
 def real_harmonic(l: int, k: int, theta: float, phi: float) -> float:
@@ -360,15 +367,44 @@ def _fibre_parametric(p: dict[str, Any]) -> dict[str, Any]:
             "attrs": {"forcing_frequency": omega, "floquet": json_attr(cases)}}
 
 
+def _tone_responses(p: dict[str, Any]):
+    """The cochlea's pure-tone responses at TONE_MODES and TONE_MODES // 2 cosine modes (the
+    response command at the problem's cgs inputs)."""
+    return tuple(response("cochlea", kind="tone", n_spatial=M, **p)
+                 for M in (TONE_MODES, TONE_MODES // 2))
+
+
+def _cochlea_tone(p: dict[str, Any]) -> dict[str, Any]:
+    """cochlea-tone: the envelope along the membrane (x in cm) with the bound: the largest
+    |envelope(M) - envelope(M / 2)| within TONE_BOUND_REACH samples (the change itself crosses
+    zero where the two truncations agree by chance), and the peak position and its error (cm)
+    in the attrs."""
+    fine, coarse = _tone_responses(p)
+    params = {**p, **cochlea_forced(**p), "n_spatial": TONE_MODES, "width": TONE_WIDTH}
+    provenance = {**stamp(), "method": "cosine-Galerkin solve at s = i omega "
+                  "(runner/response.py), bound from half the modes; no time stepping",
+                  "n_spatial": TONE_MODES, "n_spatial_check": TONE_MODES // 2}
+    return {"axis": ("x", fine.to_cm(fine.x), "position along the membrane from the base",
+                     "cm"),
+            "series": {"envelope": (fine.envelope, maximum_filter1d(
+                np.abs(fine.envelope - coarse.envelope), 2 * TONE_BOUND_REACH + 1))},
+            "params": params, "provenance": provenance, "exact": {}, "fitted": {},
+            "attrs": {"peak_x_cm": float(fine.to_cm(fine.peak_x)),
+                      "peak_error_cm": float(fine.to_cm(fine.peak_error)),
+                      "tone_start_cm": float(fine.to_cm(4 * TONE_WIDTH))}}
+
+
 #: The reference computation of each registered problem.
 COMPUTE = {"sphere-release": _sphere_release, "sphere-parametric": _sphere_parametric,
-           "fibre-parametric": _fibre_parametric, "fibre-release": _fibre_release}
+           "fibre-parametric": _fibre_parametric, "fibre-release": _fibre_release,
+           "cochlea-tone": _cochlea_tone}
 assert set(COMPUTE) == set(BENCHMARKS)
 
 
 def benchmark(name: str, **params: Any) -> xr.Dataset:
     """Reference data of benchmark ``name`` at the given physical parameters (cgs; defaults
-    from the problem) -> ``xarray.Dataset`` over ``t`` (s): each quantity (attrs: units, the
+    from the problem) -> ``xarray.Dataset`` over ``t`` (s; cochlea-tone: over ``x`` in cm,
+    the envelope and its bound, the peak position in the attrs): each quantity (attrs: units, the
     exact growth rate (1/s) and angular frequency (rad/s) its late part follows and, where
     fitted, the same fitted from it) and its per-sample error bound ``<quantity>_error``;
     attributes: problem, title, params and provenance (JSON: package and library versions,
@@ -380,22 +416,25 @@ def benchmark(name: str, **params: Any) -> xr.Dataset:
     p = benchmark_params(problem, params)
     ref = COMPUTE[name](p)
     units = {q.name: q for q in problem.quantities}
+    dim, coordinate, long_name, unit = ref["axis"] if "axis" in ref else ("t", ref["t"],
+                                                                          "time t", "s")
     data = {}
     rate_only = {q.name: dict(zip(("exact_growth_rate", "exact_frequency"), ref["exact"][q.name]))
                  for q in problem.rate_only}
     for q, (values, bound) in ref["series"].items():
-        data[q] = variable(("t",), values, units[q].description, units[q].units)
-        rates = {"exact": ref["exact"][q], **({"fitted": ref["fitted"][q]} if q in ref["fitted"]
-                                              else {})}
+        data[q] = variable((dim,), values, units[q].description, units[q].units)
+        rates = {**({"exact": ref["exact"][q]} if q in ref["exact"] else {}),
+                 **({"fitted": ref["fitted"][q]} if q in ref["fitted"] else {})}
         for which, (rate, frequency) in rates.items():
             data[q][2].update({f"{which}_growth_rate": rate, f"{which}_frequency": frequency})
-        data[q + ERROR_SUFFIX] = variable(("t",), bound, f"error bound of {q}", units[q].units)
+        data[q + ERROR_SUFFIX] = variable((dim,), bound, f"error bound of {q}", units[q].units)
     attrs = {"title": f"spectralshell benchmark {name}: {problem.title}", "problem": name,
              "params": json_attr(ref["params"]), "provenance": json_attr(ref["provenance"]),
-             "score_window": list(ref["score_window"]), **ref["attrs"],
+             **({"score_window": list(ref["score_window"])} if "score_window" in ref else {}),
+             **ref["attrs"],
              **({"rate_only": json_attr(rate_only)} if rate_only else {}),
              "specification": specification_text(name, **params)}
-    return dataset(data, {"t": variable(("t",), ref["t"], "time t", "s")}, attrs)
+    return dataset(data, {dim: variable((dim,), coordinate, long_name, unit)}, attrs)
 
 
 def _release_fields(p: dict[str, Any]) -> dict[str, Any]:
@@ -439,9 +478,24 @@ def _fibre_release_fields(p: dict[str, Any]) -> dict[str, Any]:
             "zeta_lo": FIBRE_ZETA_RANGE[0], "zeta_hi": FIBRE_ZETA_RANGE[1]}
 
 
+def _tone_fields(p: dict[str, Any]) -> dict[str, Any]:
+    """The specification's values of cochlea-tone (the dimensionless parameters, the peak)."""
+    fine, _ = _tone_responses(p)
+    wkb = ("none (needs mu > 0 and lambda_c > 0)" if fine.wkb_peak_x is None
+           else f"{fine.to_cm(fine.wkb_peak_x):.4g} cm")
+    return {**cochlea_forced(**p), "width": TONE_WIDTH,
+            "width_cm": TONE_WIDTH * p["length"] / math.pi, "hertz": p["omega"] / (2 * math.pi),
+            "points": RESPONSE_POINTS, "peak_cm": fine.to_cm(fine.peak_x),
+            "peak_error_cm": fine.to_cm(fine.peak_error),
+            "peak_share": 100 * fine.peak_x / math.pi, "wkb": wkb,
+            "omega_lo": BENCHMARKS["cochlea-tone"].omega_range[0],
+            "omega_hi": BENCHMARKS["cochlea-tone"].omega_range[1]}
+
+
 FIELDS = {"sphere-release": _release_fields, "fibre-release": _fibre_release_fields,
           "sphere-parametric": lambda p: _parametric_fields("sphere", p),
-          "fibre-parametric": lambda p: _parametric_fields("fibre", p)}
+          "fibre-parametric": lambda p: _parametric_fields("fibre", p),
+          "cochlea-tone": _tone_fields}
 
 
 def specification_text(name: str, **params: Any) -> str:
@@ -449,7 +503,7 @@ def specification_text(name: str, **params: Any) -> str:
     problem = benchmark_problem(name)
     p = benchmark_params(problem, params)
     return problem.specification.format(
-        **p, **FIELDS[name](p), amplitude=p.get("epsilon", 0.0) * p["radius"],
+        **p, **FIELDS[name](p), amplitude=p.get("epsilon", 0.0) * p.get("radius", 0.0),
         sigma_star=IB_SPRING_FACTOR * p["sigma"], reference=problem.reference)
 
 
@@ -519,13 +573,56 @@ def _score_rate(ds, name: str, t_user: np.ndarray, x_user: np.ndarray,
                          samples=int(inside.sum()))
 
 
+def _user_peak(spline: CubicSpline, low: float, high: float) -> float:
+    """Where ``spline`` is largest on [low, high] (among its stationary points there and the
+    ends)."""
+    roots = spline.derivative().roots(extrapolate=False)
+    candidates = np.concatenate([[low, high], roots[(roots >= low) & (roots <= high)]])
+    return float(candidates[int(np.argmax(spline(candidates)))])
+
+
+def _score_envelope(ds, path, x_user: np.ndarray, columns: dict) -> PeakScore:
+    """cochlea-tone: the user's envelope (column 'envelope', x in cm) divided by its largest
+    sample (as the reference is), interpolated by a cubic spline onto the reference x inside its range, against the
+    reference; its peak past the load (x >= tone_start_cm) against the exact one."""
+    if {c for c in columns if not c.endswith(ERROR_SUFFIX)} != {"envelope"}:
+        raise ParameterError(f"user data {str(path)!r} columns {', '.join(columns)} are invalid: "
+                             "expected x (cm) and envelope")
+    x_ref = ds["x"].values
+    inside = (x_ref >= x_user[0]) & (x_ref <= x_user[-1])
+    start = ds.attrs["tone_start_cm"]
+    if x_user.size < 4 or inside.sum() < 2 or x_user[-1] <= start:
+        raise ParameterError(f"user data column x is invalid: {x_user[0]:g}..{x_user[-1]:g} cm "
+                             f"must reach past {start:.4g} cm (the load) and cover at least 2 "
+                             "reference points with 4 samples")
+    spline = CubicSpline(x_user, columns["envelope"])
+    scale = float(np.max(columns["envelope"]))
+    if not scale > 0:
+        raise ParameterError(f"user data column envelope is invalid: its maximum {scale:g} "
+                             "must be positive")
+    ref = ds["envelope"].values[inside]
+    diff = spline(x_ref[inside]) / scale - ref
+    peak = _user_peak(spline, max(start, x_user[0]), x_user[-1])
+    return PeakScore(problem=ds.attrs["problem"], params=attrs_json(ds, "params"), scale=scale,
+                     relative_l2=float(np.linalg.norm(diff) / np.linalg.norm(ref)),
+                     max_error=float(np.max(np.abs(diff))),
+                     reference_error=float(np.max(ds["envelope" + ERROR_SUFFIX].values[inside])),
+                     peak_x=peak, exact_peak_x=float(ds.attrs["peak_x_cm"]),
+                     exact_peak_error=float(ds.attrs["peak_error_cm"]),
+                     samples=int(inside.sum()))
+
+
 def score(name: str, path: str | Path, *, reference: xr.Dataset | None = None,
-          **params: Any) -> tuple[BenchmarkScore, xr.Dataset, tuple]:
+          **params: Any) -> tuple[BenchmarkScore | PeakScore, xr.Dataset, tuple]:
     """Score the user's CSV ``path`` (format: :mod:`spectralshell.results.benchmark`) against
     the reference of ``name`` at ``params`` (or the given ``reference`` Dataset) ->
-    (score, reference Dataset, (t_user, {column: values})) ."""
+    (score, reference Dataset, (axis values of the user, {column: values})); cochlea-tone
+    (over x): a :class:`~spectralshell.results.benchmark.PeakScore`."""
     ds = reference if reference is not None else benchmark(name, **params)
-    t_user, columns = read_series(path)
+    t_user, columns = read_series(path, axis(ds))
+    if axis(ds) == "x":
+        return (_score_envelope(ds, path, t_user, columns), ds,
+                (t_user, {"envelope": columns["envelope"]}))
     rate_only = attrs_json(ds, "rate_only") if "rate_only" in ds.attrs else {}
     known = reference_columns(ds) + list(rate_only)
     unknown = [c for c in columns if c not in known and not c.endswith(ERROR_SUFFIX)]
