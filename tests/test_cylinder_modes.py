@@ -208,3 +208,20 @@ def test_torsion_exponents_start_from_the_torsion_mode():
     modes = _modes(**params).gamma
     ex = ss.exponents("cylinder", tau=0.0, **params).gamma
     np.testing.assert_allclose(np.sort_complex(ex), _folded(modes), atol=1e-10)
+
+
+def test_cli_exponents_cylinder():
+    """`spectralshell exponents cylinder ... --json` gives the API's exponents (the JSON
+    'exponents' are the listed gamma), and a zeta out of range exits 2 with one line."""
+    cmd = [sys.executable, "-m", "spectralshell", "exponents", "cylinder", "--m", "2", "--k", "1",
+           "--kappa", "0.3", "--nu", "0.02", "--tau", "0.1"]
+    out = subprocess.run(cmd + ["--json"], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    ref = ss.exponents("cylinder", tau=0.1, **_EXPONENT_CASE)
+    assert data["model"] == "cylinder" and len(data["exponents"]) == len(ref.gamma)
+    listed = np.array([complex(g["re"], g["im"]) for g in data["exponents"]])
+    np.testing.assert_allclose(np.sort_complex(listed), np.sort_complex(ref.gamma), atol=1e-12)
+    bad = subprocess.run(cmd[:-4] + ["--nu", "0.5", "--tau", "0.1"], capture_output=True,
+                         text=True, timeout=120)
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "zeta" in bad.stderr
