@@ -99,6 +99,10 @@ LOST_REACH = 1e-3
 #: Seeds per unit length of the region's edges in the search for exponents the count says are
 #: missing.
 SEARCH_DENSITY = 8
+#: Memory for the blocks of one batch of shifts in HillPencil.phases / log_derivatives: the
+#: winding count evaluates whole refinement levels at once, and unbatched the cochlea at
+#: M = 32, N = 40 held 4.9 GB (the stress test's larger draws were killed by the kernel).
+BATCH_BYTES = 1 << 28
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,16 +157,29 @@ class HillPencil:
         out[np.arange(k), :, np.arange(k), :] = d
         return out.reshape(k * b, k * b)
 
+    def _batches(self, g: np.ndarray, copies: int) -> list[np.ndarray]:
+        """``g`` cut into runs whose ``copies`` stacks of blocks D(s_k + g_j) (complex, K b^2
+        each) take at most BATCH_BYTES together."""
+        g = np.asarray(g, dtype=complex)
+        per_shift = copies * len(self._frequencies) * self.system.block_size**2 * 16
+        step = max(1, BATCH_BYTES // per_shift)
+        return [g[i:i + step] for i in range(0, len(g), step)] or [g]
+
     def phases(self, g: np.ndarray) -> np.ndarray:
         """det T(g) / |det T(g)| at each g."""
-        return log_det_phase_and_derivative(self._blocks(g, False)[0], *self._couplings)[0]
+        return np.concatenate([
+            log_det_phase_and_derivative(self._blocks(part, False)[0], *self._couplings)[0]
+            for part in self._batches(g, 3)])
 
     def log_derivatives(self, g: np.ndarray) -> np.ndarray:
         """tr(T(g)^{-1} T'(g)) = d/dg log det T(g) at each g."""
-        diag, d = self._blocks(g, True)
-        out = log_det_phase_and_derivative(diag, *self._couplings, d)[1]
-        assert out is not None
-        return out
+        out = []
+        for part in self._batches(g, 10):  # D at five points, D', the block LU's work
+            diag, d = self._blocks(part, True)
+            found = log_det_phase_and_derivative(diag, *self._couplings, d)[1]
+            assert found is not None
+            out.append(found)
+        return np.concatenate(out)
 
 
 def pencil_family(system: HillSystem, kind: str, n_temporal: int, dense: bool = False
