@@ -405,7 +405,7 @@ def _dominant(op: spla.LinearOperator, k: int, ncv: int,
     return lam[np.argsort(-np.abs(lam), kind="stable")]
 
 
-class _Counted(spla.LinearOperator):
+class Counted(spla.LinearOperator):
     """A LinearOperator that counts its products (``products``)."""
 
     def __init__(self, op: spla.LinearOperator):
@@ -443,7 +443,7 @@ def smallest_taus(hill: HillMatrices, *, tau_max: float = np.inf,
         return None
     op, squared = krylov_operator(hill, inverses)
     n = op.shape[0]
-    counted = _Counted(op)
+    counted = Counted(op)
     k = K_START if squared else 2 * K_START  # T has each +-mu pair, W one mu^2
     rounds = 0
     while True:

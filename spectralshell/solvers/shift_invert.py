@@ -79,7 +79,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from ..discretise.hill import HillMatrices, realify
-from .half_product import arpack_restarts, coupling_rows, is_realified
+from .half_product import Counted, arpack_restarts, coupling_rows, is_realified
 
 RADIUS_MARGIN = 1e-3
 K_START = 24
@@ -268,13 +268,8 @@ def _disk(hill: HillMatrices, sigma: float, k: int, b_product,
     solve = shifted_solver(hill, sigma)
     if solve is None or _backward_error(hill, sigma, solve, b_product) > BACKWARD_LIMIT:
         return None
-    count = [0]
-
-    def matvec(x: np.ndarray) -> np.ndarray:
-        count[0] += 1
-        return solve(b_product(np.ravel(x)))
-
-    op = spla.LinearOperator((n, n), matvec=matvec, dtype=float)
+    op = Counted(spla.LinearOperator((n, n), matvec=lambda x: solve(b_product(np.ravel(x))),
+                                     dtype=float))
     v0 = np.random.default_rng(20240611).standard_normal(n)
     try:
         theta = spla.eigs(op, k=k, which="LM", v0=v0, tol=ARPACK_TOL, ncv=ncv, maxiter=maxiter,
@@ -289,7 +284,7 @@ def _disk(hill: HillMatrices, sigma: float, k: int, b_product,
     finite = size[size > floor]
     close = bool(finite.max() > CLOSE_LIMIT * finite.min())
     tau = np.sort(sigma + 1.0 / theta.real[real])
-    work = count[0] * (1.0 + orthogonalisation) + factorisation
+    work = op.products * (1.0 + orthogonalisation) + factorisation
     return _Disk(shift=Shift(sigma=float(sigma), n_eigenvalues=k, radius=float(radius)),
                  tau=tau[np.abs(tau - sigma) < radius], work=work, close=close)
 
