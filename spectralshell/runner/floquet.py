@@ -53,6 +53,11 @@ def solver_options(tol: float, n_temporal: int | None, tau_max: float | None = N
     return options
 
 
+#: floquet's answers: an empty one (no tau <= tau_max) of a viscous model is proved by the zero
+#: count at both truncations, or refused (marginal_tau's ``certify_empty``; issue 23, section 2).
+CERTIFIED = {"certify_empty": True}
+
+
 def _system(model: str, params: Mapping[str, Any]) -> tuple[Any, HillSystem]:
     p = make_params(model, dict(params))
     return p, hill_system(p)
@@ -121,7 +126,7 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
             raise ParameterError(f"{name} = {value!r} is invalid for model {model!r}: it has no "
                                  "spatial modes")
     p, system = _system(model, params)
-    res = solve_kinds(system, kinds, options)
+    res = solve_kinds(system, kinds, {**options, **CERTIFIED})
     warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
     if n_temporal is None:
         warnings += resolution_warnings(res, options["tol"])
@@ -202,13 +207,14 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
     tol_spatial = require_positive("tol_spatial", TOL_SPATIAL if tol_spatial is None else tol_spatial)
     factory = functools.partial(spatial_system, model, params)
     if first.spatial_mode is not None:
-        p, fine = first, solve_kinds(hill_system(first), kinds, options)
+        p, fine = first, solve_kinds(hill_system(first), kinds, {**options, **CERTIFIED})
         m_fine, m_coarse, change = 1, None, {k: 0.0 for k in kinds}
     else:
         estimate = priced_spatial(model, factory, kinds, options, n_given, max_seconds)
         with progress_bar(estimate.levels, f"{model} ({estimate.describe()})", "M", progress,
                           leave=False) as bar:
-            found = spatial_point(_counted(factory, bar), kinds, options, n_given, tol_spatial)
+            found = spatial_point(_counted(factory, bar), kinds, {**options, **CERTIFIED},
+                                  n_given, tol_spatial)
         p = first if n_given is not None else make_params(
             model, {**params, "n_spatial": found.n_spatial})
         fine, change = found.taus, found.change

@@ -19,6 +19,11 @@
  *   phase change of det(A - tau B) around the closed polygon ``nodes`` (complex128, at least
  *   3), in turns, each edge bisected adaptively (see ``segment``); None on a zero pivot or
  *   after max_nodes evaluations.
+ * winding_of(evaluate, nodes, max_bend, max_turn, max_nodes) -> float or None: the same walk
+ *   for any log det: ``evaluate(z)`` (a Python callable, called with the GIL held) returns
+ *   (log g(z), d log g / dz) as two complex numbers, or None where it cannot (a zero pivot);
+ *   its exceptions propagate. Used for blocks larger than 2 x 2, whose evaluation (block LU
+ *   by LAPACK) costs far more than the call.
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -127,18 +132,54 @@ static int pencil_buffers(PyObject *const *args, const char *usage, const char *
     return 0;
 }
 
-/* One pencil and the adaptive quadrature state of winding(). */
+/* One log det (a 2 x 2 block pencil, or a Python callable when ``callback`` is set) and the
+ * adaptive quadrature state of winding(). */
 typedef struct {
     const double complex *diag, *lower, *upper;
     Py_ssize_t K;
+    PyObject *callback;
     double max_bend, max_turn;
     long budget; /* evaluations left */
 } Contour;
+
+/* (log g, slope) at z from the Python callable: 0, or 1 when it returns None or raises (then
+ * the exception stays set for the caller). */
+static int call_back(PyObject *callback, double complex z, double complex *value,
+                     double complex *slope)
+{
+    PyObject *arg = PyComplex_FromDoubles(creal(z), cimag(z));
+    if (arg == NULL)
+        return 1;
+    PyObject *got = PyObject_CallOneArg(callback, arg);
+    Py_DECREF(arg);
+    if (got == NULL)
+        return 1;
+    int failed = 1;
+    if (got != Py_None) {
+        PyObject *pair = PySequence_Fast(got, "evaluate must return (value, slope) or None");
+        if (pair != NULL && PySequence_Fast_GET_SIZE(pair) == 2) {
+            Py_complex v = PyComplex_AsCComplex(PySequence_Fast_GET_ITEM(pair, 0));
+            Py_complex d = PyComplex_AsCComplex(PySequence_Fast_GET_ITEM(pair, 1));
+            if (!PyErr_Occurred()) {
+                *value = v.real + I * v.imag;
+                *slope = d.real + I * d.imag;
+                failed = !(isfinite(v.real) && isfinite(v.imag) && isfinite(d.real) &&
+                           isfinite(d.imag));
+            }
+        } else if (pair != NULL)
+            PyErr_SetString(PyExc_TypeError, "evaluate must return (value, slope) or None");
+        Py_XDECREF(pair);
+    }
+    Py_DECREF(got);
+    return failed;
+}
 
 static int evaluate(Contour *c, double complex z, double complex *value, double complex *slope)
 {
     if (c->budget-- <= 0)
         return 1;
+    if (c->callback != NULL)
+        return call_back(c->callback, z, value, slope);
     return schur_logdet(c->diag, c->lower, c->upper, c->K, z, value, slope);
 }
 
@@ -166,6 +207,41 @@ static int segment(Contour *c, double complex z0, double complex f0, double comp
            segment(c, zm, fm, sm, z1, f1, s1, depth + 1, turn);
 }
 
+/* Turns of g around the closed polygon z[0..n-1] into *turn (radians); 1 on failure. The GIL
+ * is released only for the compiled evaluator. */
+static int contour_turns(Contour *c, const double complex *z, Py_ssize_t n, double *turn)
+{
+    int failed = 0;
+    PyThreadState *saved = c->callback == NULL ? PyEval_SaveThread() : NULL;
+    double complex f_first, s_first, f0, s0, f1, s1;
+    failed = evaluate(c, z[0], &f_first, &s_first);
+    f0 = f_first;
+    s0 = s_first;
+    for (Py_ssize_t j = 0; j < n && !failed; j++) {
+        if (j + 1 < n)
+            failed = evaluate(c, z[j + 1], &f1, &s1);
+        else {
+            f1 = f_first;
+            s1 = s_first;
+        }
+        failed = failed || segment(c, z[j], f0, s0, z[(j + 1) % n], f1, s1, 0, turn);
+        f0 = f1;
+        s0 = s1;
+    }
+    if (saved != NULL)
+        PyEval_RestoreThread(saved);
+    return failed;
+}
+
+static PyObject *turns_result(int failed, double turn)
+{
+    if (PyErr_Occurred())
+        return NULL;
+    if (failed)
+        Py_RETURN_NONE;
+    return PyFloat_FromDouble(turn / (2 * M_PI));
+}
+
 static PyObject *py_winding(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
@@ -180,33 +256,38 @@ static PyObject *py_winding(PyObject *self, PyObject *const *args, Py_ssize_t na
     Py_buffer v[4];
     if (PyErr_Occurred() || pencil_buffers(args, "winding", names, 4, 3, v) < 0)
         return NULL;
-    Py_ssize_t n = v[3].shape[0];
     Contour c = {(const double complex *)v[0].buf, (const double complex *)v[1].buf,
-                 (const double complex *)v[2].buf, v[0].shape[0], max_bend, max_turn, max_nodes};
-    const double complex *z = (const double complex *)v[3].buf;
+                 (const double complex *)v[2].buf, v[0].shape[0], NULL, max_bend, max_turn,
+                 max_nodes};
     double turn = 0.0;
-    int failed = 0;
-    Py_BEGIN_ALLOW_THREADS
-    double complex f_first, s_first, f0, s0, f1, s1;
-    failed = evaluate(&c, z[0], &f_first, &s_first);
-    f0 = f_first;
-    s0 = s_first;
-    for (Py_ssize_t j = 0; j < n && !failed; j++) {
-        if (j + 1 < n)
-            failed = evaluate(&c, z[j + 1], &f1, &s1);
-        else {
-            f1 = f_first;
-            s1 = s_first;
-        }
-        failed = failed || segment(&c, z[j], f0, s0, z[(j + 1) % n], f1, s1, 0, &turn);
-        f0 = f1;
-        s0 = s1;
-    }
-    Py_END_ALLOW_THREADS
+    int failed = contour_turns(&c, (const double complex *)v[3].buf, v[3].shape[0], &turn);
     release(v, 4);
-    if (failed)
-        Py_RETURN_NONE;
-    return PyFloat_FromDouble(turn / (2 * M_PI));
+    return turns_result(failed, turn);
+}
+
+static PyObject *py_winding_of(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (nargs != 5 || !PyCallable_Check(args[0])) {
+        PyErr_SetString(PyExc_TypeError, "winding_of(evaluate, nodes, max_bend, max_turn, "
+                                         "max_nodes) takes a callable and four arguments");
+        return NULL;
+    }
+    double max_bend = PyFloat_AsDouble(args[2]), max_turn = PyFloat_AsDouble(args[3]);
+    long max_nodes = PyLong_AsLong(args[4]);
+    Py_buffer v;
+    if (PyErr_Occurred() || complex_buffer(args[1], &v, "nodes", 1) < 0)
+        return NULL;
+    if (v.shape[0] < 3) {
+        PyBuffer_Release(&v);
+        PyErr_SetString(PyExc_ValueError, "winding_of: at least 3 nodes");
+        return NULL;
+    }
+    Contour c = {NULL, NULL, NULL, 0, args[0], max_bend, max_turn, max_nodes};
+    double turn = 0.0;
+    int failed = contour_turns(&c, (const double complex *)v.buf, v.shape[0], &turn);
+    PyBuffer_Release(&v);
+    return turns_result(failed, turn);
 }
 
 static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
@@ -242,10 +323,14 @@ static PyMethodDef methods[] = {
      "winding(diag, lower, upper, nodes, max_bend, max_turn, max_nodes) -> turns of the "
      "phase of det(A - tau B) around the closed polygon nodes in z = tau^2 (float; None when "
      "a zero pivot or the node budget stops it)."},
+    {"winding_of", (PyCFunction)(void (*)(void))py_winding_of, METH_FASTCALL,
+     "winding_of(evaluate, nodes, max_bend, max_turn, max_nodes) -> turns of g around the "
+     "closed polygon nodes, evaluate(z) giving (log g(z), d log g / dz) or None (float; None "
+     "when evaluate declines or the node budget stops it)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_schur",
-                                    "Compiled kernel: log det of a block-tridiagonal pencil.", -1,
+                                    "Compiled kernel: log det of a block-tridiagonal pencil, and winding numbers.", -1,
                                     methods, NULL, NULL, NULL, NULL};
 
 PyMODINIT_FUNC PyInit__schur(void) { return PyModule_Create(&module); }

@@ -55,10 +55,13 @@ to 6e-15 with the same truncation pairs; assembly and the sweep's Python then do
 
 from __future__ import annotations
 
+import cmath
 import math
 
 import numpy as np
+from scipy.linalg.lapack import zgetrf as _getrf, zgetrs as _getrs
 
+from .._threads import one_blas_thread
 from ..discretise.hill import HillMatrices
 from . import _schur
 
@@ -69,6 +72,15 @@ STRIPS = (1e-2, 1e-4, 1e-6)
 DISK = 1e-3
 #: Nodes per contour before giving up (dense path instead).
 MAX_NODES = 4000
+#: The same for blocks larger than 2 x 2 (the cochlea's M x M), whose every node costs a block
+#: LU sweep, O(K M^3) (0.07-0.12 s at M = 32, K = 81-283, under load): about twice the
+#: ~200 nodes a zero-free strip took on the Fig 5.18 cells measured.
+MAX_BLOCK_NODES = 500
+#: The strips tried for such blocks: the viscous cochlea's truncations carry tens of complex
+#: eigenvalues within 1 % of the axis (86 at the gerbil, 116.9 Hz, sigma = 1.16e9, M = 32,
+#: N = 141), whose count in the 1e-2 strip took 1300 nodes against 210 for the zero count in
+#: the 1e-4 one.
+BLOCK_STRIPS = STRIPS[1:]
 #: Largest mismatch (radians) between the phase change read between neighbouring nodes and
 #: the one predicted from g'/g, and largest change of dz g'/g along an edge (:func:`winding`).
 MAX_TURN = math.pi / 4
@@ -81,7 +93,9 @@ SCAN_POINTS = 48
 
 class LogDet:
     """z -> (log g(z), d log g / dz) of one bipartite pencil, g = det(A - sqrt(z) B) / det A
-    (principal imaginary part), by the compiled kernel; None where it meets a zero pivot."""
+    (principal imaginary part); None where it meets a zero pivot. Blocks of 2 x 2 (the
+    viscous sphere and fibre) by the compiled kernel; larger ones (the cochlea's M x M) by
+    :func:`block_log_det`, one LAPACK LU per block and point."""
 
     def __init__(self, hill: HillMatrices):
         if not hill.bipartite:
@@ -89,14 +103,45 @@ class LogDet:
         self.blocks = tuple(np.ascontiguousarray(x, dtype=complex)
                             for x in (hill.diag, hill.lower, hill.upper))
         a = self.blocks[0]
-        self.offset = complex(np.log(a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]).sum())
+        self.compiled = a.shape[1] == 2
+        if self.compiled:
+            self.offset = complex(np.log(a[:, 0, 0] * a[:, 1, 1]
+                                         - a[:, 0, 1] * a[:, 1, 0]).sum())
+        else:
+            sign, modulus = np.linalg.slogdet(a)
+            self.offset = complex(modulus.sum(), np.angle(sign).sum())
 
     def __call__(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
         z = np.ascontiguousarray(z, dtype=complex).ravel()
         out, slope = np.empty_like(z), np.empty_like(z)
-        if _schur.logdet(*self.blocks, z, out, slope):
+        if self.compiled:
+            if _schur.logdet(*self.blocks, z, out, slope):
+                return None
+            return out - self.offset, slope
+        with one_blas_thread():
+            for j, zj in enumerate(z):
+                found = self.point(zj)
+                if found is None:
+                    return None
+                out[j], slope[j] = found
+        return out, slope
+
+    def point(self, z: complex) -> tuple[complex, complex] | None:
+        """(log g(z), d log g / dz) at one z (blocks larger than 2 x 2)."""
+        found = block_log_det(*self.blocks, z)
+        if found is None:
             return None
-        return out - self.offset, slope
+        value = found[0] - self.offset
+        return complex(value.real, math.remainder(value.imag, 2 * math.pi)), found[1]
+
+    def turns(self, nodes: np.ndarray) -> float | None:
+        """Turns of g around the closed polygon ``nodes`` by the compiled adaptive walk
+        (:func:`winding`), None if it stops."""
+        nodes = np.array(nodes, dtype=complex)
+        if self.compiled:
+            return _schur.winding(*self.blocks, nodes, MAX_BEND, MAX_TURN, MAX_NODES)
+        with one_blas_thread():  # M x M blocks: BLAS threads only cost (_threads.py)
+            return _schur.winding_of(self.point, nodes, MAX_BEND, MAX_TURN, MAX_BLOCK_NODES)
 
     def real(self, z: float, scale: float) -> float:
         """g(z) exp(-scale) for real z (g is real there; its rounding imaginary part dropped)."""
@@ -106,12 +151,49 @@ class LogDet:
         return float(np.exp(found[0][0] - scale).real)
 
 
+def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+                  z: complex) -> tuple[complex, complex] | None:
+    """(log det(A - tau B), its derivative in z) at z = tau^2 of a bipartite block-tridiagonal
+    pencil with blocks of any size, by block elimination; None on an exactly singular pivot
+    block or a non-finite value.
+
+    The Schur complements S_0 = A_0, S_k = A_k - z L S^{-1} U (S = S_{k-1}, L = lower[k-1],
+    U = upper[k-1]) are factorised by LAPACK ?getrf (partial pivoting inside the block), so
+    log det = sum_k log det S_k; their derivatives S_0' = 0,
+    S_k' = -L X + z L (S^{-1} S') X with X = S^{-1} U give (log det)' = sum_k tr(S_k^{-1} S_k')
+    (the 2 x 2 kernel ``_schur.c`` carries the same recursion). One solve with [U, S'] as
+    right-hand side per block: O(K M^3)."""
+    K, M, _ = diag.shape
+    S, dS = diag[0].copy(), np.zeros_like(diag[0])
+    value, slope = 0.0j, 0.0j
+    unmoved = np.arange(M)  # the pivots of an LU without row exchanges
+    for k in range(K):
+        lu, pivots, info = _getrf(S, overwrite_a=1)
+        if info != 0:
+            return None
+        swaps = np.count_nonzero(pivots != unmoved)
+        value += np.log(lu.diagonal()).sum() + 1j * math.pi * swaps
+        right = dS if k == K - 1 else np.concatenate([upper[k], dS], axis=1)
+        solved, info = _getrs(lu, pivots, right, overwrite_b=1)
+        slope += np.trace(solved[:, -M:])
+        if k == K - 1:
+            break
+        X = solved[:, :M]
+        LX = lower[k] @ np.concatenate([X, solved[:, M:] @ X], axis=1)  # [L X, L S^-1 S' X]
+        dS = z * LX[:, M:] - LX[:, :M]
+        S = diag[k + 1] - z * LX[:, :M]
+    if not (cmath.isfinite(value) and cmath.isfinite(slope)):
+        return None
+    return complex(value), complex(slope)
+
+
 def winding(log_g: LogDet, nodes: np.ndarray) -> int | None:
     """Zeros of g inside the closed polygon ``nodes`` (counter-clockwise, not repeated), by the
     argument principle; None if it cannot be trusted (a zero pivot, MAX_NODES evaluations, a
     sum farther than 0.05 from an integer).
 
-    The compiled kernel walks each edge: the phase change along a segment is predicted by the
+    The compiled kernel walks each edge (for blocks larger than 2 x 2 it calls back
+    :meth:`LogDet.point` at each node): the phase change along a segment is predicted by the
     trapezoid rule on g'/g, Im (dz (g'/g(z_0) + g'/g(z_1)) / 2), and read modulo 2 pi from the
     two values of log g; a segment is bisected until dz g'/g changes along it by at most
     MAX_BEND (the prediction then errs by much less than pi) and the reading agrees with the
@@ -119,8 +201,7 @@ def winding(log_g: LogDet, nodes: np.ndarray) -> int | None:
     g'/g vary there like 1/distance and forces the nodes closer (a zero pair between two far
     nodes would otherwise turn the phase by 2 pi unseen); the many far-away zeros, which make
     |g'/g| large but smooth, do not."""
-    total = _schur.winding(*log_g.blocks, np.array(nodes, dtype=complex), MAX_BEND, MAX_TURN,
-                           MAX_NODES)
+    total = log_g.turns(nodes)
     if total is None:
         return None
     count = round(total)
@@ -191,15 +272,25 @@ def _dyadic_cell(z: float) -> tuple[float, float]:
 
 def _zeros_below(log_g: LogDet, right: float, z_max: float) -> int | None:
     """Zeros of g in the rectangle [-a, right] x [-a, a], a = s z_max for the first s of
-    STRIPS that finds none (else the count in the thinnest; None if a count fails): complex
-    eigenvalues close to the real axis are left outside a thinner strip."""
+    STRIPS (BLOCK_STRIPS for blocks larger than 2 x 2) that finds none (else the count in the
+    thinnest; None if a count fails): complex eigenvalues close to the real axis are left
+    outside a thinner strip."""
     count = None
-    for strip in STRIPS:
+    for strip in STRIPS if log_g.compiled else BLOCK_STRIPS:
         side = strip * z_max
         count = winding(log_g, rectangle(-side, right, side))
         if count == 0:
             break
     return count
+
+
+def none_up_to(hill: HillMatrices, tau_max: float) -> bool:
+    """Whether the count proves that one bipartite truncation has no real tau <= tau_max: no
+    zero of g in a thin rectangle around [0, tau_max^2 (1 + 1e-6)] (:func:`_zeros_below`).
+    False where it cannot (a complex eigenvalue within 1e-6 tau_max^2 of the real axis, a real
+    one, a zero pivot, the node budget)."""
+    z_max = tau_max * tau_max
+    return _zeros_below(LogDet(hill), z_max * (1 + 1e-6), z_max) == 0
 
 
 def smallest_real_tau(hill: HillMatrices, tau_max: float,

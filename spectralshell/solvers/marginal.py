@@ -130,7 +130,7 @@ from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
 from ..results.records import MarginalTau
 from . import tridiagonal
-from .contour import smallest_real_tau
+from .contour import STRIPS, none_up_to, smallest_real_tau
 from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
                            smallest_taus, tau_from_squares, tridiagonal_half_product)
 from .shift_invert import Shift, dense_work, interval_taus
@@ -382,7 +382,7 @@ class Pencils:
 def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
                     tau_max: float = np.inf, method: str = "auto",
                     pencils: Pencils | None = None, hint: float | None = None,
-                    plan: tuple[Shift, ...] = ()) -> Truncation:
+                    plan: tuple[Shift, ...] = (), count_first: bool = False) -> Truncation:
     """Real tau >= 0 of one truncation by ``method`` (module notes): 'dense' lists all of them;
     'krylov' (and 'auto' when ``half_order`` >= KRYLOV_MIN_ORDER) at least every real
     tau <= min(tau_min, tau_max), on the real form, falling back to 'dense' when it cannot; QZ
@@ -394,12 +394,20 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
     that does not reach min(tau_min, tau_max), a shift-invert cover of the rest of
     [0, tau_max] (:func:`~spectralshell.solvers.shift_invert.interval_taus`), started at
     ``hint`` (a real tau expected nearby) and at the shifts of ``plan`` (a previous
-    truncation's ``shifts``)."""
+    truncation's ``shifts``). ``count_first`` (a previous truncation of the solve had no
+    tau <= tau_max): for models with blocks larger than 2 x 2 and a finite ``tau_max``, 'auto'
+    and 'smallest' first try to prove by the argument principle's zero count that this one has
+    none either (:func:`~spectralshell.solvers.contour.none_up_to`; result ``method =
+    "contour"``, ``complete_to`` = tau_max), and solve as before where it cannot."""
     if method not in METHODS:
         raise ValueError(f"method = {method!r} is invalid: must be one of {METHODS}")
     if not np.count_nonzero(system.forcing):
         return Truncation(tau=np.empty(0), method="structured")  # no finite marginal amplitude
     pencils = Pencils(system, kind) if pencils is None else pencils
+    if (count_first and system.block_size > 2 and method in ("auto", "smallest")
+            and math.isfinite(tau_max) and none_up_to(pencils.get(n_temporal, "two-sided")[0],
+                                                      tau_max)):
+        return Truncation(tau=np.empty(0), method="contour", complete_to=tau_max)
     if method == "smallest" and system.block_size == 2 and math.isfinite(tau_max):
         hill, inv = pencils.get(n_temporal, "two-sided")
         found = None if inv is None else smallest_real_tau(hill, tau_max, hint)
@@ -602,10 +610,45 @@ def _not_converged(kind: str, found: Truncation, previous: Truncation, n: int, t
         f"estimate{beyond}")
 
 
+def _empty_pair(system: HillSystem, found: Truncation, previous: Truncation,
+                tau_max: float) -> bool:
+    """Whether the pair's empty answer needs the zero count (:func:`marginal_tau`'s
+    ``certify_empty``): no tau <= a finite tau_max at either truncation, of a model whose D(s)
+    is not a matrix polynomial (for the others :func:`certified_bound` tests the spectra)."""
+    return (system.polynomial is None and math.isfinite(tau_max)
+            and not _capped(found.tau, tau_max).size and not _capped(previous.tau, tau_max).size)
+
+
+def _empty_certified(pencils: Pencils, pair: tuple[tuple[Truncation, int], ...],
+                     tau_max: float) -> bool:
+    """Whether each (truncation, N) of ``pair`` is proved to have no real tau <= tau_max: by
+    its own path (the contour path's ``complete_to``) or by the zero count of its two-sided
+    pencil (:func:`~spectralshell.solvers.contour.none_up_to`).
+
+    The dense path's empty list is exact for its truncation but not robust: a viscous model's
+    truncations carry complex eigenvalues within ~1 % of the real axis that drift with N
+    (:func:`certified_bound`), and one of them may be a real tau displaced by rounding. The
+    count proves a strip of half-height 1e-6..1e-2 tau_max^2 around the real axis free of any
+    eigenvalue."""
+    return all((found.method == "contour" and found.complete_to >= tau_max)
+               or none_up_to(pencils.get(n, "two-sided")[0], tau_max) for found, n in pair)
+
+
+def _empty_not_certified(kind: str, n_prev: int, n: int, tau_max: float) -> ConvergenceError:
+    """The error of an empty answer the zero count could not prove (:func:`marginal_tau`)."""
+    return ConvergenceError(
+        f"{kind}: no marginal tau <= tau_max={tau_max:g} at n_temporal={n_prev} and {n}, but "
+        "the zero count cannot prove that none exists (an eigenvalue within "
+        f"{STRIPS[-1]:g} tau_max^2 of the real axis, or the count's node budget): the "
+        "truncations' near-axis complex eigenvalues could hide one; give a smaller or larger "
+        "tau_max=, or fix n_temporal= to get the values with what is proved (complete_to)")
+
+
 def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                  n_temporal: int | None = None, n_max: int = N_MAX,
                  tau_max: float = np.inf, method: str = "auto",
-                 hint: float | None = None, every: bool = False) -> MarginalTau:
+                 hint: float | None = None, every: bool = False,
+                 certify_empty: bool = False) -> MarginalTau:
     """Marginal amplitudes tau of one Floquet kind, converged in the truncation N.
 
     Parameters
@@ -637,6 +680,13 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         converged to ``tol`` and the list is complete up to tau_max (``complete_to`` >=
         tau_max), not only tau_min: what a boundary tracer needs, whose curves follow the
         larger tau too.
+    certify_empty : for a model whose D(s) is not a matrix polynomial (a viscous fluid:
+        sphere, fibre, viscous cochlea), an empty answer (no tau <= a finite tau_max) is
+        returned only where the argument principle's zero count proves, at both truncations
+        of the pair, a thin strip around [0, tau_max^2] free of eigenvalues
+        (:func:`_empty_certified`; ``complete_to`` is then tau_max); where it cannot, a
+        ConvergenceError says so (with ``n_temporal`` given, ``complete_to`` is 0 instead). Without it such an empty answer
+        rests on two dense truncations agreeing (:func:`certified_bound`).
 
     Raises
     ------
@@ -647,7 +697,7 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         raise ParameterError(f"tau_max = {tau_max} is invalid with every=True: must be finite "
                              "(every tau up to it is converged)")
     pencils = Pencils(system, kind)
-    start = {"hint": hint, "plan": ()}  # continuation from one truncation to the next
+    start = {"hint": hint, "plan": (), "count_first": False}  # from one truncation to the next
 
     def solve(n: int) -> Truncation:
         found = truncation_taus(system, kind, n, tau_max=tau_max, method=method,
@@ -656,7 +706,18 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         if found.shifts or capped.size:  # its shifts, else its tau_min, else the hint as it was
             start.update(plan=found.shifts,
                          hint=None if found.shifts else float(capped[0]))
+        start["count_first"] = not capped.size
         return found
+
+    def proved(found: Truncation, previous: Truncation, n: int, n_prev: int,
+               bound: float) -> float | None:
+        """The pair's certified_bound ``bound``; with certify_empty, for an empty pair that
+        needs it, tau_max where the count proves it and None where it cannot."""
+        if not certify_empty or not _empty_pair(system, found, previous, tau_max):
+            return bound
+        if _empty_certified(pencils, ((found, n), (previous, n_prev)), tau_max):
+            return min(bound, tau_max)
+        return None
 
     if not np.count_nonzero(system.forcing):  # no finite marginal amplitude at all
         return MarginalTau(kind=kind, tau=np.empty(0), tau_min=None, n_temporal=0, n_previous=0,
@@ -664,8 +725,9 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
     if n_temporal is not None:
         n_prev = coarser(n_temporal)
         found, previous = solve(n_temporal), solve(n_prev)
+        bound = proved(found, previous, n_temporal, n_prev, certified_bound(found, previous))
         return _result(kind, found, previous, n_temporal, n_prev, tol, tau_max,
-                       certified_bound(found, previous))
+                       0.0 if bound is None else bound)
     if system.n_resonant >= n_max:
         raise ConvergenceError(
             f"{kind} tau_min needs more than n_temporal={n_max} Fourier terms: the natural "
@@ -679,6 +741,9 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         found = solve(n)
         bound = certified_bound(found, previous)  # once per pair: O(N^2) for Mathieu
         if _passes(found, previous, tol, tau_max, bound, every):
+            bound = proved(found, previous, n, n_prev, bound)
+            if bound is None:
+                raise _empty_not_certified(kind, n_prev, n, tau_max)
             return _result(kind, found, previous, n, n_prev, tol, tau_max, bound)
         if n >= n_max:
             raise _not_converged(kind, found, previous, n, tol, tau_max, bound, every)

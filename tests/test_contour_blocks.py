@@ -1,0 +1,139 @@
+"""The argument-principle count for pencils with M x M blocks (solvers.contour, cochlea) against
+dense LAPACK: log det by LU of the assembled A - tau B, zero counts by QZ of the same pencil."""
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+from spectralshell.discretise.hill import HillMatrices
+from spectralshell.models.sphere import hill_system as sphere
+from spectralshell.params.sweep_grid import sweep_spec
+from spectralshell.reports.figures import fig_5_18_scene
+from spectralshell.runner.solve import spatial_system
+from spectralshell.solvers import _schur, contour
+from spectralshell.solvers.marginal import Pencils
+
+
+def random_pencil(blocks: int, size: int, seed: int) -> HillMatrices:
+    """A bipartite block-tridiagonal pencil with random complex blocks."""
+    rng = np.random.default_rng(seed)
+
+    def draw(count):
+        return rng.standard_normal((count, size, size)) + 1j * rng.standard_normal(
+            (count, size, size))
+
+    return HillMatrices(kind="harmonic", form="two-sided", n_temporal=(blocks - 1) // 2,
+                        diag=draw(blocks) + 3 * np.eye(size), lower=draw(blocks - 1),
+                        upper=draw(blocks - 1), self_coupling=None)
+
+
+def cochlea(n_spatial: int, frequency: float = 116.9, sigma: float = 1.16e9):
+    """The gerbil cochlea of Fig 5.18 at one cell, with M = ``n_spatial`` modes."""
+    spec = sweep_spec(fig_5_18_scene("gerbil"))
+    return spatial_system(spec.model, spec.params_at({"frequency": frequency, "sigma": sigma}),
+                          n_spatial)
+
+
+def qz_squares(hill):
+    """z = tau^2 of every finite eigenvalue of the pencil (dense QZ), each +-tau pair once."""
+    alpha, beta = sla.eigvals(hill.A.toarray(), hill.B.toarray(), homogeneous_eigvals=True)
+    finite = np.abs(beta) > 1e-12 * np.abs(alpha)
+    tau = alpha[finite] / beta[finite]
+    return tau[tau.real > 0] ** 2
+
+
+def dense_log_g(hill, z):
+    """(log|g|, phase factor of g) at z by LAPACK's LU of the assembled matrices."""
+    sign, modulus = np.linalg.slogdet(hill.dense(np.sqrt(z)))
+    sign_a, modulus_a = np.linalg.slogdet(hill.dense(0.0))
+    return modulus - modulus_a, sign / sign_a
+
+
+@pytest.mark.parametrize("size, seed", [(3, 1), (5, 2), (8, 3)])
+def test_block_log_det_matches_dense_lu(size, seed):
+    """log g and d log g / dz of M x M block pencils against slogdet of the assembled matrix,
+    the derivative against central differences of it."""
+    hill = random_pencil(7, size, seed)
+    log_g = contour.LogDet(hill)
+    assert not log_g.compiled
+    for z in (0.05 + 0.01j, 0.3 - 0.2j, 0.13 + 0.0j, -0.4 + 0.1j):
+        value, slope = log_g.point(z)
+        modulus, phase = dense_log_g(hill, z)
+        assert value.real == pytest.approx(modulus, abs=1e-9)
+        assert np.exp(1j * value.imag) == pytest.approx(phase, abs=1e-9)
+        h = 1e-6
+        (up, p_up), (down, p_down) = dense_log_g(hill, z + h), dense_log_g(hill, z - h)
+        assert slope == pytest.approx((up - down + np.log(p_up / p_down)) / (2 * h), rel=1e-5)
+
+
+def test_block_path_matches_compiled_kernel():
+    """On a 2 x 2 block pencil (the sphere) the LAPACK block elimination and the compiled
+    adjugate kernel give the same log det and slope."""
+    hill = Pencils(sphere(m=3, kappa=0.05, nu=2e-3), "subharmonic").get(14, "two-sided")[0]
+    log_g = contour.LogDet(hill)
+    z = np.array([0.05 + 0.01j, 0.2 - 0.03j, 0.13 + 0.0j])
+    values, slopes = log_g(z)
+    for zj, value, slope in zip(z, values, slopes):
+        block_value, block_slope = contour.block_log_det(*log_g.blocks, zj)
+        assert np.exp(block_value - log_g.offset - value) == pytest.approx(1.0, abs=1e-10)
+        assert block_slope == pytest.approx(slope, rel=1e-10)
+
+
+def inside(z, left, right, half, margin=0.0):
+    return ((z.real > left - margin) & (z.real < right + margin)
+            & (np.abs(z.imag) < half + margin))
+
+
+def check_counts(hill, rectangles):
+    """Winding counts = QZ eigenvalue counts in each rectangle not passing within 1e-6 of an
+    eigenvalue; returns how many were checked."""
+    log_g = contour.LogDet(hill)
+    z = qz_squares(hill)
+    checked = 0
+    for left, right, half in rectangles:
+        if np.any(inside(z, left, right, half, 1e-6) & ~inside(z, left, right, half, -1e-6)):
+            continue
+        count = np.count_nonzero(inside(z, left, right, half))
+        assert contour.winding(log_g, contour.rectangle(left, right, half)) == count
+        checked += 1
+    return checked
+
+
+@pytest.mark.parametrize("size, seed", [(3, 4), (4, 5), (6, 6)])
+def test_block_winding_counts_qz_eigenvalues_random(size, seed):
+    """Random 7-block pencils: counts in nested rectangles of the z plane = QZ counts."""
+    hill = random_pencil(7, size, seed)
+    z = qz_squares(hill)
+    scale = float(np.median(np.abs(z)))
+    rectangles = [(-0.1 * scale, f * scale, h * scale)
+                  for f, h in ((0.5, 0.2), (1.0, 0.5), (2.0, 1.0), (4.0, 3.0))]
+    assert check_counts(hill, rectangles) >= 3
+
+
+@pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
+def test_block_winding_counts_qz_eigenvalues_cochlea(kind):
+    """The viscous gerbil cochlea (M = 8, N = 12, two-sided form): counts in thin strips along
+    the real axis and in larger rectangles = QZ counts of the same truncation, including the
+    real tau <= 1/2 that truncation has."""
+    hill = Pencils(cochlea(8), kind).get(12, "two-sided")[0]
+    z = qz_squares(hill)
+    real = z[np.abs(z.imag) <= 1e-9 * np.abs(z)]
+    assert real.size and real.real.min() < 0.25  # some z = tau^2 to count in the strips
+    rectangles = [(-2.5e-5, 0.25, 2.5e-5), (-2.5e-3, 0.25, 2.5e-3), (-0.01, 0.5, 0.05),
+                  (0.1, 1.0, 0.3)]
+    assert check_counts(hill, rectangles) >= 3
+
+
+def test_winding_of_declines_and_raises():
+    """The callback walk: None where the evaluation declines, the evaluation's exception
+    propagated, and a plain polynomial's zero counted."""
+    nodes = contour.circle(0.0, 1.0)
+    assert _schur.winding_of(lambda z: None, nodes, 1.0, 0.7, 100) is None
+
+    def broken(z):
+        raise RuntimeError("no")
+
+    with pytest.raises(RuntimeError, match="no"):
+        _schur.winding_of(broken, nodes, 1.0, 0.7, 100)
+    turns = _schur.winding_of(lambda z: (np.log(z - 0.3), 1 / (z - 0.3)), nodes, 1.0, 0.7, 1000)
+    assert turns == pytest.approx(1.0, abs=1e-12)
