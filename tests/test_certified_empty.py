@@ -18,6 +18,7 @@ from spectralshell.solvers import marginal
 from spectralshell.solvers.marginal import Pencils, dense_taus, marginal_tau, truncation_taus
 
 from test_contour_blocks import cochlea, qz_squares
+from test_marginal_fast import cochlea_like
 
 #: The atrium (Fig 6.13) at sigma = 15000 dyn/cm, 300 beats/min, m = 2: no tau <= 1/2 of
 #: either kind; the subharmonic tau_min is 0.53209597, just above.
@@ -105,10 +106,12 @@ def test_floquet_cli_states_the_certified_bound(monkeypatch):
 
 
 @pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
-def test_cochlea_count_replaces_empty_truncation(kind):
-    """The viscous cochlea (M = 8, N = 12): below its smallest real tau (QZ) the count proves
-    the truncation empty (method 'contour'); just above it the count declines and the
-    truncation is solved as before, with the same tau as the dense path."""
+def test_cochlea_count_replaces_empty_truncation(kind, monkeypatch):
+    """The viscous cochlea (M = 8, N = 12, the count allowed from N = 1): below its smallest
+    real tau (QZ) the count proves the truncation empty (method 'contour'); just above it the
+    count declines and the truncation is solved as before, with the same tau as the dense
+    path."""
+    monkeypatch.setattr(marginal, "COUNT_MIN_N", 1)
     cochlea_system = cochlea(8)
     hill = Pencils(cochlea_system, kind).get(12, "two-sided")[0]
     z = qz_squares(hill)
@@ -125,3 +128,17 @@ def test_cochlea_count_replaces_empty_truncation(kind):
     assert above.method != "contour"
     assert above.tau[0] == pytest.approx(smallest, rel=1e-8)
     assert above.tau[0] == pytest.approx(dense.tau[0], rel=1e-10)
+
+
+def test_solve_after_an_empty_truncation_counts(monkeypatch):
+    """Coupled oscillators (block size 20) with nothing below tau_max = 1/2, the count allowed
+    from N = 1: the truncation after the first (Krylov) one is proved empty by the count, and
+    the answer is the dense path's, with the same truncation pair."""
+    monkeypatch.setattr(marginal, "COUNT_MIN_N", 1)
+    monkeypatch.setattr(marginal, "KRYLOV_MIN_ORDER", 200)
+    coupled = cochlea_like(20, kappa=0.02)
+    counted = marginal_tau(coupled, "harmonic", tol=1e-10, tau_max=0.5)
+    dense = marginal_tau(coupled, "harmonic", tol=1e-10, tau_max=0.5, method="dense")
+    assert counted.method == "contour" and counted.complete_to >= 0.5
+    assert counted.tau_min is None and dense.tau_min is None
+    assert (counted.n_temporal, counted.n_previous) == (dense.n_temporal, dense.n_previous)

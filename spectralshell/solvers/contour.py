@@ -10,7 +10,8 @@ For a bipartite pencil A - tau B (two-sided form: B couples Fourier index k only
 block elimination S_0 = A_0, S_k = A_k - z L_k S_{k-1}^{-1} U_{k-1} involves tau only through
 z = tau^2, and g(z) = det(A - tau B) / det A = det(I - z W) = prod_i (1 - z mu_i^2): a polynomial
 whose zeros are z_i = tau_i^2 = 1 / mu_i^2 (the compiled kernel ``_schur.c`` returns
-log det(A - tau B) at many z; mu^2 = 0, tau infinite, gives no zero). The spectrum of W is
+log det(A - tau B) at many z for 2 x 2 blocks, :func:`block_log_det` by LAPACK's LU for larger
+ones such as the cochlea's M x M; mu^2 = 0, tau infinite, gives no zero). The spectrum of W is
 closed under conjugation (real form, or W = Z conj(Z)), so g is real on the real axis and a real
 tau is a real zero z in (0, tau_max^2].
 
@@ -37,6 +38,16 @@ densely: the answer is then the dense path's, never an uncertified one. Like the
 (:mod:`spectralshell.solvers.half_product`) the count rests on sampling, here of the phase of
 g, with the node spacing set by the variation of g'/g; it is checked against QZ counts in
 tests/test_contour.py, including a pair of real tau 1 % apart that a coarse sampling misses.
+
+Blocks larger than 2 x 2
+------------------------
+The cochlea (M = 32..250) uses the count alone, through :func:`none_up_to`: the proof that a
+truncation has no real tau <= tau_max (the thin rectangle around [0, tau_max^2] holds no zero,
+BLOCK_STRIPS), which :mod:`spectralshell.solvers.marginal` tries on the truncation after an
+empty one and to certify an empty answer of a viscous model. One point costs a block LU sweep,
+O(K M^3) (about 45 K M^3 flops), against O((K M)^3) for the dense eig; the same walk
+(``_schur.winding_of``, calling :meth:`LogDet.point` back) refines the nodes, within
+MAX_BLOCK_NODES. Counts are checked against QZ in tests/test_contour_blocks.py.
 
 The value agrees with the dense eig of W (tests/test_contour.py: to 1e-10 relative, in practice
 ~1e-14, on Fig 6.13 cells); what differs is that only tau_min and ``complete_to`` are reported,

@@ -55,6 +55,13 @@ truncation:
   O(N) per point of the contour against O(N^3) for the eig of W. Where the count does not
   certify the answer (a complex eigenvalue close to the real axis below it, two real tau
   closer than 1e-3 relative, the node budget), and for other models, as ``"auto"``.
+* blocks larger than 2 x 2 (the cochlea), ``"auto"`` and ``"smallest"`` with a finite
+  tau_max: the truncation N >= COUNT_MIN_N after one with no tau <= tau_max is first tried by the argument
+  principle's zero count alone (:func:`~spectralshell.solvers.contour.none_up_to`, result
+  ``method = "contour"``, ``complete_to`` = tau_max): where it proves a thin strip around
+  [0, tau_max^2] free of eigenvalues, the Krylov / shift-invert work is skipped; else the
+  truncation is solved as below. It pays where those truncations need the shift-invert cover
+  (the low-frequency Fig 5.18 cells, N up to 141: see the commit measuring them).
 * ``method = "auto"`` (default): Krylov for truncations with (N + 1) b >= KRYLOV_MIN_ORDER
   (= 600; (N + 1) b is the order of W), dense below. Measured in
   validation/bench_hill_large.py (one BLAS thread): where Arnoldi succeeds it is about as fast
@@ -80,7 +87,9 @@ real axis than SEPARATION times its change from the smaller one, so no real tau 
 them (for models whose D(s) is a matrix polynomial; see :func:`certified_bound` for the
 others). An empty answer therefore means "no real tau <= tau_max", and with tau_max = inf
 it is not given at all (the truncation is raised to find a tau, or a ConvergenceError states the
-amplitude up to which none exists). This catches the strongly damped Mathieu equation
+amplitude up to which none exists). For the viscous models, whose drifting spectra this test
+cannot use, ``marginal_tau(..., certify_empty=True)`` (what ``floquet`` asks) proves an empty
+answer by the zero count at both truncations or refuses it (issue 23). This catches the strongly damped Mathieu equation
 (nu >~ 20), whose periodic solutions vary by ~exp(pi nu / 2) within a cycle: no double-precision
 Hill truncation resolves them, and before this test the solver answered "no tau" for nu = 30
 where a time-stepped monodromy matrix has marginal tau 1923.87 (harmonic) and 2030.16
@@ -141,6 +150,11 @@ N_MAX = 400
 FIRST_MARGIN = 8
 METHODS = ("auto", "dense", "krylov", "smallest")
 KRYLOV_MIN_ORDER = 600
+#: The smallest N whose truncation (blocks larger than 2 x 2) is tried by the zero count first
+#: (:func:`truncation_taus`): a count (~250 nodes of ~45 K M^3 flops, K ~ 2N blocks) undercuts
+#: the dense eig of W (~3 (K M)^3) only from K ~ 60; on a Fig 5.18 cell whose empty kind
+#: converged at N = 33 (human, 59.9 Hz) the count made the cell 1.7x slower (CPU time).
+COUNT_MIN_N = 60
 #: The smallest-|tau| Arnoldi run of a truncation gives up past this fraction of the estimated
 #: cost of its dense solve (:func:`~spectralshell.solvers.shift_invert.dense_work`).
 ARNOLDI_WORK_FRACTION = 1.0
@@ -398,14 +412,15 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
     tau <= tau_max): for models with blocks larger than 2 x 2 and a finite ``tau_max``, 'auto'
     and 'smallest' first try to prove by the argument principle's zero count that this one has
     none either (:func:`~spectralshell.solvers.contour.none_up_to`; result ``method =
-    "contour"``, ``complete_to`` = tau_max), and solve as before where it cannot."""
+    "contour"``, ``complete_to`` = tau_max), from N = COUNT_MIN_N on, and solve as before
+    where it cannot."""
     if method not in METHODS:
         raise ValueError(f"method = {method!r} is invalid: must be one of {METHODS}")
     if not np.count_nonzero(system.forcing):
         return Truncation(tau=np.empty(0), method="structured")  # no finite marginal amplitude
     pencils = Pencils(system, kind) if pencils is None else pencils
-    if (count_first and system.block_size > 2 and method in ("auto", "smallest")
-            and math.isfinite(tau_max) and none_up_to(pencils.get(n_temporal, "two-sided")[0],
+    if (count_first and system.block_size > 2 and n_temporal >= COUNT_MIN_N
+            and method in ("auto", "smallest") and math.isfinite(tau_max) and none_up_to(pencils.get(n_temporal, "two-sided")[0],
                                                       tau_max)):
         return Truncation(tau=np.empty(0), method="contour", complete_to=tau_max)
     if method == "smallest" and system.block_size == 2 and math.isfinite(tau_max):
