@@ -2,6 +2,8 @@
 log det by LU of the assembled A - tau B, zero counts and real tau by QZ of the same truncation,
 and a coarse Fig 6.13 map cell by cell against the dense-eig path."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 import scipy.linalg as sla
@@ -220,3 +222,23 @@ def test_fibre_smallest_real_tau_is_qz_smallest(m, kappa, nu, kind):
     else:
         assert reference.size and tau_min == pytest.approx(reference[0], rel=1e-10)
         assert not np.any(reference[1:] <= complete_to)
+
+
+def test_well_conditioned_agrees_with_block_inverses():
+    """The contour path's closed-form 2 x 2 check = whether LAPACK's block inverses pass the
+    condition limit, on sampled pencils and on pencils made ill conditioned (a block scaled
+    towards singular, a singular block)."""
+    from spectralshell.solvers.half_product import block_inverses, well_conditioned
+
+    checked = {True: 0, False: 0}
+    for sigma, bpm, m, kind in cells(8, seed=5):
+        hill = two_sided(atrium(sigma, bpm, m), kind, 12)
+        for squash in (1.0, 1e-7, 1e-9, 1e-12, 0.0):
+            diag = hill.diag.copy()
+            diag[3, 1] *= squash  # second row of one block towards a multiple of nothing
+            diag[3, 1] += (1 - squash) * 1e-3 * diag[3, 0]  # ... or of the first row
+            bad = dataclasses.replace(hill, diag=diag)
+            expected = block_inverses(bad) is not None
+            assert well_conditioned(bad) == expected
+            checked[expected] += 1
+    assert checked[True] and checked[False]

@@ -231,12 +231,30 @@ def block_inverses(hill: HillMatrices,
             inv = _reusing(hill.diag, *known)
     except np.linalg.LinAlgError:
         return None
-    inv_norm = inv.norms()
+    return inv if _conditioned(hill, inv.norms()) else None
+
+
+def _conditioned(hill: HillMatrices, inv_norm: np.ndarray) -> bool:
+    """Whether every block's 1-norm condition and ||A_k^{-1}|| ||B|| are at most COND_LIMIT,
+    given the 1-norms ``inv_norm`` of the A_k^{-1} (NaN or inf: False)."""
     cond = np.abs(hill.diag).sum(axis=1).max(axis=-1) * inv_norm
     coupling = _norm1(hill.lower) + _norm1(hill.upper) + _norm1(hill.self_coupling)
-    if not cond.max() <= COND_LIMIT or inv_norm.max() * coupling > COND_LIMIT:  # NaN, inf: None
-        return None
-    return inv
+    return bool(cond.max() <= COND_LIMIT and inv_norm.max() * coupling <= COND_LIMIT)
+
+
+def well_conditioned(hill: HillMatrices) -> bool:
+    """Whether :func:`block_inverses` would give the inverses (not None), without keeping them:
+    for 2 x 2 blocks ||A_k^{-1}||_1 = ||adj A_k||_1 / |det A_k| in closed form (the contour
+    path needs the answer, not the inverses)."""
+    a = hill.diag
+    if a.shape[1] != 2:
+        return block_inverses(hill) is not None
+    det = np.abs(a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0])
+    if not det.all():
+        return False
+    adjugate = np.maximum(np.abs(a[:, 1, 1]) + np.abs(a[:, 1, 0]),
+                          np.abs(a[:, 0, 1]) + np.abs(a[:, 0, 0]))
+    return _conditioned(hill, adjugate / det)
 
 
 def dense_half_product(hill: HillMatrices, inverses: BlockInverses) -> np.ndarray:

@@ -132,7 +132,8 @@ from ..results.records import MarginalTau
 from . import tridiagonal
 from .contour import smallest_real_tau
 from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
-                           smallest_taus, tau_from_squares, tridiagonal_half_product)
+                           smallest_taus, tau_from_squares, tridiagonal_half_product,
+                           well_conditioned)
 from .shift_invert import Shift, dense_work, interval_taus
 
 ZERO_CLUSTER = 1e-6
@@ -350,33 +351,41 @@ class Pencils:
 
     def __init__(self, system: HillSystem, kind: str):
         self.system, self.kind = system, kind
-        self._largest: dict[str, tuple[HillMatrices, BlockInverses | None]] = {}
+        self._largest: dict[str, HillMatrices] = {}
+        self._inverses: dict[str, BlockInverses | None] = {}  # of the largest, once asked for
         self.reserve = 0
+
+    def pencil(self, n_temporal: int, form: str) -> HillMatrices:
+        """The pencil of truncation ``n_temporal`` (no block inverses: the contour path)."""
+        big = self._largest.get(form)
+        if big is None or big.n_temporal < n_temporal:
+            big = self._assemble(max(n_temporal, self.reserve), form)
+        return big if big.n_temporal == n_temporal else big.truncated(n_temporal)
 
     def get(self, n_temporal: int, form: str) -> tuple[HillMatrices, BlockInverses | None]:
         """(pencil, block inverses or None if ill conditioned) of truncation ``n_temporal``."""
-        cached = self._largest.get(form)
-        if cached is None or cached[0].n_temporal < n_temporal:
-            cached = self._assemble(max(n_temporal, self.reserve), form)
-        big, inv = cached
+        hill = self.pencil(n_temporal, form)
+        big = self._largest[form]
+        if form not in self._inverses:
+            self._inverses[form] = block_inverses(big)
+        inv = self._inverses[form]
         if big.n_temporal == n_temporal:
-            return big, inv
-        hill = big.truncated(n_temporal)
+            return hill, inv
         if inv is None:  # the larger pencil's bad block may lie outside this one
             return hill, block_inverses(hill)
         return hill, inv.subset(big.block_range(n_temporal))
 
-    def _assemble(self, n_temporal: int, form: str) -> tuple[HillMatrices, BlockInverses | None]:
-        cached = self._largest.get(form)
+    def _assemble(self, n_temporal: int, form: str) -> HillMatrices:
+        """Assemble a larger truncation; its block inverses are formed when asked for, reusing
+        those of the blocks it shares with the previous one (when bitwise equal)."""
+        previous, known_inv = self._largest.get(form), self._inverses.pop(form, None)
         hill = assemble(self.system, self.kind, n_temporal, form)
-        known = None
-        if cached is not None and cached[1] is not None:
-            rows = hill.block_range(cached[0].n_temporal)
-            if np.array_equal(hill.diag[rows], cached[0].diag):
-                known = (rows, cached[1])
-        inv = block_inverses(hill, known)
-        self._largest[form] = (hill, inv)
-        return hill, inv
+        self._largest[form] = hill
+        if previous is not None and known_inv is not None:
+            rows = hill.block_range(previous.n_temporal)
+            if np.array_equal(hill.diag[rows], previous.diag):
+                self._inverses[form] = block_inverses(hill, (rows, known_inv))
+        return hill
 
 
 def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
@@ -401,8 +410,8 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
         return Truncation(tau=np.empty(0), method="structured")  # no finite marginal amplitude
     pencils = Pencils(system, kind) if pencils is None else pencils
     if method == "smallest" and system.block_size == 2 and math.isfinite(tau_max):
-        hill, inv = pencils.get(n_temporal, "two-sided")
-        found = None if inv is None else smallest_real_tau(hill, tau_max, hint)
+        hill = pencils.pencil(n_temporal, "two-sided")
+        found = smallest_real_tau(hill, tau_max, hint) if well_conditioned(hill) else None
         if found is not None:
             return Truncation(tau=np.array([] if found[0] is None else [found[0]]),
                               method="contour", complete_to=found[1])
