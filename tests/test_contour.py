@@ -242,3 +242,28 @@ def test_well_conditioned_agrees_with_block_inverses():
             assert well_conditioned(bad) == expected
             checked[expected] += 1
     assert checked[True] and checked[False]
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind", cells(6, seed=17))
+def test_newton_root_is_qz_root(sigma, bpm, m, kind):
+    """The kernel's safeguarded Newton step on the real axis finds QZ's real z = tau^2 to
+    rounding from brackets around it, including brackets that end at (a rounding of) the root
+    itself (a neighbour's tau_min as hint), and reports a bracket without a sign change."""
+    system = atrium(sigma, bpm, m)
+    n = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    blocks = contour.LogDet(pencils.pencil(n, "two-sided")).blocks
+    reference = dense_taus(pencils.get(n, "real")[0])
+    squares = reference[reference > 0] ** 2
+    checked = 0
+    for z in squares[squares <= 1]:
+        if np.sum(np.abs(squares / z - 1) < 1e-2) > 1:
+            continue  # another zero within the bracket below
+        checked += 1
+        found = _schur.root(*blocks, z * (1 - 1e-3), z * (1 + 2e-3), 1e-13)
+        assert found == pytest.approx(z, rel=1e-12)
+        for lo, hi in ((found * (1 - 1e-7), found * (1 + 1e-12)),
+                       (found * (1 - 1e-12), found * (1 + 1e-5))):
+            assert _schur.root(*blocks, lo, hi, 1e-15) == pytest.approx(z, rel=1e-12)
+    assert checked
+    assert np.isnan(_schur.root(*blocks, 1e-9, 2e-9, 1e-15))  # no zero there: no sign change

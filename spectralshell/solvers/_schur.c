@@ -16,15 +16,26 @@
  *   and a power of 2, so it neither overflows nor underflows. Status 1: a pivot of some S_k is
  *   exactly zero or a value is not finite.
  * winding(diag, lower, upper, nodes, max_bend, max_turn, max_nodes) -> float or None: the
- *   phase change of det(A - tau B) around the closed polygon ``nodes`` (complex128, at least
- *   3), in turns, each edge bisected adaptively (see ``segment``); None on a zero pivot or
- *   after max_nodes evaluations.
+ *   number of zeros of det(A - tau B) in z inside a contour symmetric about the real axis, given
+ *   by its upper half ``nodes`` (complex128, at least 2), a path from one real point to another
+ *   that runs counter-clockwise around the inside: twice the phase change along the path, in
+ *   turns (det(A - tau B) is real on the real axis and takes conjugate values at conjugate
+ *   points, so the lower half turns the phase as much as the upper), each edge bisected
+ *   adaptively (see ``segment``); None on a zero pivot or after max_nodes evaluations.
+ * root(diag, lower, upper, lo, hi, rtol) -> float, NaN or None: the zero of det(A - tau B) in
+ *   the real interval [lo, hi] of z, where it changes sign, by Newton's method on d/dz log det
+ *   safeguarded by bisection (each step keeps the sign change), started at the midpoint and
+ *   stopped once a step is at most rtol |z|; NaN if the sign does not change between lo and hi,
+ *   None on a zero pivot.
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <complex.h>
 #include <math.h>
 #include <string.h>
+
+/* Evaluations allowed to one root(). */
+#define ROOT_STEPS 200
 
 static inline double norm1(double complex z) { return fabs(creal(z)) + fabs(cimag(z)); }
 
@@ -113,7 +124,7 @@ static int pencil_buffers(PyObject *const *args, const char *usage, const char *
             release(v, i);
             return -1;
         }
-    Py_ssize_t K = v[0].shape[0], n = v[3].shape[0];
+    Py_ssize_t K = v[0].shape[0], n = count > 3 ? v[3].shape[0] : 0;
     int ok = v[0].shape[1] == 2 && v[0].shape[2] == 2 && K >= 1 && n >= least;
     for (int i = 1; i < 3; i++)
         ok = ok && v[i].shape[0] == K - 1 && v[i].shape[1] == 2 && v[i].shape[2] == 2;
@@ -178,7 +189,7 @@ static PyObject *py_winding(PyObject *self, PyObject *const *args, Py_ssize_t na
     double max_bend = PyFloat_AsDouble(args[4]), max_turn = PyFloat_AsDouble(args[5]);
     long max_nodes = PyLong_AsLong(args[6]);
     Py_buffer v[4];
-    if (PyErr_Occurred() || pencil_buffers(args, "winding", names, 4, 3, v) < 0)
+    if (PyErr_Occurred() || pencil_buffers(args, "winding", names, 4, 2, v) < 0)
         return NULL;
     Py_ssize_t n = v[3].shape[0];
     Contour c = {(const double complex *)v[0].buf, (const double complex *)v[1].buf,
@@ -187,18 +198,11 @@ static PyObject *py_winding(PyObject *self, PyObject *const *args, Py_ssize_t na
     double turn = 0.0;
     int failed = 0;
     Py_BEGIN_ALLOW_THREADS
-    double complex f_first, s_first, f0, s0, f1, s1;
-    failed = evaluate(&c, z[0], &f_first, &s_first);
-    f0 = f_first;
-    s0 = s_first;
-    for (Py_ssize_t j = 0; j < n && !failed; j++) {
-        if (j + 1 < n)
-            failed = evaluate(&c, z[j + 1], &f1, &s1);
-        else {
-            f1 = f_first;
-            s1 = s_first;
-        }
-        failed = failed || segment(&c, z[j], f0, s0, z[(j + 1) % n], f1, s1, 0, &turn);
+    double complex f0, s0, f1, s1;
+    failed = evaluate(&c, z[0], &f0, &s0);
+    for (Py_ssize_t j = 0; j + 1 < n && !failed; j++) {
+        failed = evaluate(&c, z[j + 1], &f1, &s1) ||
+                 segment(&c, z[j], f0, s0, z[j + 1], f1, s1, 0, &turn);
         f0 = f1;
         s0 = s1;
     }
@@ -206,7 +210,86 @@ static PyObject *py_winding(PyObject *self, PyObject *const *args, Py_ssize_t na
     release(v, 4);
     if (failed)
         Py_RETURN_NONE;
-    return PyFloat_FromDouble(turn / (2 * M_PI));
+    return PyFloat_FromDouble(turn / M_PI);
+}
+
+/* The sign of the real function det(A - tau B) / det A at real z from its log det (``phase0``:
+ * the phase of det A). */
+static inline int real_sign(double complex log_det, double phase0)
+{
+    return cos(cimag(log_det) - phase0) > 0 ? 1 : -1;
+}
+
+/* The zero in [lo, hi] (see root() in the header) into *z; 1 on a zero pivot, 2 without a sign
+ * change. Each step is Newton's, z - 1 / (d/dz log det), if that stays inside the bracket and,
+ * after a Newton step, is at most half as long as it; else a bisection. The bracket keeps the
+ * sign change, so it halves at least every other step. Done when a Newton step is at most
+ * rtol |z| (its result returned) or the bracket at most rtol |z| wide (its midpoint). */
+static int real_root(Contour *c, double lo, double hi, double rtol, double *z)
+{
+    double complex f, s;
+    if (evaluate(c, 0.0, &f, &s))
+        return 1;
+    double phase0 = cimag(f);
+    if (evaluate(c, lo, &f, &s))
+        return 1;
+    int sign_lo = real_sign(f, phase0);
+    if (evaluate(c, hi, &f, &s))
+        return 1;
+    if (real_sign(f, phase0) == sign_lo)
+        return 2;
+    double x = 0.5 * (lo + hi), last = 0.0;
+    int newton_before = 0;
+    for (;;) {
+        if (evaluate(c, x, &f, &s))
+            return 1;
+        if (real_sign(f, phase0) == sign_lo)
+            lo = x;
+        else
+            hi = x;
+        double newton = -1.0 / creal(s), next = x + newton;
+        if (next > lo && next < hi && !(newton_before && fabs(newton) > 0.5 * last)) {
+            newton_before = 1;
+            last = fabs(newton);
+            x = next;
+            if (last <= rtol * fabs(x))
+                break;
+        } else {
+            newton_before = 0;
+            x = 0.5 * (lo + hi);
+            if (hi - lo <= rtol * fabs(x) || !(lo < x && x < hi))
+                break;
+        }
+    }
+    *z = x;
+    return 0;
+}
+
+static PyObject *py_root(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    static const char *names[3] = {"diag", "lower", "upper"};
+    if (nargs != 6) {
+        PyErr_SetString(PyExc_TypeError, "root(diag, lower, upper, lo, hi, rtol) takes six "
+                                         "arguments");
+        return NULL;
+    }
+    double lo = PyFloat_AsDouble(args[3]), hi = PyFloat_AsDouble(args[4]);
+    double rtol = PyFloat_AsDouble(args[5]);
+    Py_buffer v[3];
+    if (PyErr_Occurred() || pencil_buffers(args, "root", names, 3, 0, v) < 0)
+        return NULL;
+    Contour c = {(const double complex *)v[0].buf, (const double complex *)v[1].buf,
+                 (const double complex *)v[2].buf, v[0].shape[0], 0.0, 0.0, ROOT_STEPS};
+    double z = 0.0;
+    int status;
+    Py_BEGIN_ALLOW_THREADS
+    status = real_root(&c, lo, hi, rtol, &z);
+    Py_END_ALLOW_THREADS
+    release(v, 3);
+    if (status == 1)
+        Py_RETURN_NONE;
+    return PyFloat_FromDouble(status == 2 ? NAN : z);
 }
 
 static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
@@ -239,9 +322,13 @@ static PyMethodDef methods[] = {
      "logdet(diag, lower, upper, z, out, slope) -> status: log det(A - tau B) at z = tau^2 "
      "and its derivative in z, written into out and slope (status 0; 1: a zero pivot)."},
     {"winding", (PyCFunction)(void (*)(void))py_winding, METH_FASTCALL,
-     "winding(diag, lower, upper, nodes, max_bend, max_turn, max_nodes) -> turns of the "
-     "phase of det(A - tau B) around the closed polygon nodes in z = tau^2 (float; None when "
+     "winding(diag, lower, upper, nodes, max_bend, max_turn, max_nodes) -> zeros of "
+     "det(A - tau B) in z = tau^2 inside the contour symmetric about the real axis whose upper "
+     "half is the path nodes (float; None when "
      "a zero pivot or the node budget stops it)."},
+    {"root", (PyCFunction)(void (*)(void))py_root, METH_FASTCALL,
+     "root(diag, lower, upper, lo, hi, rtol) -> the real zero z of det(A - tau B) in [lo, hi] "
+     "by safeguarded Newton (NaN: no sign change; None: a zero pivot)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_schur",

@@ -88,30 +88,24 @@ class LogDet:
             raise ValueError("LogDet needs a bipartite pencil (no self-coupling in B)")
         self.blocks = tuple(np.ascontiguousarray(x, dtype=complex)
                             for x in (hill.diag, hill.lower, hill.upper))
-        a = self.blocks[0]
-        self.offset = complex(np.log(a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]).sum())
 
     def __call__(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-        z = np.ascontiguousarray(z, dtype=complex).ravel()
+        z = np.concatenate([[0.0], np.ravel(z)]).astype(complex)
         out, slope = np.empty_like(z), np.empty_like(z)
         if _schur.logdet(*self.blocks, z, out, slope):
             return None
-        return out - self.offset, slope
-
-    def real(self, z: float, scale: float) -> float:
-        """g(z) exp(-scale) for real z (g is real there; its rounding imaginary part dropped)."""
-        found = self(np.array([z]))
-        if found is None:
-            raise ZeroDivisionError("zero pivot")
-        return float(np.exp(found[0][0] - scale).real)
+        return out[1:] - out[0], slope[1:]
 
 
-def winding(log_g: LogDet, nodes: np.ndarray) -> int | None:
-    """Zeros of g inside the closed polygon ``nodes`` (counter-clockwise, not repeated), by the
-    argument principle; None if it cannot be trusted (a zero pivot, MAX_NODES evaluations, a
-    sum farther than 0.05 from an integer).
+def winding(log_g: LogDet, path: np.ndarray) -> int | None:
+    """Zeros of g inside the contour symmetric about the real axis whose upper half is ``path``
+    (from a real point, counter-clockwise around the inside, to another), by the argument
+    principle; None if it cannot be trusted (a zero pivot, MAX_NODES evaluations, a count
+    farther than 0.05 from an integer).
 
-    The compiled kernel walks each edge: the phase change along a segment is predicted by the
+    g takes conjugate values at conjugate points (its zeros are real or conjugate pairs), so the
+    lower half turns the phase of g as much as the upper one: the kernel reads the upper half
+    and doubles it. Along each edge the phase change over a segment is predicted by the
     trapezoid rule on g'/g, Im (dz (g'/g(z_0) + g'/g(z_1)) / 2), and read modulo 2 pi from the
     two values of log g; a segment is bisected until dz g'/g changes along it by at most
     MAX_BEND (the prediction then errs by much less than pi) and the reading agrees with the
@@ -119,7 +113,7 @@ def winding(log_g: LogDet, nodes: np.ndarray) -> int | None:
     g'/g vary there like 1/distance and forces the nodes closer (a zero pair between two far
     nodes would otherwise turn the phase by 2 pi unseen); the many far-away zeros, which make
     |g'/g| large but smooth, do not."""
-    total = _schur.winding(*log_g.blocks, np.array(nodes, dtype=complex), MAX_BEND, MAX_TURN,
+    total = _schur.winding(*log_g.blocks, np.array(path, dtype=complex), MAX_BEND, MAX_TURN,
                            MAX_NODES)
     if total is None:
         return None
@@ -127,24 +121,28 @@ def winding(log_g: LogDet, nodes: np.ndarray) -> int | None:
     return count if abs(total - count) <= 0.05 else None
 
 
-def _unit_rectangle(per_edge: int) -> np.ndarray:
-    """Counter-clockwise nodes of [0, 1] x [-1, 1], ``per_edge`` per edge from each corner."""
-    t = np.linspace(0.0, 1.0, per_edge, endpoint=False)
-    return np.concatenate([t - 1j, 1 + 1j * (2 * t - 1), 1 - t + 1j, 1j * (1 - 2 * t)])
+def _upper_rectangle(per_edge: int) -> np.ndarray:
+    """The upper half of [0, 1] x [-1, 1] from (1, 0) counter-clockwise to (0, 0): ``per_edge``
+    segments along the top, half as many on each side."""
+    side = np.linspace(0.0, 1.0, per_edge // 2, endpoint=False)
+    top = np.linspace(1.0, 0.0, per_edge, endpoint=False)
+    return np.concatenate([1 + 1j * side, top + 1j, 1j * (1 - side), [0.0]])
 
 
-UNIT_RECTANGLE = _unit_rectangle(8)
+UPPER_RECTANGLE = _upper_rectangle(8)
 
 
 def rectangle(left: float, right: float, half_height: float) -> np.ndarray:
-    """Counter-clockwise nodes of the rectangle [left, right] x [-half_height, half_height],
-    8 per edge (the kernel refines them)."""
-    return left + (right - left) * UNIT_RECTANGLE.real + 1j * half_height * UNIT_RECTANGLE.imag
+    """The upper half (:func:`winding`) of the rectangle [left, right] x [-half_height,
+    half_height], 16 segments (the kernel refines them)."""
+    return left + (right - left) * UPPER_RECTANGLE.real + 1j * half_height * UPPER_RECTANGLE.imag
 
 
 def circle(centre: float, radius: float, count: int = 16) -> np.ndarray:
-    """Counter-clockwise nodes of a circle."""
-    return centre + radius * np.exp(2j * math.pi * np.arange(count) / count)
+    """The upper half (:func:`winding`) of a circle, ``count // 2`` segments."""
+    nodes = centre + radius * np.exp(1j * math.pi * np.arange(count // 2 + 1) / (count // 2))
+    nodes[-1] = centre - radius  # on the real axis exactly
+    return nodes
 
 
 def _near(log_g: LogDet, z_max: float, hint: float) -> tuple[float, float] | None:
@@ -170,14 +168,16 @@ def _first_change(log_g: LogDet, points: np.ndarray) -> tuple[float, float] | No
 
 def _root(log_g: LogDet, lo: float, hi: float, rtol: float,
           otherwise: float | None = None) -> float:
-    """The zero of g in the sign change [lo, hi] by Brent's method (``otherwise`` if g does not
-    change sign there)."""
-    from scipy.optimize import brentq  # lazy: a Mathieu solve never imports scipy.optimize
-
-    scale = log_g(np.array([lo]))[0][0].real  # g exp(-scale): no overflow near the zero
-    if otherwise is not None and log_g.real(lo, scale) * log_g.real(hi, scale) > 0:
+    """The zero of g in the sign change [lo, hi] by Newton's method on the kernel's g'/g,
+    safeguarded by bisection (``otherwise`` if g does not change sign there)."""
+    z = _schur.root(*log_g.blocks, lo, hi, rtol)
+    if z is None:
+        raise ZeroDivisionError("zero pivot")
+    if math.isnan(z):
+        if otherwise is None:
+            raise ZeroDivisionError("no sign change")
         return otherwise
-    return brentq(log_g.real, lo, hi, args=(scale,), xtol=1e-300, rtol=rtol)
+    return z
 
 
 def _dyadic_cell(z: float) -> tuple[float, float]:
@@ -220,7 +220,7 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
         if bracket is None:
             return None
     try:
-        z = _root(log_g, *bracket, rtol=1e-10)
+        z = _root(log_g, *bracket, rtol=1e-13)
         z = _root(log_g, *_dyadic_cell(z), rtol=4 * np.finfo(float).eps, otherwise=z)
     except ZeroDivisionError:
         return None
