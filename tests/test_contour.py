@@ -232,7 +232,12 @@ def test_well_conditioned_agrees_with_block_inverses():
 
     checked = {True: 0, False: 0}
     for sigma, bpm, m, kind in cells(8, seed=5):
-        hill = two_sided(atrium(sigma, bpm, m), kind, 12)
+        pencils = Pencils(atrium(sigma, bpm, m), kind)
+        pencils.reserve = 16  # the truncations below are cut out of N = 16
+        for n in (12, 8):
+            assert pencils.well_conditioned(n, "two-sided") == (
+                pencils.get(n, "two-sided")[1] is not None)
+        hill = pencils.pencil(12, "two-sided")
         for squash in (1.0, 1e-7, 1e-9, 1e-12, 0.0):
             diag = hill.diag.copy()
             diag[3, 1] *= squash  # second row of one block towards a multiple of nothing

@@ -57,6 +57,7 @@ task (a chunk) is a run of at most ``chunk`` consecutive points of one line.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import math
@@ -181,7 +182,9 @@ class SolverOptions:
 class SweepSpec:
     """A validated sweep: model, fixed parameters, axes (grid order, 'kind' always present),
     ask, solver options, chunk length, the scene's stable hash ``digest`` (of
-    :meth:`canonical`) and ``source``, the scene as given (JSON; provenance only, not hashed)."""
+    :meth:`canonical`) and ``source``, the scene as given (JSON; provenance only, not hashed).
+    Its derived layout (dims, shape, kinds, point and line axes) is computed once: a sweep
+    reads it per point and kind."""
 
     model: str
     fixed: tuple[tuple[str, Any], ...]
@@ -193,12 +196,12 @@ class SweepSpec:
     digest: str = ""
     source: str = ""
 
-    @property
+    @functools.cached_property
     def dims(self) -> tuple[str, ...]:
         """Axis names in order (the dimensions of the result)."""
         return tuple(a.name for a in self.axes)
 
-    @property
+    @functools.cached_property
     def shape(self) -> tuple[int, ...]:
         """Number of values of each axis."""
         return tuple(len(a.values) for a in self.axes)
@@ -208,17 +211,17 @@ class SweepSpec:
         """Number of grid points (every axis, kind included)."""
         return math.prod(self.shape)
 
-    @property
+    @functools.cached_property
     def kinds(self) -> tuple[str, ...]:
         """The Floquet kinds swept."""
         return self.axis("kind").values
 
-    @property
+    @functools.cached_property
     def point_axes(self) -> tuple[int, ...]:
         """Positions of the axes other than 'kind' (one solve of each kind per combination)."""
         return tuple(i for i, a in enumerate(self.axes) if a.name != "kind")
 
-    @property
+    @functools.cached_property
     def line_axis(self) -> int | None:
         """Position of the line (continuation) axis: the last real axis, else the last
         non-kind axis; None when only 'kind' is swept."""

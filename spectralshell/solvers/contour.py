@@ -189,12 +189,13 @@ def _dyadic_cell(z: float) -> tuple[float, float]:
     return lo, lo + step
 
 
-def _zeros_below(log_g: LogDet, right: float, z_max: float) -> int | None:
+def _zeros_below(log_g: LogDet, right: float, z_max: float,
+                 strips: tuple[float, ...] = STRIPS) -> int | None:
     """Zeros of g in the rectangle [-a, right] x [-a, a], a = s z_max for the first s of
-    STRIPS that finds none (else the count in the thinnest; None if a count fails): complex
+    ``strips`` that finds none (else the count in the thinnest; None if a count fails): complex
     eigenvalues close to the real axis are left outside a thinner strip."""
     count = None
-    for strip in STRIPS:
+    for strip in strips:
         side = strip * z_max
         count = winding(log_g, rectangle(-side, right, side))
         if count == 0:
@@ -211,14 +212,12 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
     z_max = tau_max * tau_max
     bracket = None if hint is None else _near(log_g, z_max, hint)
     if bracket is None:
-        whole = _zeros_below(log_g, z_max * (1 + 1e-6), z_max)
-        if whole == 0:
+        right = z_max * (1 + 1e-6)
+        if _zeros_below(log_g, right, z_max, STRIPS[:1]) == 0:
             return None, tau_max
-        if whole is None:
-            return None
         bracket = _first_change(log_g, np.linspace(0.0, z_max, SCAN_POINTS + 1))
-        if bracket is None:
-            return None
+        if bracket is None:  # only complex zeros near the real axis, or a close pair
+            return (None, tau_max) if _zeros_below(log_g, right, z_max, STRIPS[1:]) == 0 else None
     try:
         z = _root(log_g, *bracket, rtol=1e-13)
         z = _root(log_g, *_dyadic_cell(z), rtol=4 * np.finfo(float).eps, otherwise=z)

@@ -353,6 +353,7 @@ class Pencils:
         self.system, self.kind = system, kind
         self._largest: dict[str, HillMatrices] = {}
         self._inverses: dict[str, BlockInverses | None] = {}  # of the largest, once asked for
+        self._conditioned: dict[str, bool] = {}  # well_conditioned(the largest), once asked for
         self.reserve = 0
 
     def pencil(self, n_temporal: int, form: str) -> HillMatrices:
@@ -361,6 +362,15 @@ class Pencils:
         if big is None or big.n_temporal < n_temporal:
             big = self._assemble(max(n_temporal, self.reserve), form)
         return big if big.n_temporal == n_temporal else big.truncated(n_temporal)
+
+    def well_conditioned(self, n_temporal: int, form: str) -> bool:
+        """Whether truncation ``n_temporal`` has its block inverses (:func:`well_conditioned`),
+        without forming them; decided once on the largest pencil, whose blocks include this
+        one's (and B is the same coupling G throughout), so that its passing implies this one's."""
+        hill = self.pencil(n_temporal, form)
+        if form not in self._conditioned:
+            self._conditioned[form] = well_conditioned(self._largest[form])
+        return self._conditioned[form] or well_conditioned(hill)
 
     def get(self, n_temporal: int, form: str) -> tuple[HillMatrices, BlockInverses | None]:
         """(pencil, block inverses or None if ill conditioned) of truncation ``n_temporal``."""
@@ -379,6 +389,7 @@ class Pencils:
         """Assemble a larger truncation; its block inverses are formed when asked for, reusing
         those of the blocks it shares with the previous one (when bitwise equal)."""
         previous, known_inv = self._largest.get(form), self._inverses.pop(form, None)
+        self._conditioned.pop(form, None)
         hill = assemble(self.system, self.kind, n_temporal, form)
         self._largest[form] = hill
         if previous is not None and known_inv is not None:
@@ -410,8 +421,8 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
         return Truncation(tau=np.empty(0), method="structured")  # no finite marginal amplitude
     pencils = Pencils(system, kind) if pencils is None else pencils
     if method == "smallest" and system.block_size == 2 and math.isfinite(tau_max):
-        hill = pencils.pencil(n_temporal, "two-sided")
-        found = smallest_real_tau(hill, tau_max, hint) if well_conditioned(hill) else None
+        found = (smallest_real_tau(pencils.pencil(n_temporal, "two-sided"), tau_max, hint)
+                 if pencils.well_conditioned(n_temporal, "two-sided") else None)
         if found is not None:
             return Truncation(tau=np.array([] if found[0] is None else [found[0]]),
                               method="contour", complete_to=found[1])
