@@ -18,8 +18,10 @@ The answer and its certificate
 ------------------------------
 A candidate z* is bracketed by a sign change of g on the real axis (within 5 % of the caller's
 ``hint`` squared, a neighbour's tau_min; else, once the count below finds zeros, on a grid over
-[0, tau_max^2]) and refined by Brent's method. The argument principle then counts the zeros of
-g (real or not) inside
+[0, tau_max^2]) and refined by Newton's method on the kernel's g'/g, safeguarded by bisection
+(``_schur.root``; first to 1e-13, then again, to rounding, inside a fixed dyadic cell around
+that value, so that the answer does not depend on the hint). The argument principle then
+counts the zeros of g (real or not) inside
 
 * the rectangle [-a, z* - rho/2] x [-a, a] (a = s tau_max^2 for the first s of STRIPS for which
   the count is zero: the viscous models' truncations carry complex eigenvalues within 1 % of
@@ -27,10 +29,14 @@ g (real or not) inside
 * the disk |z - z*| <= rho: exactly one (z* itself),
 
 which proves that no real tau lies below tau* = sqrt(z*) and no other one up to
-sqrt(z* + rho / 2): ``complete_to``. Without a sign change near the hint the rectangle runs to
-tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real tau <= tau_max exists.
+sqrt(z* + rho / 2): ``complete_to``. Without a sign change near the hint the rectangle of the
+widest strip runs to tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real
+tau <= tau_max exists; holding some, the grid looks for the sign change, and only where it
+finds none are the thinner strips counted (none there: no real tau <= tau_max either).
 The count is the winding number of g along the boundary (:func:`winding`, in the compiled
-kernel ``_schur.c``), and must lie within 0.05 of an integer. Where any of this fails (a
+kernel ``_schur.c``; g takes conjugate values at conjugate points, so the upper half of each
+contour is read and its phase change doubled), and must lie within 0.05 of an integer. Where
+any of this fails (a
 complex eigenvalue within 1e-6 tau_max^2 of the real axis below tau*, another zero within rho of z*, a zero
 pivot, MAX_NODES evaluations) the function returns None and the caller solves the truncation
 densely: the answer is then the dense path's, never an uncertified one. Like the Krylov path's
