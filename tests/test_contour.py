@@ -272,3 +272,27 @@ def test_newton_root_is_qz_root(sigma, bpm, m, kind):
             assert _schur.root(*blocks, lo, hi, 1e-15) == pytest.approx(z, rel=1e-12)
     assert checked
     assert np.isnan(_schur.root(*blocks, 1e-9, 2e-9, 1e-15))  # no zero there: no sign change
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_scalar_coupling_form_equals_general_form(kind):
+    """The kernel's short form for a coupling that is a multiple of the identity (the sphere's
+    G = q I) against its general form, reached by multiplying every block row by a fixed
+    non-diagonal P (the coupling is then P q: det(A - tau B) gains det(P)^K, d/dz log det
+    nothing)."""
+    hill = two_sided(atrium(6000.0, 120.0, 3), kind, 14)
+    P = np.array([[1.0, 0.3], [-0.2, 0.9]])
+    rows = dataclasses.replace(hill, diag=P @ hill.diag, lower=P @ hill.lower,
+                               upper=P @ hill.upper)
+    z = np.array([0.05 + 0.01j, 0.2 - 0.03j, 0.13 + 0.0j, -0.02 + 0.1j])
+
+    def kernel(h):
+        out, slope = np.empty_like(z), np.empty_like(z)
+        assert _schur.logdet(*contour.LogDet(h).blocks, z, out, slope) == 0
+        return out, slope
+
+    (value, slope), (value_p, slope_p) = kernel(hill), kernel(rows)
+    shift = len(hill.diag) * np.log(np.linalg.det(P))
+    np.testing.assert_allclose(np.exp(1j * (value_p - value - shift).imag), 1, atol=1e-10)
+    np.testing.assert_allclose((value_p - value).real, shift, rtol=1e-10)
+    np.testing.assert_allclose(slope_p, slope, rtol=1e-10)

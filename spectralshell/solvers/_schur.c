@@ -41,7 +41,8 @@ static inline double norm1(double complex z) { return fabs(creal(z)) + fabs(cima
 
 /* log det(A - tau B) at z = tau^2 into *out and its derivative in z into *slope; 1 on a zero
  * pivot or a non-finite value. The derivative is carried forward: with M = L S^{-1} and
- * X = S^{-1} U, S_k' = -M U + z M S' X, and (log det S)' = trace(S^{-1} S'). */
+ * X = S^{-1} U, S_k' = -M U + z M S' X, and (log det S)' = trace(S^{-1} S'); a coupling
+ * that is a multiple of the identity (checked per block, exactly) takes a shorter form. */
 static int schur_logdet(const double complex *diag, const double complex *lower,
                         const double complex *upper, Py_ssize_t K, double complex z,
                         double complex *out, double complex *slope)
@@ -67,20 +68,45 @@ static int schur_logdet(const double complex *diag, const double complex *lower,
             break;
         const double complex *L = lower + 4 * (k - 1), *U = upper + 4 * (k - 1);
         const double complex *Ak = diag + 4 * k;
-        /* S^{-1} = r [[d, -b], [-c, a]]; M = L S^{-1}, X = S^{-1} U */
-        double complex m00 = r * (L[0] * d - L[1] * c), m01 = r * (L[1] * a - L[0] * b);
-        double complex m10 = r * (L[2] * d - L[3] * c), m11 = r * (L[3] * a - L[2] * b);
-        double complex x00 = r * (d * U[0] - b * U[2]), x01 = r * (d * U[1] - b * U[3]);
-        double complex x10 = r * (a * U[2] - c * U[0]), x11 = r * (a * U[3] - c * U[1]);
-        double complex n00 = m00 * U[0] + m01 * U[2], n01 = m00 * U[1] + m01 * U[3];
-        double complex n10 = m10 * U[0] + m11 * U[2], n11 = m10 * U[1] + m11 * U[3];
-        /* P = M S' (2 x 2), then S_k' = -N + z P X */
-        double complex p00 = m00 * da + m01 * dc, p01 = m00 * db + m01 * dd;
-        double complex p10 = m10 * da + m11 * dc, p11 = m10 * db + m11 * dd;
-        da = -n00 + z * (p00 * x00 + p01 * x10);
-        db = -n01 + z * (p00 * x01 + p01 * x11);
-        dc = -n10 + z * (p10 * x00 + p11 * x10);
-        dd = -n11 + z * (p10 * x01 + p11 * x11);
+        double complex n00, n01, n10, n11, t00, t01, t10, t11; /* N = M U, T = z M S' X */
+        if (L[1] == 0.0 && L[2] == 0.0 && L[0] == L[3] && U[1] == 0.0 && U[2] == 0.0 &&
+            U[0] == U[3]) {
+            /* L = l I, U = u I (the sphere's coupling G = q I): with S^{-1} = r adj S,
+             * N = l u r adj S and M S' X = l u r^2 (adj S) S' (adj S) */
+            const double complex w = L[0] * U[0] * r, v = z * w * r;
+            n00 = w * d;
+            n01 = -w * b;
+            n10 = -w * c;
+            n11 = w * a;
+            double complex q00 = d * da - b * dc, q01 = d * db - b * dd; /* (adj S) S' */
+            double complex q10 = a * dc - c * da, q11 = a * dd - c * db;
+            t00 = v * (q00 * d - q01 * c);
+            t01 = v * (q01 * a - q00 * b);
+            t10 = v * (q10 * d - q11 * c);
+            t11 = v * (q11 * a - q10 * b);
+        } else {
+            /* S^{-1} = r [[d, -b], [-c, a]]; M = L S^{-1}, X = S^{-1} U */
+            double complex m00 = r * (L[0] * d - L[1] * c), m01 = r * (L[1] * a - L[0] * b);
+            double complex m10 = r * (L[2] * d - L[3] * c), m11 = r * (L[3] * a - L[2] * b);
+            double complex x00 = r * (d * U[0] - b * U[2]), x01 = r * (d * U[1] - b * U[3]);
+            double complex x10 = r * (a * U[2] - c * U[0]), x11 = r * (a * U[3] - c * U[1]);
+            n00 = m00 * U[0] + m01 * U[2];
+            n01 = m00 * U[1] + m01 * U[3];
+            n10 = m10 * U[0] + m11 * U[2];
+            n11 = m10 * U[1] + m11 * U[3];
+            /* P = M S' (2 x 2), then T = z P X */
+            double complex p00 = m00 * da + m01 * dc, p01 = m00 * db + m01 * dd;
+            double complex p10 = m10 * da + m11 * dc, p11 = m10 * db + m11 * dd;
+            t00 = z * (p00 * x00 + p01 * x10);
+            t01 = z * (p00 * x01 + p01 * x11);
+            t10 = z * (p10 * x00 + p11 * x10);
+            t11 = z * (p10 * x01 + p11 * x11);
+        }
+        /* S_k' = -N + T */
+        da = -n00 + t00;
+        db = -n01 + t01;
+        dc = -n10 + t10;
+        dd = -n11 + t11;
         a = Ak[0] - z * n00;
         b = Ak[1] - z * n01;
         c = Ak[2] - z * n10;
