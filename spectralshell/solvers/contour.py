@@ -136,12 +136,13 @@ def _upper_rectangle(per_edge: int) -> np.ndarray:
 
 
 UPPER_RECTANGLE = _upper_rectangle(8)
+_ACROSS, _UP = UPPER_RECTANGLE.real.copy(), 1j * UPPER_RECTANGLE.imag
 
 
 def rectangle(left: float, right: float, half_height: float) -> np.ndarray:
     """The upper half (:func:`winding`) of the rectangle [left, right] x [-half_height,
     half_height], 16 segments (the kernel refines them)."""
-    return left + (right - left) * UPPER_RECTANGLE.real + 1j * half_height * UPPER_RECTANGLE.imag
+    return left + (right - left) * _ACROSS + half_height * _UP
 
 
 def circle(centre: float, radius: float, count: int = 16) -> np.ndarray:

@@ -252,9 +252,8 @@ def well_conditioned(hill: HillMatrices) -> bool:
     det = np.abs(a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0])
     if not det.all():
         return False
-    adjugate = np.maximum(np.abs(a[:, 1, 1]) + np.abs(a[:, 1, 0]),
-                          np.abs(a[:, 0, 1]) + np.abs(a[:, 0, 0]))
-    return _conditioned(hill, adjugate / det)
+    # the columns of adj A_k = [[d, -b], [-c, a]] carry the rows of A_k: ||adj||_1 = ||A_k||_inf
+    return _conditioned(hill, np.abs(a).sum(axis=2).max(axis=1) / det)
 
 
 def dense_half_product(hill: HillMatrices, inverses: BlockInverses) -> np.ndarray:
