@@ -172,6 +172,24 @@ typedef struct {
     long budget; /* evaluations left */
 } Contour;
 
+/* The shared preamble of winding() and root(): exactly `want` args, of which the first `count`
+ * are the pencil and 1-d arrays (see pencil_buffers), held in v, the pencil also in *c (no
+ * budget yet); -1 (exception set, nothing held) otherwise. */
+static int contour_args(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t want,
+                        const char *usage, const char **names, int count, Py_ssize_t least,
+                        Py_buffer *v, Contour *c)
+{
+    if (nargs != want) {
+        PyErr_Format(PyExc_TypeError, "%s takes %zd arguments", usage, want);
+        return -1;
+    }
+    if (pencil_buffers(args, usage, names, count, least, v) < 0)
+        return -1;
+    *c = (Contour){(const double complex *)v[0].buf, (const double complex *)v[1].buf,
+                   (const double complex *)v[2].buf, v[0].shape[0], 0.0, 0.0, 0};
+    return 0;
+}
+
 static int evaluate(Contour *c, double complex z, double complex *value, double complex *slope)
 {
     if (c->budget-- <= 0)
@@ -207,19 +225,19 @@ static PyObject *py_winding(PyObject *self, PyObject *const *args, Py_ssize_t na
 {
     (void)self;
     static const char *names[4] = {"diag", "lower", "upper", "nodes"};
-    if (nargs != 7) {
-        PyErr_SetString(PyExc_TypeError, "winding(diag, lower, upper, nodes, max_bend, "
-                                         "max_turn, max_nodes) takes seven arguments");
+    Py_buffer v[4];
+    Contour c;
+    if (contour_args(args, nargs, 7, "winding(diag, lower, upper, nodes, max_bend, max_turn, "
+                     "max_nodes)", names, 4, 2, v, &c) < 0)
+        return NULL;
+    c.max_bend = PyFloat_AsDouble(args[4]);
+    c.max_turn = PyFloat_AsDouble(args[5]);
+    c.budget = PyLong_AsLong(args[6]);
+    if (PyErr_Occurred()) {
+        release(v, 4);
         return NULL;
     }
-    double max_bend = PyFloat_AsDouble(args[4]), max_turn = PyFloat_AsDouble(args[5]);
-    long max_nodes = PyLong_AsLong(args[6]);
-    Py_buffer v[4];
-    if (PyErr_Occurred() || pencil_buffers(args, "winding", names, 4, 2, v) < 0)
-        return NULL;
     Py_ssize_t n = v[3].shape[0];
-    Contour c = {(const double complex *)v[0].buf, (const double complex *)v[1].buf,
-                 (const double complex *)v[2].buf, v[0].shape[0], max_bend, max_turn, max_nodes};
     const double complex *z = (const double complex *)v[3].buf;
     double turn = 0.0;
     int failed = 0;
@@ -295,18 +313,18 @@ static PyObject *py_root(PyObject *self, PyObject *const *args, Py_ssize_t nargs
 {
     (void)self;
     static const char *names[3] = {"diag", "lower", "upper"};
-    if (nargs != 6) {
-        PyErr_SetString(PyExc_TypeError, "root(diag, lower, upper, lo, hi, rtol) takes six "
-                                         "arguments");
+    Py_buffer v[3];
+    Contour c;
+    if (contour_args(args, nargs, 6, "root(diag, lower, upper, lo, hi, rtol)", names, 3, 0, v,
+                     &c) < 0)
         return NULL;
-    }
     double lo = PyFloat_AsDouble(args[3]), hi = PyFloat_AsDouble(args[4]);
     double rtol = PyFloat_AsDouble(args[5]);
-    Py_buffer v[3];
-    if (PyErr_Occurred() || pencil_buffers(args, "root", names, 3, 0, v) < 0)
+    if (PyErr_Occurred()) {
+        release(v, 3);
         return NULL;
-    Contour c = {(const double complex *)v[0].buf, (const double complex *)v[1].buf,
-                 (const double complex *)v[2].buf, v[0].shape[0], 0.0, 0.0, ROOT_STEPS};
+    }
+    c.budget = ROOT_STEPS;
     double z = 0.0;
     int status;
     Py_BEGIN_ALLOW_THREADS

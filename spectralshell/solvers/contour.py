@@ -55,8 +55,17 @@ One point of a contour costs O(K) (K = 2N + 1 or 2N + 2 blocks of 2 x 2), a coun
 a few hundred points; the dense eig of W costs O(N^3). Measured on a 20 x 20 Fig 6.13 map (m =
 2..6, both kinds, serial, one BLAS thread, CPU time under load): 17.5 s with the dense eig of W
 per truncation, 7.5 s with this path (6.2 s with the sphere's fluid-load cache), the same map
-to 6e-15 with the same truncation pairs; assembly and the sweep's Python then dominate. The
-200 x 200 figure: validation/bench_fig613.py.
+to 6e-15 with the same truncation pairs. Then (issue 25, load 8-10 on 2 cores, CPU time, the
+previous path and this one run alternately): the root by Newton in the kernel instead of Brent
+from Python, half contours, one strip before the scan, no block inverses, per-(m, nu, kind)
+fluid-load tables and the sphere's scalar coupling in the kernel took the 20 x 20 map from
+5.4-6.1 s to 3.3-3.9 s, and 12 full lines of the 200 x 200 grid (sigma lines 0-3, 100-103,
+196-199, 200 beat rates each) from 25.3 s to 12.0 s: the 200 x 200 map projects to ~100 s on 2
+workers from CPU time (wall time under that load: 2-3x more). What remains is about a fifth
+each: the counts in the kernel (mostly at low beat rates, where many complex eigenvalues lie
+near the real axis), the Bessel ratios of the fluid load (a table's first use), and the
+sweep's and solver's Python per point and truncation. The 200 x 200 figure:
+validation/bench_fig613.py.
 """
 
 from __future__ import annotations
