@@ -27,6 +27,11 @@
  *   safeguarded by bisection (each step keeps the sign change), started at the midpoint and
  *   stopped once a step is at most rtol |z|; NaN if the sign does not change between lo and hi,
  *   None on a zero pivot.
+ * conditioning(diag, lower, upper) -> (cond, coupled): the largest 1-norm condition number
+ *   ||A_k||_1 ||A_k^{-1}||_1 of the blocks and the largest ||A_k^{-1}||_1 times
+ *   max_k ||L_k||_1 + max_k ||U_k||_1 (the inverse by the adjugate: ||adj A_k||_1 is the largest
+ *   row sum of |A_k|); both inf where a block is singular (solvers/half_product.py compares
+ *   them with its limit).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -361,6 +366,38 @@ static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nar
     return PyLong_FromLong(status);
 }
 
+/* Largest 1-norm (column sum of moduli) of the 2 x 2 blocks m[0..count). */
+static double largest_norm1(const double complex *m, Py_ssize_t count)
+{
+    double out = 0.0;
+    for (Py_ssize_t k = 0; k < count; k++, m += 4)
+        out = fmax(out, fmax(cabs(m[0]) + cabs(m[2]), cabs(m[1]) + cabs(m[3])));
+    return out;
+}
+
+static PyObject *py_conditioning(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    static const char *names[3] = {"diag", "lower", "upper"};
+    Py_buffer v[3];
+    Contour c;
+    if (contour_args(args, nargs, 3, "conditioning(diag, lower, upper)", names, 3, 0, v, &c) < 0)
+        return NULL;
+    double cond = 0.0, inverse = 0.0;
+    for (Py_ssize_t k = 0; k < c.K; k++) {
+        const double complex *a = c.diag + 4 * k;
+        double det = cabs(a[0] * a[3] - a[1] * a[2]);
+        double rows = fmax(cabs(a[0]) + cabs(a[1]), cabs(a[2]) + cabs(a[3]));
+        double columns = fmax(cabs(a[0]) + cabs(a[2]), cabs(a[1]) + cabs(a[3]));
+        double inv_norm = det > 0.0 ? rows / det : INFINITY;
+        cond = fmax(cond, columns * inv_norm);
+        inverse = fmax(inverse, inv_norm);
+    }
+    double coupling = largest_norm1(c.lower, c.K - 1) + largest_norm1(c.upper, c.K - 1);
+    release(v, 3);
+    return Py_BuildValue("(dd)", cond, inverse * coupling);
+}
+
 static PyMethodDef methods[] = {
     {"logdet", (PyCFunction)(void (*)(void))py_logdet, METH_FASTCALL,
      "logdet(diag, lower, upper, z, out, slope) -> status: log det(A - tau B) at z = tau^2 "
@@ -373,6 +410,9 @@ static PyMethodDef methods[] = {
     {"root", (PyCFunction)(void (*)(void))py_root, METH_FASTCALL,
      "root(diag, lower, upper, lo, hi, rtol) -> the real zero z of det(A - tau B) in [lo, hi] "
      "by safeguarded Newton (NaN: no sign change; None: a zero pivot)."},
+    {"conditioning", (PyCFunction)(void (*)(void))py_conditioning, METH_FASTCALL,
+     "conditioning(diag, lower, upper) -> (largest 1-norm condition of the blocks of A, largest "
+     "||A_k^{-1}||_1 times the coupling's 1-norm)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_schur",

@@ -58,6 +58,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from ..discretise.hill import HillMatrices, realify
+from . import _schur
 
 COND_LIMIT = 1e8
 REAL_RTOL = 1e-9
@@ -231,29 +232,23 @@ def block_inverses(hill: HillMatrices,
             inv = _reusing(hill.diag, *known)
     except np.linalg.LinAlgError:
         return None
-    return inv if _conditioned(hill, inv.norms()) else None
-
-
-def _conditioned(hill: HillMatrices, inv_norm: np.ndarray) -> bool:
-    """Whether every block's 1-norm condition and ||A_k^{-1}|| ||B|| are at most COND_LIMIT,
-    given the 1-norms ``inv_norm`` of the A_k^{-1} (NaN or inf: False)."""
+    inv_norm = inv.norms()
     cond = np.abs(hill.diag).sum(axis=1).max(axis=-1) * inv_norm
     coupling = _norm1(hill.lower) + _norm1(hill.upper) + _norm1(hill.self_coupling)
-    return bool(cond.max() <= COND_LIMIT and inv_norm.max() * coupling <= COND_LIMIT)
+    if not cond.max() <= COND_LIMIT or inv_norm.max() * coupling > COND_LIMIT:  # NaN, inf: None
+        return None
+    return inv
 
 
 def well_conditioned(hill: HillMatrices) -> bool:
-    """Whether :func:`block_inverses` would give the inverses (not None), without keeping them:
-    for 2 x 2 blocks ||A_k^{-1}||_1 = ||adj A_k||_1 / |det A_k| in closed form (the contour
-    path needs the answer, not the inverses)."""
-    a = hill.diag
-    if a.shape[1] != 2:
+    """Whether :func:`block_inverses` would give the inverses (not None), without forming them:
+    for 2 x 2 blocks (no self-coupling) the compiled kernel takes ||A_k^{-1}||_1 =
+    ||adj A_k||_1 / |det A_k| in closed form (the contour path needs the answer only)."""
+    if hill.diag.shape[1] != 2 or hill.self_coupling is not None:
         return block_inverses(hill) is not None
-    det = np.abs(a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0])
-    if not det.all():
-        return False
-    # the columns of adj A_k = [[d, -b], [-c, a]] carry the rows of A_k: ||adj||_1 = ||A_k||_inf
-    return _conditioned(hill, np.abs(a).sum(axis=2).max(axis=1) / det)
+    cond, coupled = _schur.conditioning(*(np.ascontiguousarray(x, dtype=complex)
+                                          for x in (hill.diag, hill.lower, hill.upper)))
+    return cond <= COND_LIMIT and coupled <= COND_LIMIT  # NaN: False
 
 
 def dense_half_product(hill: HillMatrices, inverses: BlockInverses) -> np.ndarray:
