@@ -183,8 +183,8 @@ class SweepSpec:
     """A validated sweep: model, fixed parameters, axes (grid order, 'kind' always present),
     ask, solver options, chunk length, the scene's stable hash ``digest`` (of
     :meth:`canonical`) and ``source``, the scene as given (JSON; provenance only, not hashed).
-    Its derived layout (dims, shape, kinds, point and line axes) is computed once: a sweep
-    reads it per point and kind."""
+    Its derived layout (dims, shape, kinds, point and line axes, spatial) is computed once: a
+    sweep reads it per point and kind."""
 
     model: str
     fixed: tuple[tuple[str, Any], ...]
@@ -229,13 +229,13 @@ class SweepSpec:
         real = [i for i in points if self.axes[i].is_real]
         return real[-1] if real else (points[-1] if points else None)
 
-    @property
+    @functools.cached_property
     def spatial(self) -> bool:
         """The model has spatial modes (a parameter n_spatial): the result also stores
         n_spatial and spatial_converged."""
         return "n_spatial" in param_names(self.model)
 
-    @property
+    @functools.cached_property
     def refines_spatial(self) -> bool:
         """M is refined per point (a spatial model with neither n_spatial nor spatial_mode)."""
         given = set(dict(self.fixed)) | set(self.dims)
