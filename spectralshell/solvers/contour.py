@@ -60,8 +60,10 @@ previous path and this one run alternately): the root by Newton in the kernel in
 from Python, half contours, one strip before the scan, no block inverses, per-(m, nu, kind)
 fluid-load tables and the sphere's scalar coupling in the kernel took the 20 x 20 map from
 5.4-6.1 s to 3.3-3.9 s, and 12 full lines of the 200 x 200 grid (sigma lines 0-3, 100-103,
-196-199, 200 beat rates each) from 25.3 s to 12.0 s: the 200 x 200 map projects to ~100 s on 2
-workers from CPU time (wall time under that load: 2-3x more). What remains is about a fifth
+196-199, 200 beat rates each) from 25.3-28.2 s to 12.0-14.6 s (two runs): the 200 x 200 map
+projects to 100-120 s on 2 workers from CPU time (wall time under that load: 2-3x more; a
+table's first use is a quarter of these lines' assemblies, fewer in the whole map, where each
+worker meets every beat rate on many stiffness lines). What remains is about a fifth
 each: the counts in the kernel (mostly at low beat rates, where many complex eigenvalues lie
 near the real axis), the Bessel ratios of the fluid load (a table's first use), and the
 sweep's and solver's Python per point and truncation. The 200 x 200 figure:
