@@ -40,6 +40,7 @@ import mpmath as mp
 import sympy as sp
 
 from _checks import check, section, summary  # derivations/_checks.py
+from _radial import interface_jumps, ode_reduce  # derivations/_radial.py
 
 r, th = sp.symbols("r theta", positive=True)
 m = sp.Symbol("m", positive=True, integer=True)
@@ -85,18 +86,7 @@ def part_a():
     check("r row residual s u^r + d_r p - nu [Lap u]^r = (r/m)(nu L_m omega - s omega) cos(m th)",
           sp.simplify(res_r - target) == 0)
     # traction at r = 1 from the two one-sided jets of f (outside minus inside)
-    jets = {side: sp.symbols(f"f0{side} f1{side} f2{side} f3{side}") for side in "io"}
-
-    def at1(expr, side):
-        e = expr
-        for k in (3, 2, 1):
-            e = e.subs(sp.Derivative(f, (r, k)), jets[side][k])
-        return e.subs(f, jets[side][0]).subs(r, 1)
-
-    def jump(expr):
-        return at1(expr, "o") - at1(expr, "i")
-
-    cont = {jets["o"][0]: jets["i"][0], jets["o"][1]: jets["i"][1]}
+    jump, cont, jets = interface_jumps(f, r, "f")
     U, V = m * f / r, -sp.diff(f, r)
     check("[[U']] = 0 given [[f]] = [[f']] = 0 (continuity, as (4.9))",
           sp.simplify(jump(sp.diff(U, r)).subs(cont)) == 0)
@@ -110,11 +100,7 @@ def part_a():
 
 def bessel_reduce(expr, g):
     """Eliminate g'', g''' with the modified Bessel ODE g'' = -g'/r + (beta^2 + m^2/r^2) g."""
-    g2 = -sp.diff(g, r) / r + (beta**2 + m**2 / r**2) * g
-    for _ in range(3):
-        expr = expr.subs(sp.Derivative(g, (r, 3)), sp.diff(g2, r))
-        expr = expr.subs(sp.Derivative(g, (r, 2)), g2)
-    return sp.simplify(expr)
+    return ode_reduce(expr, g, r, -sp.diff(g, r) / r + (beta**2 + m**2 / r**2) * g)
 
 
 def part_b():
