@@ -51,13 +51,14 @@ eigenvalues that agree between two resolutions).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 
 import numpy as np
 
-from .._validate import require_choice, require_int_in_range, require_positive
+from .._validate import require_choice, require_int_in_range, require_positive, require_real
+from ..errors import ParameterError
 from ..params.fibre import FORCINGS, M_RANGE
 from .chebyshev import ball_derivatives, exterior_derivatives
 from .sphere_radial import N_RADIAL_MAX, require_exterior_scale
@@ -185,3 +186,59 @@ def fibre_radial_operators(*, m: int, nu: float, n_inner: int, n_outer: int,
         M=M, L_fluid=L, L_pressure=Sp, L_tangential=St,
         blocks=MappingProxyType({"f_inner": FI, "f_outer": FO, "omega_inner": WI,
                                  "omega_outer": WO, "membrane": slice(ir, size)}))
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class FibreStepping:
+    """The fibre's semi-discrete system M dv/dt = L v + f(t) N v of one wavenumber (a DAE).
+
+    L = L_fluid + kappa L_stiffness (the mean stiffness, implicit), N = kappa L_pumped and
+    f(t) = 2 tau sin t (explicit), so that the stress rows carry K(t) = kappa (1 + 2 tau sin t)
+    where ``pumping`` says (both rows, or the pressure or the tangential one). M is singular
+    (index 1: the algebraic rows fix f and the boundary values of omega given the interior
+    omega and X); the steppers of :mod:`spectralshell.solvers.stepper` take it as it is. At
+    tau = 0, N and the forcing are None.
+    """
+
+    operators: FibreRadialOperators
+    kappa: float
+    tau: float
+    pumping: str
+    M: np.ndarray
+    L: np.ndarray
+    N: np.ndarray | None
+    forcing: Callable[[float], float] | None
+
+    def initial_state(self, displacement) -> np.ndarray:
+        """v with the membrane at ``displacement`` (X^r, X^theta) and the fluid at rest (the
+        first step projects it onto the algebraic rows: the impulsive start)."""
+        X = np.asarray(displacement, dtype=float)
+        if X.shape != (2,):
+            raise ParameterError(f"displacement shape {X.shape} is invalid: must be (2,) "
+                                 "(X^r, X^theta)")
+        v = np.zeros(self.operators.size)
+        v[self.operators.blocks["membrane"]] = X
+        return v
+
+    def displacement(self, v: np.ndarray) -> np.ndarray:
+        """(X^r, X^theta) of a state."""
+        return self.operators.displacement(v)
+
+
+def stepping_system(operators: FibreRadialOperators, *, kappa: float, tau: float,
+                    pumping: str = "both") -> FibreStepping:
+    """The time-stepping form of ``operators`` at stiffness K(t) = kappa (1 + 2 tau sin t).
+
+    Raises
+    ------
+    ParameterError : kappa not positive, tau not real, pumping not 'both', 'pressure' or
+        'tangential'.
+    """
+    kappa = require_positive("kappa", kappa)
+    tau = require_real("tau", tau)
+    pumped = operators.pumped(pumping)
+    L, M = operators.pencil(kappa)
+    forced = tau != 0.0
+    return FibreStepping(operators=operators, kappa=kappa, tau=tau, pumping=pumping, M=M, L=L,
+                         N=kappa * pumped if forced else None,
+                         forcing=(lambda t: 2.0 * tau * np.sin(t)) if forced else None)
