@@ -57,7 +57,8 @@ def test_tangential_pumping_decays_at_the_exponent_rate():
 
 @pytest.mark.parametrize("kwargs, name", [({"nu": 0.0}, "nu"), ({"m": 1}, "m"),
                                           ({"forcing": "normal"}, "forcing"),
-                                          ({"periods": 5}, "periods"), ({"kappa": -1}, "kappa")])
+                                          ({"periods": 5}, "periods"), ({"kappa": -1}, "kappa"),
+                                          ({"n_inner": 8}, "n_inner"), ({"tau": "x"}, "tau")])
 def test_bad_arguments_name_the_parameter(kwargs, name):
     args = {"m": 3, "kappa": 0.02, "nu": 2e-4, "tau": 0.1, **kwargs}
     with pytest.raises(ParameterError, match=name):

@@ -21,8 +21,9 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from .._validate import require_int_in_range, require_real
 from ..discretise.fibre_radial import fibre_radial_operators, stepping_system
-from ..discretise.sphere_radial import exterior_scale_hint
+from ..discretise.sphere_radial import N_RADIAL_MAX, exterior_scale_hint
 from ..discretise.sphere_stepping import CONTINUUM_FLOOR, oscillatory_leader
 from ..errors import ConvergenceError, ParameterError
 from ..models.fibre import lambda0_squared
@@ -65,8 +66,11 @@ def fibre_rate(*, m: int, kappa: float, nu: float, tau: float, forcing: str = "b
     if p.nu == 0.0:
         raise ParameterError("nu = 0 is invalid: must be > 0 for the fibre's radial time stepper "
                              "(the inviscid fibre is the Mathieu equation)")
-    if not periods >= 10:
+    tau = require_real("tau", tau)
+    if not require_real("periods", periods) >= 10:
         raise ParameterError(f"periods = {periods!r} is invalid: must be >= 10")
+    n_inner = require_int_in_range("n_inner", n_inner, 4 + N_CHECK, N_RADIAL_MAX)
+    n_outer = require_int_in_range("n_outer", n_outer, 6 + N_CHECK, N_RADIAL_MAX)
     lam = math.sqrt(lambda0_squared(p.m, p.kappa))
     scale = exterior_scale_hint(nu=p.nu, s_scale=lam)
     fine_ops, coarse_ops = (
