@@ -37,6 +37,15 @@ def test_growth_rate_equals_the_floquet_exponent():
     check_rates(3, 0.02, 2e-4, "both")
 
 
+def test_unforced_fibre_rings_at_the_rayleigh_mode():
+    """tau = 0 (no explicit term): X^r decays and oscillates at the least damped natural mode of
+    the dispersion relation (ss.natural_modes), to 1e-6 and within the stated error."""
+    gamma = complex(ss.natural_modes("fibre", m=3, kappa=0.02, nu=2e-4).gamma[0])
+    fit = fibre_rate(m=3, kappa=0.02, nu=2e-4, tau=0.0, periods=20)
+    error = max(abs(fit.growth_rate - gamma.real), abs(fit.frequency - gamma.imag))
+    assert error < 1e-6 and error <= fit.error_estimate
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("m, kappa, forcing", [(2, 0.08, "both"), (2, 0.08, "pressure"),
                                                (3, 0.02, "pressure")])
