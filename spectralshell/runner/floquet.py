@@ -397,11 +397,12 @@ def _solve_some(factory, points: list, kinds: tuple[str, ...], workers: int | No
 
 
 def _map_axis(model: str, label: str, axis: object, physical: bool,
-              max_points: int | None) -> tuple[str, Any]:
+              max_points: int | None, nonuniform: bool = False) -> tuple[str, Any]:
     """(name, grid spec) of the map axis ``label`` = (name, grid): the name one of the model's
-    real parameters, or with physical input one of the model's cgs quantities in a sweep."""
+    real parameters, or with physical input one of the model's cgs quantities in a sweep, or
+    for the sphere with a non-uniform kappa nu or l_max (``nonuniform``)."""
     cgs = physical_names(model)
-    names = tuple(cgs) if physical else tuple(
+    names = ("nu", "l_max") if nonuniform else tuple(cgs) if physical else tuple(
         f.name for f in param_fields(model) if f.type in (float, "float"))
     if not (isinstance(axis, (tuple, list)) and len(axis) == 2):
         raise ParameterError(f"{label} = {axis!r} is invalid: must be a pair (name, grid) with "
@@ -411,6 +412,8 @@ def _map_axis(model: str, label: str, axis: object, physical: bool,
         raise ParameterError(f"{label} axis name = {axis[0]!r} is invalid: must be one of "
                              f"{', '.join(names)}{hint}")
     grid = axis[1]
+    if axis[0] == "l_max":  # integers: the sweep reads them
+        return "l_max", grid if isinstance(grid, str) else list(np.atleast_1d(grid).tolist())
     if not isinstance(grid, (str, Mapping)):  # values: plain floats for the scene
         grid = _grid(axis[0], grid, max_points).tolist()
     return str(axis[0]), grid
@@ -430,6 +433,9 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
         num[, spacing = 'log']}. Names are real model parameters (e.g. 'kappa', 'nu') or, with
         ``physical``, the model's cgs quantities (sphere: 'sigma' (dyn/cm), 'omega' (rad/s),
         'bpm' (beats/min), 'radius', 'mu', 'rho'; see :mod:`spectralshell.params.sweep_grid`).
+        The sphere with ``kappa`` an expression in theta, phi (a non-uniform stiffness, fixed):
+        'nu' and 'l_max' (integers, the degree truncation: a map of the convergence in l), and
+        the Dataset also holds l_max and the critical mode's largest (l, k) share.
     m : degrees, e.g. '2:6' (models with a degree m; None for the others).
     tau_max : only instabilities below it count (1/2: stiffness > 0).
     physical : fixed cgs values (e.g. rho, mu, radius), converted with the axes' values as the
@@ -459,8 +465,13 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
     require_positive("tol", tol)
     require_positive("tau_max", tau_max)
     cgs = physical_inputs(physical, physical_names(model)) if physical is not None else {}
+    nonuniform = is_nonuniform(model, params)
+    if nonuniform and (m is not None or physical is not None):
+        name, value = ("m", m) if m is not None else ("physical", physical)
+        raise ParameterError(f"{name} = {value!r} is invalid with a non-uniform kappa: its "
+                             "degrees couple (the map's axes are nu and l_max)")
     (xname, xgrid), (yname, ygrid) = (_map_axis(model, label, axis, physical is not None,
-                                                max_points)
+                                                max_points, nonuniform)
                                       for label, axis in (("x", x), ("y", y)))
     grid: dict[str, Any] = {xname: xgrid, yname: ygrid}
     if m is not None:

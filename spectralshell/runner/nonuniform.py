@@ -61,7 +61,8 @@ def sector_minimum(systems: tuple[HillSystem, ...], kind: str, options: dict[str
         found = marginal_tau(system, kind, **{**options, "tau_max": cap})
         if bar is not None:
             bar.update(1)
-        if found.tau_min is not None and (best is None or found.tau_min < best.tau_min):
+        if found.tau_min is not None and (best is None or best.tau_min is None
+                                          or found.tau_min < best.tau_min):
             best, where, cap = found, i, found.tau_min
         elif best is None:
             best = found
@@ -257,3 +258,4 @@ def critical_exponent(*, kappa: str, nu: float, kind: str, tau: float, l_max: in
                                    f"did not converge (n_temporal = {n})")
         values.append(got[0] + 1j * GAMMA[kind])
     return complex(values[1]), float(abs(values[1] - values[0]))
+

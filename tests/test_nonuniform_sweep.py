@@ -1,0 +1,119 @@
+"""Sweeps and tau maps of the sphere with a non-uniform kappa (issue 28, part 2: "the same in
+scenes and sweeps").
+
+Oracles: independent ``ss.floquet`` calls at every point (the per-point API, with its own
+refinement and critical-mode content), and a clean run for a resumed store.
+"""
+
+import numpy as np
+import pytest
+
+import spectralshell as ss
+from spectralshell.errors import ParameterError
+from spectralshell.params.sweep_grid import sweep_spec
+from spectralshell.runner.sweep import run_sweep
+from spectralshell.runner.store import open_sweep
+
+KAPPA = "0.02*(1 + 0.3*cos(theta)**2)"
+NUS = [0.006, 0.008, 0.01]
+SCENE = {"model": "sphere", "params": {"kappa": KAPPA, "l_max": 4}, "grid": {"nu": NUS},
+         "tau_min": {"tol": 1e-8}, "sweep": {"chunk": 1}}
+NONUNIFORM_VARIABLES = ("l_max", "critical_l", "critical_k", "critical_share")
+
+
+@pytest.fixture(scope="module")
+def clean():
+    return run_sweep(SCENE, executor="serial")
+
+
+def test_a_sweep_equals_floquet_at_every_point(clean):
+    ds = clean.dataset
+    assert set(NONUNIFORM_VARIABLES) <= set(ds.data_vars)
+    assert ds["l_max"].attrs["long_name"].startswith("degree truncation")
+    for i, nu in enumerate(NUS):
+        res = ss.floquet("sphere", kappa=KAPPA, nu=nu, l_max=4, tol=1e-8, tau_max=0.5)
+        for q, kind in enumerate(("harmonic", "subharmonic")):
+            m, at = getattr(res, kind), (i, q)
+            assert bool(ds["has_tau"].values[at]) == (m.tau_min is not None)
+            assert int(ds["l_max"].values[at]) == res.l_max == 4
+            if m.tau_min is None:
+                assert np.isnan(ds["tau_min"].values[at])
+                assert int(ds["critical_l"].values[at]) == 0
+                continue
+            assert ds["tau_min"].values[at] == pytest.approx(m.tau_min, abs=1e-12)
+            assert ds["error_estimate"].values[at] == pytest.approx(m.error_estimate, abs=1e-12)
+            assert int(ds["n_temporal"].values[at]) == m.n_temporal
+            lead = res.content[kind][0]
+            assert (int(ds["critical_l"].values[at]), int(ds["critical_k"].values[at])) == \
+                (lead["l"], lead["k"])
+            assert ds["critical_share"].values[at] == pytest.approx(lead["share"], abs=1e-12)
+    # the subharmonic tongue of degree 3 lies below 1/2 at each nu; the harmonic one above it
+    assert ds["has_tau"].values[:, 1].all() and not ds["has_tau"].values[:, 0].any()
+    assert (ds["critical_l"].values[:, 1] == 3).all()
+
+
+def test_a_resumed_sweep_equals_a_clean_run(clean, tmp_path):
+    out = tmp_path / "nonuniform.zarr"
+
+    def stop(n, _):
+        if n == 1:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(SCENE, executor="serial", out=out, on_chunk=stop)
+    assert int(open_sweep(out)["computed"].sum()) == 2       # one chunk: one nu, both kinds
+    resumed = run_sweep(SCENE, executor="serial", out=out)
+    assert (resumed.computed, resumed.skipped) == (4, 2)
+    for ds in (resumed.dataset, open_sweep(out)):
+        assert list(ds.data_vars) == list(clean.dataset.data_vars)
+        for name in ds.data_vars:
+            np.testing.assert_array_equal(ds[name].values, clean.dataset[name].values,
+                                          err_msg=name)
+
+
+def test_a_uniform_scene_keeps_its_variables():
+    spec = sweep_spec({"model": "sphere", "params": {"kappa": 0.02, "nu": 0.006},
+                       "grid": {"m": [2, 3]}})
+    assert not spec.nonuniform
+    from spectralshell.runner.solve import variables
+    assert set(variables(spec)) == {"tau_min", "has_tau", "error_estimate", "n_temporal"}
+
+
+def test_tau_map_over_nu_and_l_max_equals_floquet():
+    ds = ss.tau_map("sphere", kappa=KAPPA, x=("nu", [0.006, 0.01]), y=("l_max", [4]),
+                    kind="subharmonic", workers=1)
+    assert ds["tau_min"].dims == ("nu", "l_max", "kind") and "l_max" not in ds.data_vars
+    for i, nu in enumerate((0.006, 0.01)):
+        res = ss.floquet("sphere", kappa=KAPPA, nu=nu, l_max=4, kind="subharmonic", tol=1e-8,
+                         tau_max=0.5)
+        assert ds["tau_min"].values[i, 0, 0] == pytest.approx(res.subharmonic.tau_min, abs=1e-12)
+
+
+@pytest.mark.parametrize("scene, words", [
+    ({"params": {"kappa": KAPPA}, "grid": {"m": [2, 3], "nu": [0.01]}}, "'m' is invalid"),
+    ({"params": {"nu": 0.01}, "grid": {"kappa": [0.1], "l_max": [4]}}, "kappa = [0.1] is invalid"),
+    ({"params": {"kappa": KAPPA, "l_max": 4}, "grid": {"nu": [0.01]},
+      "tau_min": {"tol_spatial": 1e-4}}, "tol_spatial = 0.0001 is invalid with a fixed l_max"),
+    ({"params": {"kappa": KAPPA}, "grid": {"nu": [0.01], "l_max": [4, 99]}}, "l_max"),
+    ({"params": {"kappa": KAPPA}, "grid": {"nu": [0.0, 0.01]}}, "nu = 0"),
+    ({"params": {"kappa": KAPPA, "nu": 0.01}, "grid": {"sigma": [1.0]}}, "'sigma' is invalid"),
+])
+def test_bad_nonuniform_scenes_are_refused(scene, words):
+    with pytest.raises(ParameterError) as info:
+        sweep_spec({"model": "sphere", **scene})
+    assert words in str(info.value) and "\n" not in str(info.value)
+
+
+def test_tau_map_refuses_degrees_with_a_nonuniform_kappa():
+    with pytest.raises(ParameterError, match="m = 3 is invalid with a non-uniform kappa"):
+        ss.tau_map("sphere", kappa=KAPPA, m=3, x=("nu", [0.01]), y=("l_max", [4]))
+
+
+def test_a_capped_solve_keeps_a_later_sector_below_the_cap():
+    """With tau_max, a first sector without a tau below it no longer hides a later sector's
+    (it raised a TypeError): the capped subharmonic tau_min is the uncapped one."""
+    capped = ss.floquet("sphere", kappa=KAPPA, nu=0.006, l_max=4, tol=1e-10, tau_max=0.5)
+    free = ss.floquet("sphere", kappa=KAPPA, nu=0.006, l_max=4, tol=1e-10)
+    assert free.subharmonic.tau_min < 0.5 < free.harmonic.tau_min
+    assert capped.harmonic.tau_min is None
+    assert capped.subharmonic.tau_min == pytest.approx(free.subharmonic.tau_min, abs=1e-9)
