@@ -713,6 +713,7 @@ def _floquet_options(p: argparse.ArgumentParser, model: str) -> None:
         p.add_argument("--tol-spatial", dest="tol_spatial", metavar="X",
                        help="with --l-max auto: tolerance of tau_min in the degree truncation "
                             "(default 1e-6)")
+        _max_seconds_flag(p)
 
 
 def _tongues_options(p: argparse.ArgumentParser, model: str) -> None:

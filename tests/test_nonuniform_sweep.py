@@ -1,8 +1,9 @@
-"""Sweeps and tau maps of the sphere with a non-uniform kappa (issue 28, part 2: "the same in
-scenes and sweeps").
+"""Sweeps, tau maps and the cost estimate of the sphere with a non-uniform kappa (issue 28,
+part 2: "the same in scenes and sweeps").
 
 Oracles: independent ``ss.floquet`` calls at every point (the per-point API, with its own
-refinement and critical-mode content), and a clean run for a resumed store.
+refinement and critical-mode content), a clean run for a resumed store, and the per-degree
+systems of the uniform model for the price of a truncation.
 """
 
 import numpy as np
@@ -117,3 +118,45 @@ def test_a_capped_solve_keeps_a_later_sector_below_the_cap():
     assert free.subharmonic.tau_min < 0.5 < free.harmonic.tau_min
     assert capped.harmonic.tau_min is None
     assert capped.subharmonic.tau_min == pytest.approx(free.subharmonic.tau_min, abs=1e-9)
+
+
+ASYMMETRIC = "0.02*(1 + 0.2*sin(theta)*cos(phi) + 0.1*cos(theta))"
+
+
+def test_a_uniform_kappa_is_priced_as_the_per_degree_solves():
+    """The price of a truncation (before any solve) is that of the per-degree systems of the
+    uniform model when kappa is uniform: the sectors are the degrees' poloidal pairs."""
+    from spectralshell.discretise.sphere_nonuniform import nonuniform_sphere
+    from spectralshell.models.registry import hill_system
+    from spectralshell.params.sphere import SphereParams
+    from spectralshell.runner.nonuniform import Price
+    from spectralshell.solvers.cost import solve_seconds
+
+    sphere = nonuniform_sphere(kappa=lambda t, p: 0.02 + 0 * t, nu=0.006, l_max=6)
+    price = Price.of(sphere, 2, None)
+    per_degree = [hill_system(SphereParams(m=l, kappa=0.02, nu=0.006)) for l in range(2, 7)]
+    assert price.seconds == pytest.approx(sum(solve_seconds(s, 2) for s in per_degree),
+                                          rel=1e-12)
+    assert price.block == 2
+
+
+def test_a_costly_truncation_is_refused_before_any_work():
+    import time
+    started = time.perf_counter()
+    with pytest.raises(ParameterError) as info:      # priced ~27 min at l_max = 12
+        ss.floquet("sphere", kappa=ASYMMETRIC, nu=0.006, l_max=12)
+    text = str(info.value)
+    assert "l_max = 12" in text and "blocks <= " in text and "max_seconds=" in text
+    assert "SPECTRALSHELL_MAX_SECONDS" in text and "\n" not in text
+    with pytest.raises(ParameterError, match="above the limit of 0.001"):
+        ss.floquet("sphere", kappa=KAPPA, nu=0.006, l_max=4, max_seconds=1e-3)
+    assert time.perf_counter() - started < 30
+    ok = ss.floquet("sphere", kappa=KAPPA, nu=0.006, l_max=4, max_seconds=10, tau_max=0.5)
+    assert ok.subharmonic.tau_min is not None
+
+
+def test_cli_refuses_a_costly_truncation_with_one_line(capsys):
+    from spectralshell.cli import main
+    code = main(["floquet", "sphere", "--kappa", ASYMMETRIC, "--nu", "0.006", "--l-max", "12"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "--max-seconds" in err

@@ -194,8 +194,9 @@ def test_tau_min_converges_geometrically_in_the_degree_truncation():
     change is <= tol_spatial, within tol_spatial of the l_max = 12 value."""
     kappa = "0.02*(1 + 0.3*cos(theta)**2)"
     function = parse_expression("kappa", kappa).function
-    values = [solve_truncation(function, 0.006, L, ("subharmonic",),
-                               {"tol": 1e-12, "n_temporal": None})[1]["subharmonic"][0].tau_min
+    values = [solve_truncation(nonuniform_sphere(kappa=function, nu=0.006, l_max=L),
+                               ("subharmonic",),
+                               {"tol": 1e-12, "n_temporal": None})["subharmonic"][0].tau_min
               for L in (6, 8, 10, 12)]
     changes = np.abs(np.diff(values))
     assert np.all(changes[1:] < changes[:-1] / 10) and changes[-1] < 1e-10

@@ -79,11 +79,13 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
         tau_min changes by at most ``tol_spatial`` (absolute; default 1e-3), see
         :func:`_floquet_spatial`. The sphere with a non-uniform kappa: the tolerance of
         tau_min in the degree truncation l_max (default 1e-6).
-    max_seconds : models with spatial modes only: raise the limit on the estimated cost
-        (default :data:`spectralshell.params.limits.SECONDS`, 600 s, or
-        $SPECTRALSHELL_MAX_SECONDS). The truncations N and M a solve needs are priced from the
-        parameters before it starts (:mod:`spectralshell.solvers.cost`); a solve whose least
-        work is estimated above the limit is refused with what it needs.
+    max_seconds : models with spatial modes, and the non-uniform sphere, only: raise the
+        limit on the estimated cost (default :data:`spectralshell.params.limits.SECONDS`, 600 s,
+        or $SPECTRALSHELL_MAX_SECONDS). The truncations N and M a solve needs are priced from
+        the parameters before it starts (:mod:`spectralshell.solvers.cost`); a solve whose least
+        work is estimated above the limit is refused with what it needs. The non-uniform
+        sphere prices each degree truncation's sector solves before solving it
+        (:class:`spectralshell.runner.nonuniform.Price`).
     progress : models with spatial modes, and the non-uniform sphere, only: a progress bar
         over the spatial truncations M on stderr, its label stating the estimate (the sphere:
         over the sector solves of each l_max).
@@ -138,11 +140,8 @@ def _floquet_nonuniform(kind: str, options: dict[str, Any], params: dict[str, An
     from .nonuniform import floquet_nonuniform
 
     p = nonuniform_params(params)
-    if max_seconds is not None:
-        raise ParameterError(f"max_seconds = {max_seconds!r} is invalid with a non-uniform "
-                             "kappa: its solve is not priced")
     return floquet_nonuniform(p, kind=kind, tol_spatial=tol_spatial, options=options,
-                              progress=progress)
+                              progress=progress, max_seconds=max_seconds)
 
 
 def priced_spatial(model: str, factory, kinds: tuple[str, ...], options: dict[str, Any],

@@ -17,8 +17,10 @@ is solved as given, with its change from l_max - 2 as the spatial error.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -33,6 +35,7 @@ from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
 from ..models.sphere import lambda0_squared
 from ..params.expression import parse_expression
+from ..params.limits import SECONDS
 from ..params.sphere import NonUniformSphereParams
 from ..params.stiffness import threshold_warnings
 from .progress import progress_bar
@@ -42,6 +45,7 @@ from ..results.records import MarginalTau
 from ..solvers.hill_exponents import pencil_family
 from ..solvers.marginal import finer, marginal_tau
 from ..solvers.marginal_mode import marginal_mode, marginal_sensitivity
+from ..solvers.cost import duration, solve_seconds, temporal_schedule
 from ..solvers.nonlinear_eigen import newton
 from ..solvers.spatial_refinement import spatial_change, spatial_error
 
@@ -84,15 +88,53 @@ def mode_content(sector: Sector, coefficients: np.ndarray) -> list[dict[str, Any
     return sorted(rows, key=lambda r: -r["share"])
 
 
-def solve_truncation(kappa: Callable, nu: float, l_max: int, kinds: tuple[str, ...],
-                     options: dict[str, Any], progress: bool = False
-                     ) -> tuple[NonUniformSphere, dict]:
-    """The sectors at ``l_max`` and per kind (MarginalTau, critical sector index); with
-    ``progress`` a bar over the sector solves."""
-    sphere = nonuniform_sphere(kappa=kappa, nu=nu, l_max=l_max)
-    with progress_bar(len(sphere.systems) * len(kinds), f"sphere, degrees <= {l_max}", "sector",
+def solve_truncation(sphere: NonUniformSphere, kinds: tuple[str, ...], options: dict[str, Any],
+                     progress: bool = False) -> dict:
+    """Per kind (MarginalTau, critical sector index) of the sectors of one truncation; with
+    ``progress`` a bar over the sector solves, its label stating the estimate."""
+    price = Price.of(sphere, len(kinds), options.get("n_temporal"))
+    with progress_bar(len(sphere.systems) * len(kinds),
+                      f"sphere, degrees <= {sphere.l_max} ({price.describe()})", "sector",
                       progress, leave=False) as bar:
-        return sphere, {k: sector_minimum(sphere.systems, k, options, bar) for k in kinds}
+        return {k: sector_minimum(sphere.systems, k, options, bar) for k in kinds}
+
+
+@dataclass(frozen=True)
+class Price:
+    """Estimated cost of the sector solves of one truncation (:mod:`spectralshell.solvers.cost`:
+    each distinct sector priced as dense truncations of its block size up to the N its
+    frequencies need): ``seconds``, the largest coupled block ``block`` (slots) and the largest
+    truncation N ``n_temporal`` of the priced schedules."""
+
+    seconds: float
+    block: int
+    n_temporal: int
+
+    @classmethod
+    def of(cls, sphere: NonUniformSphere, kinds: int, n_temporal: int | None) -> Price:
+        """The price of the truncation ``sphere`` for ``kinds`` kinds (``n_temporal``: a fixed
+        N, or None)."""
+        return cls(seconds=sum(solve_seconds(s, kinds, n_temporal) for s in sphere.systems),
+                   block=max(s.block_size for s in sphere.systems),
+                   n_temporal=max(temporal_schedule(s, n_temporal)[-1] for s in sphere.systems))
+
+    def describe(self) -> str:
+        """'blocks <= 120, N = 24: about 5 min', the sizes and the estimate in words."""
+        return f"blocks <= {self.block}, N = {self.n_temporal}: about {duration(self.seconds)}"
+
+
+def priced_sphere(kappa: Callable, nu: float, l_max: int, kinds: tuple[str, ...],
+                  options: dict[str, Any], max_seconds: float | None) -> NonUniformSphere:
+    """The truncation ``l_max`` of the sphere with stiffness ``kappa``, refused (ParameterError)
+    when its sector solves are estimated above the limit on seconds
+    (:data:`spectralshell.params.limits.SECONDS`; ``max_seconds`` raises it) before any is
+    solved: a kappa without symmetry couples every mode (314 s measured at l_max = 10)."""
+    sphere = nonuniform_sphere(kappa=kappa, nu=nu, l_max=l_max)
+    price = Price.of(sphere, len(kinds), options.get("n_temporal"))
+    SECONDS.check(f"the non-uniform sphere at l_max = {l_max} ({len(sphere.systems)} sectors, "
+                  f"{price.describe()})", price.seconds, max_seconds,
+                  "give a smaller l_max")
+    return sphere
 
 
 def start_degree(kappa_mean: float) -> int:
@@ -110,7 +152,8 @@ def _mean(kappa: Callable) -> float:
 
 def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
                        tol_spatial: float | None = None, options: dict[str, Any],
-                       progress: bool = False) -> NonUniformFloquetResult:
+                       progress: bool = False, max_seconds: float | None = None
+                       ) -> NonUniformFloquetResult:
     """Marginal tau of the sphere with stiffness kappa(theta, phi) (module docstring).
 
     Parameters
@@ -118,12 +161,17 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
     p : kappa (an expression), nu and l_max ('auto': refined to ``tol_spatial``, default
         :data:`TOL_DEGREES`; or an integer degree truncation).
     options : marginal_tau options (tol, n_temporal, tau_max).
-    progress : a progress bar over the sector solves of each truncation on stderr (a kappa
-        without symmetry couples many modes: degrees <= 10 take minutes).
+    progress : a progress bar over the sector solves of each truncation on stderr, its label
+        stating the estimate (a kappa without symmetry couples many modes: degrees <= 10 take
+        minutes).
+    max_seconds : raise the limit on the estimated seconds of a truncation's sector solves
+        (default :data:`spectralshell.params.limits.SECONDS`, 600 s, or
+        $SPECTRALSHELL_MAX_SECONDS): each truncation is priced (:class:`Price`) before it is
+        solved, and refused above the limit.
 
     Raises
     ------
-    ParameterError : an argument out of range.
+    ParameterError : an argument out of range; a truncation estimated above the limit.
     ConvergenceError : tau_min did not settle in l_max by L_MAX_LIMIT, or in N.
     """
     expr = parse_expression("kappa", p.kappa, positive=True)
@@ -137,9 +185,12 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
                                    else tol_spatial)
     cap = options.get("tau_max") or math.inf
     fine_l = l_max if not auto else start_degree(_mean(expr.function))
-    coarse = solve_truncation(expr.function, nu, fine_l - 2, kinds, options, progress)[1]
+    priced = functools.partial(priced_sphere, expr.function, nu, kinds=kinds, options=options,
+                               max_seconds=max_seconds)
+    sphere = priced(fine_l)
+    coarse = solve_truncation(priced(fine_l - 2), kinds, options, progress)
     while True:
-        sphere, fine = solve_truncation(expr.function, nu, fine_l, kinds, options, progress)
+        fine = solve_truncation(sphere, kinds, options, progress)
         change = {k: spatial_change(fine[k][0], coarse[k][0], cap) for k in kinds}
         if not auto or all(c is not None and c <= tol_spatial for c in change.values()):
             break
@@ -149,6 +200,7 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
                 f"by l_max={fine_l} (last changes {list(change.values())}); relax tol_spatial or "
                 "give l_max")
         fine_l, coarse = fine_l + 2, fine
+        sphere = priced(fine_l)
     res = {k: spatial_error(fine[k][0], change[k]) for k in kinds}
     content = {k: _content(sphere, k, *fine[k]) for k in kinds if fine[k][1] is not None}
     multiplicity = {k: sphere.sectors[fine[k][1]].copies for k in content}
