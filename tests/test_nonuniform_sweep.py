@@ -14,6 +14,7 @@ from spectralshell.errors import ParameterError
 from spectralshell.params.sweep_grid import sweep_spec
 from spectralshell.runner.sweep import run_sweep
 from spectralshell.runner.store import open_sweep
+from sweep_cases import interrupted
 
 KAPPA = "0.02*(1 + 0.3*cos(theta)**2)"
 NUS = [0.006, 0.008, 0.01]
@@ -55,13 +56,7 @@ def test_a_sweep_equals_floquet_at_every_point(clean):
 
 def test_a_resumed_sweep_equals_a_clean_run(clean, tmp_path):
     out = tmp_path / "nonuniform.zarr"
-
-    def stop(n, _):
-        if n == 1:
-            raise KeyboardInterrupt
-
-    with pytest.raises(KeyboardInterrupt):
-        run_sweep(SCENE, executor="serial", out=out, on_chunk=stop)
+    interrupted(SCENE, out, 1)
     assert int(open_sweep(out)["computed"].sum()) == 2       # one chunk: one nu, both kinds
     resumed = run_sweep(SCENE, executor="serial", out=out)
     assert (resumed.computed, resumed.skipped) == (4, 2)

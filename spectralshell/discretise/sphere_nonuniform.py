@@ -31,6 +31,7 @@ below 7.8e4 for l = 3, kappa = 0.02, nu = 0.006).
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -42,6 +43,7 @@ from .._validate import require_int_in_range, require_positive
 from ..models.base import HillSystem
 from ..params.sphere import L_MAX_RANGE
 from ..models.sphere import lambda0_squared, poloidal_unforced, toroidal_unforced
+from ..special.spherical import spherical_jn_zeros
 from .shtns_adapter import grid as dealiased_grid
 from .sphere_coupled import COUPLING_TOL, StiffnessField, stiffness_field, weighted_load
 
@@ -167,8 +169,21 @@ def sector_system(sector: Sector, *, nu: float, kappa_mean: float) -> HillSystem
         return out
 
     top = float(np.sqrt(lambda0_squared(max(sector.degrees), kappa_mean)))
+    orders = tuple(sorted({l + 1 if c == "poloidal" else l for l, _, c in sector.modes}))
     return HillSystem(name="sphere", block_size=len(sector.slots), unforced=unforced,
-                      forcing=C.copy(), n_resonant=top, n_highest=top)
+                      forcing=C.copy(), n_resonant=top, n_highest=top,
+                      cut_poles=functools.partial(interior_poles, orders=orders, nu=nu))
+
+
+def interior_poles(x: float, *, orders: tuple[int, ...], nu: float) -> np.ndarray:
+    """The poles of a sector's D(s) on the cut in [x, 0): the interior fluid's decay rates
+    s = -nu z^2, z the zeros of j_n for n in ``orders`` (a poloidal degree l enters through
+    1/P_l, P_l = beta i_{l+1}(beta)/i_l(beta): n = l + 1; a toroidal degree l through P_l: n =
+    l). A poloidal l and a toroidal l + 1 in one sector share theirs: det D has double poles
+    there (``HillSystem.cut_poles``)."""
+    z_max = np.sqrt(max(-x, 0.0) / nu)
+    zeros = [spherical_jn_zeros(n, z_max) for n in orders]
+    return np.unique(-nu * np.concatenate(zeros) ** 2) if zeros else np.zeros(0)
 
 
 def perturbation_system(sector: Sector, weight: np.ndarray, l_max: int) -> HillSystem:
@@ -184,9 +199,11 @@ def perturbation_system(sector: Sector, weight: np.ndarray, l_max: int) -> HillS
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class NonUniformSphere:
-    """The sectors of one truncation l_max and their Hill systems, and the stiffness field."""
+    """The sectors of one truncation l_max and their Hill systems, the stiffness field and the
+    viscosity nu."""
 
     l_max: int
+    nu: float
     field: StiffnessField
     sectors: tuple[Sector, ...]
     systems: tuple[HillSystem, ...]
@@ -207,4 +224,4 @@ def nonuniform_sphere(*, kappa: Callable[[np.ndarray, np.ndarray], np.ndarray], 
     C, every = coupling_matrix(field.weight, l_max)
     found = sectors(C, every)
     systems = tuple(sector_system(s, nu=nu, kappa_mean=field.mean) for s in found)
-    return NonUniformSphere(l_max=l_max, field=field, sectors=found, systems=systems)
+    return NonUniformSphere(l_max=l_max, nu=nu, field=field, sectors=found, systems=systems)

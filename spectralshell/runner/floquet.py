@@ -500,16 +500,41 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
     ``scipy.integrate.solve_ivp`` in the tests. A viscous model (non-polynomial D(s)): the
     natural modes (tau = 0) continued in tau as roots of the truncated Hill determinant, their
     number in a region of the strip proved by the argument principle (``complete_in``)
-    (:mod:`spectralshell.solvers.hill_exponents`).
+    (:mod:`spectralshell.solvers.hill_exponents`). The sphere with ``kappa`` an expression in
+    theta, phi (a non-uniform stiffness; ``l_max`` 'auto' or an integer 4..64, as in
+    :func:`floquet`): the exponents of every decoupled sector of the coupled degrees, each
+    continued from the sector's natural modes
+    (:func:`spectralshell.runner.nonuniform.exponents_nonuniform`); ``params`` states the l_max
+    used.
     """
-    from ..solvers.hill_exponents import hill_exponents  # lazy: only the viscous models' path
-    from .modes import natural_modes
-
     model = check_model(model)
     tau = require_real("tau", tau)
     if count is not None:
         count = require_int_in_range("count", count, 1)
     options = solver_options(tol, n_temporal)
+    if is_nonuniform(model, params):
+        from .nonuniform import exponents_nonuniform
+
+        p = nonuniform_params(params)
+        result, l_max = exponents_nonuniform(p, tau=tau, options=options)
+        p = dataclasses.replace(p, l_max=l_max)
+    else:
+        p, result = _exponents(model, tau, options, params)
+    if count is not None and count < result.gamma.size:
+        bounds = result.complete_in  # still proved: lo < Re gamma <= hi, lo the first dropped
+        if bounds is not None:
+            bounds = (float(result.gamma[count].real), bounds[1])
+        result = dataclasses.replace(result, gamma=result.gamma[:count], complete_in=bounds)
+    return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
+                                 exponents=result, options=options)
+
+
+def _exponents(model: str, tau: float, options: dict[str, Any], params: dict[str, Any]):
+    """(the model's parameters, its Floquet exponents at ``tau``) of a model given by
+    parameters (:func:`exponents`)."""
+    from ..solvers.hill_exponents import hill_exponents  # lazy: only the viscous models' path
+    from .modes import natural_modes
+
     p, system = _system(model, params)
     if system.polynomial is not None:
         result = floquet_exponents(system, tau, **options)
@@ -525,13 +550,7 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
             raise ParameterError(f"{exc} (the Floquet exponents of model {model!r} are continued "
                                  "from its natural modes)") from None
         result = hill_exponents(system, tau, seeds, **options)
-    if count is not None and count < result.gamma.size:
-        bounds = result.complete_in  # still proved: lo < Re gamma <= hi, lo the first dropped
-        if bounds is not None:
-            bounds = (float(result.gamma[count].real), bounds[1])
-        result = dataclasses.replace(result, gamma=result.gamma[:count], complete_in=bounds)
-    return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
-                                 exponents=result, options=options)
+    return p, result
 
 
 def stability(model: str, *, tau: float, m: int | str | Sequence[int], kind: str = "both",

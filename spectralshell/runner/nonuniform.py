@@ -42,7 +42,9 @@ from .progress import progress_bar
 from ..results.floquet import certification_warnings, provenance, resolution_warnings
 from ..results.nonuniform import NonUniformFloquetResult
 from ..results.records import MarginalTau
-from ..solvers.hill_exponents import pencil_family
+from ..results.records import Exponents
+from ..solvers.exponents import distance
+from ..solvers.hill_exponents import hill_exponents, pencil_family
 from ..solvers.marginal import finer, marginal_tau
 from ..solvers.marginal_mode import marginal_mode, marginal_sensitivity
 from ..solvers.cost import duration, solve_seconds, temporal_schedule
@@ -52,6 +54,7 @@ from ..solvers.spatial_refinement import spatial_change, spatial_error
 #: Default tolerance of tau_min in the degree truncation l_max (absolute).
 TOL_DEGREES = 1e-6
 SHARE_FLOOR = 1e-4     # smallest share of a mode listed in a result's content
+DERIVATIVE_STEP = 1e-6  # relative step of D'(s) in the natural modes' Newton iteration
 
 
 def sector_minimum(systems: tuple[HillSystem, ...], kind: str, options: dict[str, Any],
@@ -311,3 +314,102 @@ def critical_exponent(*, kappa: str, nu: float, kind: str, tau: float, l_max: in
         values.append(got[0] + 1j * GAMMA[kind])
     return complex(values[1]), float(abs(values[1] - values[0]))
 
+
+def sector_modes(sector: Sector, system: HillSystem, uniform: Callable[[int, str], np.ndarray],
+                 tol: float = 1e-13) -> list[complex]:
+    """Natural modes of a coupled sector (det D(s) = 0, one per conjugate pair): deflated
+    Newton's method on det D from the natural modes ``uniform(l, component)`` of each of its
+    modes at the mean stiffness (the exponents' count then proves the list complete in its
+    region, :func:`~spectralshell.solvers.hill_exponents.hill_exponents`)."""
+    def T(s: complex) -> np.ndarray:
+        return system.unforced(np.array([s]))[0]
+
+    def dT(s: complex) -> np.ndarray:    # central difference: Newton's rate, not its root
+        h = DERIVATIVE_STEP * max(1.0, abs(s))
+        return (T(s + h) - T(s - h)) / (2 * h)
+
+    found: list[complex] = []
+    for l, _, component in sector.modes:
+        for seed in uniform(l, component):
+            got = newton(T, dT, complex(seed), known=found + [g.conjugate() for g in found],
+                         tol=tol)
+            if got is not None:
+                root = got[0] if got[0].imag >= 0 else got[0].conjugate()
+                if all(abs(root - g) > 1e-9 * max(1.0, abs(g)) for g in found):
+                    found.append(root)
+    return found
+
+
+
+def sector_exponents(sphere: NonUniformSphere, tau: float, options: dict[str, Any]
+                     ) -> Exponents:
+    """Floquet exponents of one degree truncation at amplitude ``tau``: those of every
+    decoupled sector (a coupled Hill system: :func:`~spectralshell.solvers.hill_exponents.
+    hill_exponents` from its natural modes, :func:`sector_modes`), merged; an exponent of a
+    sector standing for several equal ones is listed that many times. ``complete_in`` is the
+    Re gamma range every sector's count covers; the error estimate is the largest of the
+    sectors' (the temporal truncation).
+
+    Raises
+    ------
+    ConvergenceError : a sector's exponents did not converge or could not be counted.
+    """
+    from .modes import natural_modes
+
+    @functools.cache
+    def uniform(l: int, component: str) -> np.ndarray:
+        return natural_modes("sphere", m=l, kappa=sphere.field.mean, nu=sphere.nu,
+                             component=component).gamma
+
+    gamma, errors, depths, lows, highs = [], [0.0], [0], [], []
+    for sector, system in zip(sphere.sectors, sphere.systems):
+        found = hill_exponents(system, tau, sector_modes(sector, system, uniform), **options)
+        gamma += [g for g in found.gamma for _ in range(sector.copies)]
+        errors.append(found.error_estimate)
+        depths.append(found.n_temporal)
+        lows.append(found.complete_in[0])
+        highs.append(found.complete_in[1])
+    gamma = np.array(gamma, dtype=complex)
+    return Exponents(gamma=gamma[np.lexsort((gamma.imag, -gamma.real))],
+                     n_temporal=max(depths), error_estimate=max(errors),
+                     complete_in=(max(lows), min(highs)))
+
+
+def exponents_nonuniform(p: NonUniformSphereParams, *, tau: float, options: dict[str, Any]
+                         ) -> tuple[Exponents, int]:
+    """(Floquet exponents, the degree truncation l_max used) of the sphere with stiffness
+    kappa(theta, phi) at amplitude ``tau`` (:func:`sector_exponents`).
+
+    ``p.l_max`` 'auto': l_max = start, start + 2, ... (:func:`start_degree`) until the least
+    damped exponent (the first, largest Re gamma) moves by at most :data:`TOL_DEGREES` from
+    l_max - 2; that move enters the error estimate. An integer l_max is solved as given (the
+    error estimate is then that of the temporal truncation only).
+
+    Raises
+    ------
+    ParameterError : an argument out of range. ConvergenceError : no convergence in N, or in
+        l_max by L_MAX_LIMIT.
+    """
+    expr = parse_expression("kappa", p.kappa, positive=True)
+    solve = functools.partial(_truncation_exponents, expr.function, p.nu, tau, options)
+    if p.l_max != "auto":
+        return solve(p.l_max), p.l_max
+    l_max = start_degree(_mean(expr.function))
+    coarse = solve(l_max - 2)
+    while True:
+        fine = solve(l_max)
+        change = float(distance(fine.gamma[:1], coarse.gamma[:1]))
+        if change <= TOL_DEGREES:
+            return dataclasses.replace(fine, error_estimate=max(fine.error_estimate,
+                                                                change)), l_max
+        if l_max + 2 > L_MAX_LIMIT:
+            raise ConvergenceError(
+                f"the least damped Floquet exponent did not settle to {TOL_DEGREES:g} in the "
+                f"degree truncation by l_max={l_max} (last change {change:.3g}); give l_max")
+        l_max, coarse = l_max + 2, fine
+
+
+def _truncation_exponents(kappa: Callable, nu: float, tau: float, options: dict[str, Any],
+                          l_max: int) -> Exponents:
+    """:func:`sector_exponents` of the truncation l_max."""
+    return sector_exponents(nonuniform_sphere(kappa=kappa, nu=nu, l_max=l_max), tau, options)
