@@ -120,7 +120,8 @@ ASYMMETRIC = "0.02*(1 + 0.2*sin(theta)*cos(phi) + 0.1*cos(theta))"
 
 def test_a_uniform_kappa_is_priced_as_the_per_degree_solves():
     """The price of a truncation (before any solve) is that of the per-degree systems of the
-    uniform model when kappa is uniform: the sectors are the degrees' poloidal pairs."""
+    uniform model when kappa is uniform: the sectors are the degrees' poloidal pairs and
+    toroidal slots."""
     from spectralshell.discretise.sphere_nonuniform import nonuniform_sphere
     from spectralshell.models.registry import hill_system
     from spectralshell.params.sphere import SphereParams
@@ -129,7 +130,8 @@ def test_a_uniform_kappa_is_priced_as_the_per_degree_solves():
 
     sphere = nonuniform_sphere(kappa=lambda t, p: 0.02 + 0 * t, nu=0.006, l_max=6)
     price = Price.of(sphere, 2, None)
-    per_degree = [hill_system(SphereParams(m=l, kappa=0.02, nu=0.006)) for l in range(2, 7)]
+    per_degree = [hill_system(SphereParams(m=l, kappa=0.02, nu=0.006, component=c))
+                  for l in range(2, 7) for c in ("poloidal", "toroidal")]
     assert price.seconds == pytest.approx(sum(solve_seconds(s, 2) for s in per_degree),
                                           rel=1e-12)
     assert price.block == 2
