@@ -71,6 +71,9 @@ def test_a_uniform_scene_keeps_its_variables():
     spec = sweep_spec({"model": "sphere", "params": {"kappa": 0.02, "nu": 0.006},
                        "grid": {"m": [2, 3]}})
     assert not spec.nonuniform
+    ranged = sweep_spec({"model": "sphere", "params": {"nu": 0.006},   # a range's text
+                         "grid": {"kappa": "0.01:0.2:3", "m": [2]}})
+    assert not ranged.nonuniform and ranged.shape == (3, 1, 2)
     from spectralshell.runner.solve import variables
     assert set(variables(spec)) == {"tau_min", "has_tau", "error_estimate", "n_temporal"}
 

@@ -622,7 +622,8 @@ def sweep_spec(scene: str | Path | Mapping, *, max_points: int | None = None) ->
     if "kind" in fixed:
         raise ParameterError("kind is invalid in [params]: sweep kinds in [grid], e.g. "
                              "kind = ['harmonic']")
-    if is_nonuniform(model, {**fixed, **grid}):
+    # a kappa in [grid] is a grid (its 'start:stop:num' text is no expression); l_max anywhere
+    if is_nonuniform(model, {**fixed, **{name: None for name in grid if name != "kappa"}}):
         options = _options(data.get("tau_min", {}))
         _check_nonuniform(fixed, grid, options)
         physical = False

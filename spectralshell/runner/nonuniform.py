@@ -11,7 +11,12 @@ Truncation in degree (``l_max = 'auto'``, the default): l_max = start, start + 2
 between l_max - 2 and l_max (as the cochlea's M, :mod:`spectralshell.solvers.spatial_refinement`,
 whose change and error rules are used); start is the first degree whose natural frequency at
 the mean stiffness lies above the harmonic resonance 1, plus one (at least 4). An integer l_max
-is solved as given, with its change from l_max - 2 as the spatial error.
+is solved as given, with its change from l_max - 2 as the spatial error. Each truncation is
+priced before it is solved (:class:`Price`, refused above the limit on estimated seconds).
+
+Floquet exponents (:func:`exponents_nonuniform`): those of every sector, each continued from
+the sector's natural modes (:func:`sector_modes`) by
+:func:`~spectralshell.solvers.hill_exponents.hill_exponents` and counted complete there.
 """
 
 from __future__ import annotations
@@ -41,8 +46,7 @@ from ..params.stiffness import threshold_warnings
 from .progress import progress_bar
 from ..results.floquet import certification_warnings, provenance, resolution_warnings
 from ..results.nonuniform import NonUniformFloquetResult
-from ..results.records import MarginalTau
-from ..results.records import Exponents
+from ..results.records import Exponents, MarginalTau
 from ..solvers.exponents import distance
 from ..solvers.hill_exponents import hill_exponents, pencil_family
 from ..solvers.marginal import finer, marginal_tau
@@ -338,7 +342,6 @@ def sector_modes(sector: Sector, system: HillSystem, uniform: Callable[[int, str
                 if all(abs(root - g) > 1e-9 * max(1.0, abs(g)) for g in found):
                     found.append(root)
     return found
-
 
 
 def sector_exponents(sphere: NonUniformSphere, tau: float, options: dict[str, Any]
