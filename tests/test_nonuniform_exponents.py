@@ -89,3 +89,14 @@ def test_zeros_of_spherical_bessel_functions():
     assert z.size == 2 and z[0] == pytest.approx(4.493409457909064, abs=1e-14)
     assert spherical_jn_zeros(3, 6.0).size == 0 and math.isclose(
         spherical_jn_zeros(3, 7.0)[0], 6.987932000500519, abs_tol=1e-13)
+
+
+@pytest.mark.slow
+def test_auto_l_max_stops_when_the_least_damped_exponent_settles():
+    """l_max 'auto' (kappa 0.02: from l_max = 6, compared with 4): a uniform f's least damped
+    exponent is the per-degree one of l = 3 at every truncation, so the refinement stops at
+    the first pair. ~40 s."""
+    r = ss.exponents("sphere", kappa=UNIFORM, nu=0.006, tau=0.3, count=3)
+    assert r.params["l_max"] == 6
+    lead = ss.exponents("sphere", m=3, kappa=0.02, nu=0.006, tau=0.3).gamma[0]
+    assert abs(r.gamma[0] - lead) < 1e-10 and r.error_estimate < 1e-6
