@@ -28,6 +28,7 @@ import mpmath as mp
 import sympy as sp
 
 from _checks import check, section, summary  # derivations/_checks.py
+from _radial import interface_jumps, ode_reduce  # derivations/_radial.py
 
 r, xi = sp.symbols("r xi", positive=True)
 m = sp.Symbol("m", positive=True, integer=True)
@@ -75,18 +76,7 @@ def part_a():
     check("L_m^2 psi = psi'''' - 2c psi''/r^2 + 4c psi'/r^3 + (c^2 - 6c) psi/r^4",
           sp.simplify(Lm(Lm(psi)) - lm2) == 0)
     # traction at r = 1 from the two one-sided jets of psi (outside minus inside)
-    jets = {side: sp.symbols(f"p0{side} p1{side} p2{side} p3{side}") for side in "io"}
-
-    def at1(expr, side):
-        e = expr
-        for k in (3, 2, 1):
-            e = e.subs(sp.Derivative(psi, (r, k)), jets[side][k])
-        return e.subs(psi, jets[side][0]).subs(r, 1)
-
-    def jump(expr):
-        return at1(expr, "o") - at1(expr, "i")
-
-    cont = {jets["o"][0]: jets["i"][0], jets["o"][1]: jets["i"][1]}
+    jump, cont, jets = interface_jumps(psi, r, "p")
     p_static = nu * sp.diff(omega, r) - s * sp.diff(psi, r)  # s psi' has no jump once [[psi']] = 0
     normal = (-jump(p_static) + nu * jump(sp.diff(uY, r))).subs(cont)
     tangential = (nu * jump(sp.diff(uP, r))).subs(cont)
@@ -103,12 +93,7 @@ def part_a():
 
 def bessel_reduce(expr, f):
     """Eliminate f'', f''', f'''' with the ODE r^2 f'' + 2 r f' = (beta^2 r^2 + c) f."""
-    f2 = -2 * sp.diff(f, r) / r + (beta**2 + c / r**2) * f
-    for _ in range(3):
-        expr = expr.subs(sp.Derivative(f, (r, 4)), sp.diff(f2, r, 2))
-        expr = expr.subs(sp.Derivative(f, (r, 3)), sp.diff(f2, r))
-        expr = expr.subs(sp.Derivative(f, (r, 2)), f2)
-    return sp.simplify(expr)
+    return ode_reduce(expr, f, r, -2 * sp.diff(f, r) / r + (beta**2 + c / r**2) * f)
 
 
 def part_b():

@@ -287,9 +287,10 @@ def cmd_exponents(args) -> int:
     if args.tau is None:
         raise ParameterError("--tau is required: the forcing amplitude")
     count = None if args.count is None else require_int_in_range("count", parse_int("count", args.count), 1)
+    text = _nonuniform(args)
     res = _api().exponents(args.model, tau=parse_real("tau", args.tau), count=count,
                            **_solver(args),
-                           **_params(args, args.model))
+                           **_params(args, args.model, skip=tuple(text)), **text)
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), res.summary)
 
@@ -713,6 +714,7 @@ def _floquet_options(p: argparse.ArgumentParser, model: str) -> None:
         p.add_argument("--tol-spatial", dest="tol_spatial", metavar="X",
                        help="with --l-max auto: tolerance of tau_min in the degree truncation "
                             "(default 1e-6)")
+        _max_seconds_flag(p)
 
 
 def _tongues_options(p: argparse.ArgumentParser, model: str) -> None:
@@ -736,6 +738,11 @@ def _exponents_options(p: argparse.ArgumentParser, model: str) -> None:
     _solver_flags(p)
     p.add_argument("--tau", help="forcing amplitude")
     p.add_argument("--count", help="number of least-damped exponents listed (default: all found)")
+    if model == "sphere":
+        p.add_argument("--l-max", dest="l_max", metavar="L",
+                       help="with --kappa an expression in theta, phi (non-uniform stiffness): "
+                            "the degree truncation, 'auto' (default: raised until the least "
+                            "damped exponent settles to 1e-6) or an integer")
 
 
 def _stability_options(p: argparse.ArgumentParser, model: str) -> None:

@@ -17,6 +17,7 @@ from spectralshell.params.physical import cochlea_forced
 from spectralshell.params.sweep_grid import sweep_spec
 from spectralshell.runner import open_sweep, run_sweep, solve
 from spectralshell.solvers import spatial_refinement as sr
+from sweep_cases import interrupted
 
 CHEAP = {"mu": 2.0}                          # g/(cm s): high modes damped, M converges early
 OPTIONS = {"n_temporal": 6, "tau_max": 0.5}  # fixed N: cheap, and exactly reproducible
@@ -120,13 +121,7 @@ def test_cochlea_store_resumes_only_missing_chunks(tmp_path):
           "sweep": {"chunk": 1}}
     fresh = run_sweep(sc, executor="serial").dataset
     out = tmp_path / "cochlea.zarr"
-
-    def stop(n, _):
-        if n == 2:
-            raise KeyboardInterrupt
-
-    with pytest.raises(KeyboardInterrupt):
-        run_sweep(sc, executor="serial", out=out, on_chunk=stop)
+    interrupted(sc, out, 2)
     assert int(open_sweep(out)["computed"].sum()) == 2 * 2  # two chunks of one point, two kinds
     seen = []
     resumed = run_sweep(sc, executor="serial", out=out, on_chunk=lambda n, r: seen.append(r.index))

@@ -2,6 +2,8 @@
 log det by LU of the assembled A - tau B, zero counts and real tau by QZ of the same truncation,
 and a coarse Fig 6.13 map cell by cell against the dense-eig path."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 import scipy.linalg as sla
@@ -220,3 +222,77 @@ def test_fibre_smallest_real_tau_is_qz_smallest(m, kappa, nu, kind):
     else:
         assert reference.size and tau_min == pytest.approx(reference[0], rel=1e-10)
         assert not np.any(reference[1:] <= complete_to)
+
+
+def test_well_conditioned_agrees_with_block_inverses():
+    """The contour path's closed-form 2 x 2 check = whether LAPACK's block inverses pass the
+    condition limit, on sampled pencils and on pencils made ill conditioned (a block scaled
+    towards singular, a singular block)."""
+    from spectralshell.solvers.half_product import block_inverses, well_conditioned
+
+    checked = {True: 0, False: 0}
+    for sigma, bpm, m, kind in cells(8, seed=5):
+        pencils = Pencils(atrium(sigma, bpm, m), kind)
+        pencils.reserve = 16  # the truncations below are cut out of N = 16
+        for n in (12, 8):
+            assert pencils.well_conditioned(n, "two-sided") == (
+                pencils.get(n, "two-sided")[1] is not None)
+        hill = pencils.pencil(12, "two-sided")
+        for squash in (1.0, 1e-7, 1e-9, 1e-12, 0.0):
+            diag = hill.diag.copy()
+            diag[3, 1] *= squash  # second row of one block towards a multiple of nothing
+            diag[3, 1] += (1 - squash) * 1e-3 * diag[3, 0]  # ... or of the first row
+            bad = dataclasses.replace(hill, diag=diag)
+            expected = block_inverses(bad) is not None
+            assert well_conditioned(bad) == expected
+            checked[expected] += 1
+    assert checked[True] and checked[False]
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind", cells(6, seed=17))
+def test_newton_root_is_qz_root(sigma, bpm, m, kind):
+    """The kernel's safeguarded Newton step on the real axis finds QZ's real z = tau^2 to
+    rounding from brackets around it, including brackets that end at (a rounding of) the root
+    itself (a neighbour's tau_min as hint), and reports a bracket without a sign change."""
+    system = atrium(sigma, bpm, m)
+    n = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    blocks = contour.LogDet(pencils.pencil(n, "two-sided")).blocks
+    reference = dense_taus(pencils.get(n, "real")[0])
+    squares = reference[reference > 0] ** 2
+    checked = 0
+    for z in squares[squares <= 1]:
+        if np.sum(np.abs(squares / z - 1) < 1e-2) > 1:
+            continue  # another zero within the bracket below
+        checked += 1
+        found = _schur.root(*blocks, z * (1 - 1e-3), z * (1 + 2e-3), 1e-13)
+        assert found == pytest.approx(z, rel=1e-12)
+        for lo, hi in ((found * (1 - 1e-7), found * (1 + 1e-12)),
+                       (found * (1 - 1e-12), found * (1 + 1e-5))):
+            assert _schur.root(*blocks, lo, hi, 1e-15) == pytest.approx(z, rel=1e-12)
+    assert checked
+    assert np.isnan(_schur.root(*blocks, 1e-9, 2e-9, 1e-15))  # no zero there: no sign change
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_scalar_coupling_form_equals_general_form(kind):
+    """The kernel's short form for a coupling that is a multiple of the identity (the sphere's
+    G = q I) against its general form, reached by multiplying every block row by a fixed
+    non-diagonal P (the coupling is then P q: det(A - tau B) gains det(P)^K, d/dz log det
+    nothing)."""
+    hill = two_sided(atrium(6000.0, 120.0, 3), kind, 14)
+    P = np.array([[1.0, 0.3], [-0.2, 0.9]])
+    rows = dataclasses.replace(hill, diag=P @ hill.diag, lower=P @ hill.lower,
+                               upper=P @ hill.upper)
+    z = np.array([0.05 + 0.01j, 0.2 - 0.03j, 0.13 + 0.0j, -0.02 + 0.1j])
+
+    def kernel(h):
+        out, slope = np.empty_like(z), np.empty_like(z)
+        assert _schur.logdet(*contour.LogDet(h).blocks, z, out, slope) == 0
+        return out, slope
+
+    (value, slope), (value_p, slope_p) = kernel(hill), kernel(rows)
+    shift = len(hill.diag) * np.log(np.linalg.det(P))
+    np.testing.assert_allclose(np.exp(1j * (value_p - value - shift).imag), 1, atol=1e-10)
+    np.testing.assert_allclose((value_p - value).real, shift, rtol=1e-10)
+    np.testing.assert_allclose(slope_p, slope, rtol=1e-10)

@@ -14,17 +14,27 @@ from spectralshell.solvers import _schur, contour
 from spectralshell.solvers.marginal import Pencils
 
 
-def random_pencil(blocks: int, size: int, seed: int) -> HillMatrices:
-    """A bipartite block-tridiagonal pencil with random complex blocks."""
+def random_pencil(blocks: int, size: int, seed: int, symmetric: bool = False) -> HillMatrices:
+    """A bipartite block-tridiagonal pencil with random complex blocks. ``symmetric``: g(z) =
+    det(A - sqrt(z) B) / det A takes conjugate values at conjugate points, as the package's
+    pencils do (the count reads half contours): real blocks P_k (real) Q_k transformed by
+    random complex P_k, Q_k, which leave g unchanged and make the blocks complex."""
     rng = np.random.default_rng(seed)
 
     def draw(count):
         return rng.standard_normal((count, size, size)) + 1j * rng.standard_normal(
             (count, size, size))
 
+    if not symmetric:
+        return HillMatrices(kind="harmonic", form="two-sided", n_temporal=(blocks - 1) // 2,
+                            diag=draw(blocks) + 3 * np.eye(size), lower=draw(blocks - 1),
+                            upper=draw(blocks - 1), self_coupling=None)
+    real = [rng.standard_normal((count, size, size)) for count in (blocks, blocks - 1, blocks - 1)]
+    P, Q = draw(blocks) + 3 * np.eye(size), draw(blocks) + 3 * np.eye(size)
     return HillMatrices(kind="harmonic", form="two-sided", n_temporal=(blocks - 1) // 2,
-                        diag=draw(blocks) + 3 * np.eye(size), lower=draw(blocks - 1),
-                        upper=draw(blocks - 1), self_coupling=None)
+                        diag=P @ (real[0] + 3 * np.eye(size)) @ Q,
+                        lower=P[1:] @ real[1] @ Q[:-1], upper=P[:-1] @ real[2] @ Q[1:],
+                        self_coupling=None)
 
 
 def cochlea(n_spatial: int, frequency: float = 116.9, sigma: float = 1.16e9):
@@ -35,11 +45,13 @@ def cochlea(n_spatial: int, frequency: float = 116.9, sigma: float = 1.16e9):
 
 
 def qz_squares(hill):
-    """z = tau^2 of every finite eigenvalue of the pencil (dense QZ), each +-tau pair once."""
+    """z = tau^2 of every finite eigenvalue of the pencil (dense QZ), each +-tau pair once (an
+    imaginary pair, z < 0, by its upper member)."""
     alpha, beta = sla.eigvals(hill.A.toarray(), hill.B.toarray(), homogeneous_eigvals=True)
     finite = np.abs(beta) > 1e-12 * np.abs(alpha)
     tau = alpha[finite] / beta[finite]
-    return tau[tau.real > 0] ** 2
+    axis = np.abs(tau.real) <= 1e-9 * np.abs(tau)
+    return tau[(tau.real > 0) & ~axis | axis & (tau.imag > 0)] ** 2
 
 
 def dense_log_g(hill, z):
@@ -75,7 +87,8 @@ def test_block_path_matches_compiled_kernel():
     values, slopes = log_g(z)
     for zj, value, slope in zip(z, values, slopes):
         block_value, block_slope = contour.block_log_det(*log_g.blocks, zj)
-        assert np.exp(block_value - log_g.offset - value) == pytest.approx(1.0, abs=1e-10)
+        log_det_a = contour.block_log_det(*log_g.blocks, 0.0)[0]
+        assert np.exp(block_value - log_det_a - value) == pytest.approx(1.0, abs=1e-10)
         assert block_slope == pytest.approx(slope, rel=1e-10)
 
 
@@ -101,8 +114,9 @@ def check_counts(hill, rectangles):
 
 @pytest.mark.parametrize("size, seed", [(3, 4), (4, 5), (6, 6)])
 def test_block_winding_counts_qz_eigenvalues_random(size, seed):
-    """Random 7-block pencils: counts in nested rectangles of the z plane = QZ counts."""
-    hill = random_pencil(7, size, seed)
+    """Random 7-block pencils (g with conjugate symmetry, complex blocks): counts in nested
+    rectangles of the z plane = QZ counts."""
+    hill = random_pencil(7, size, seed, symmetric=True)
     z = qz_squares(hill)
     scale = float(np.median(np.abs(z)))
     rectangles = [(-0.1 * scale, f * scale, h * scale)
@@ -124,6 +138,22 @@ def test_block_winding_counts_qz_eigenvalues_cochlea(kind):
     assert check_counts(hill, rectangles) >= 3
 
 
+@pytest.mark.parametrize("kind, form", [("harmonic", "two-sided"), ("harmonic", "real"),
+                                        ("subharmonic", "two-sided")])
+def test_block_log_g_conjugate_symmetric_cochlea(kind, form):
+    """What the half-contour count rests on, for the cochlea's M x M blocks in each bipartite
+    form: g(conj z) = conj g(z), so g is real on the real axis."""
+    hill = Pencils(cochlea(8), kind).pencil(12, form)
+    assert hill.bipartite
+    log_g = contour.LogDet(hill)
+    for z in (0.03 + 0.01j, 0.2 - 0.05j, 0.4 + 1e-3j, -0.1 + 0.02j):
+        (value, slope), (mirror, mirror_slope) = log_g.point(z), log_g.point(z.conjugate())
+        assert np.exp(value - mirror.conjugate()) == pytest.approx(1.0, abs=1e-10)
+        assert mirror_slope.conjugate() == pytest.approx(slope, rel=1e-10)
+    for x in (0.01, 0.1, 0.3, -0.05):
+        assert abs(np.sin(log_g.point(x)[0].imag)) < 1e-10
+
+
 def test_winding_of_declines_and_raises():
     """The callback walk: None where the evaluation declines, the evaluation's exception
     propagated, and a plain polynomial's zero counted."""
@@ -136,4 +166,9 @@ def test_winding_of_declines_and_raises():
     with pytest.raises(RuntimeError, match="no"):
         _schur.winding_of(broken, nodes, 1.0, 0.7, 100)
     turns = _schur.winding_of(lambda z: (np.log(z - 0.3), 1 / (z - 0.3)), nodes, 1.0, 0.7, 1000)
-    assert turns == pytest.approx(1.0, abs=1e-12)
+    assert turns == pytest.approx(1.0, abs=1e-12)  # the upper half circle's phase change, doubled
+    pair = (0.2 + 0.4j, 0.2 - 0.4j)  # a conjugate pair inside, counted from the upper half
+    turns = _schur.winding_of(lambda z: (np.log((z - pair[0]) * (z - pair[1])),
+                                         1 / (z - pair[0]) + 1 / (z - pair[1])),
+                              nodes, 1.0, 0.7, 1000)
+    assert turns == pytest.approx(2.0, abs=1e-12)

@@ -131,16 +131,26 @@ def test_symmetries_decouple_orders_and_parity():
 @pytest.mark.parametrize("kappa0, nu", [(0.02, 0.006), (0.5, 0.03)])
 def test_uniform_kappa_reproduces_the_per_degree_results(kappa0, nu):
     """kappa0 (1 + 0 cos theta): tau_min per kind equals the smallest per-degree tau_min
-    (degrees 2..l_max, poloidal) to 1e-10."""
+    (degrees 2..l_max, poloidal and toroidal) to 1e-10. At kappa0 = 0.5, nu = 0.03 the
+    subharmonic minimum is toroidal (l = 6: 0.7315, poloidal 0.7565), which the non-uniform
+    solve missed while it left the toroidal sectors out."""
     res = ss.floquet("sphere", kappa=f"{kappa0}*(1+0*cos(theta))", nu=nu, l_max=6)
     for kind in ("harmonic", "subharmonic"):
-        per_degree = [getattr(ss.floquet("sphere", m=m, kappa=kappa0, nu=nu, kind=kind),
-                              kind).tau_min for m in range(2, 7)]
-        got = getattr(res, kind).tau_min
-        assert abs(got - min(per_degree)) < 1e-10
+        found = {(m, "poloidal"): getattr(ss.floquet("sphere", m=m, kappa=kappa0, nu=nu,
+                                                     kind=kind), kind).tau_min
+                 for m in range(2, 7)}
+        cap = min(found.values())
+        found.update({(m, "toroidal"): getattr(ss.floquet(
+            "sphere", m=m, kappa=kappa0, nu=nu, kind=kind, component="toroidal", tau_max=cap),
+            kind).tau_min for m in range(2, 7)})   # capped: uncapped ones reach ~1e5
+        (l, component), expected = min(((k, t) for k, t in found.items() if t is not None),
+                                       key=lambda kt: kt[1])
+        assert abs(getattr(res, kind).tau_min - expected) < 1e-10
         lead = res.content[kind][0]
-        assert lead["l"] == 2 + int(np.argmin(per_degree)) and lead["share"] > 1 - 1e-12
-        assert res.multiplicity[kind] == 2 * lead["l"] + 1
+        assert (lead["l"], lead["component"]) == (l, component) and lead["share"] > 1 - 1e-12
+        assert res.multiplicity[kind] == 2 * l + 1
+    if (kappa0, nu) == (0.5, 0.03):
+        assert res.content["subharmonic"][0]["component"] == "toroidal"
 
 
 def test_cli_floquet_sphere_with_a_kappa_expression(capsys):
@@ -194,8 +204,9 @@ def test_tau_min_converges_geometrically_in_the_degree_truncation():
     change is <= tol_spatial, within tol_spatial of the l_max = 12 value."""
     kappa = "0.02*(1 + 0.3*cos(theta)**2)"
     function = parse_expression("kappa", kappa).function
-    values = [solve_truncation(function, 0.006, L, ("subharmonic",),
-                               {"tol": 1e-12, "n_temporal": None})[1]["subharmonic"][0].tau_min
+    values = [solve_truncation(nonuniform_sphere(kappa=function, nu=0.006, l_max=L),
+                               ("subharmonic",),
+                               {"tol": 1e-12, "n_temporal": None})["subharmonic"][0].tau_min
               for L in (6, 8, 10, 12)]
     changes = np.abs(np.diff(values))
     assert np.all(changes[1:] < changes[:-1] / 10) and changes[-1] < 1e-10

@@ -37,7 +37,8 @@ from ..errors import ParameterError
 __all__ = ["RadialMap", "lobatto_points", "gauss_points", "lobatto_weights", "gauss_weights",
            "barycentric_weights", "differentiation_matrices", "interpolation_matrix",
            "clenshaw_curtis_weights", "parity_fold", "linear_map", "reciprocal_map",
-           "radial_derivatives", "ultraspherical_derivative", "ultraspherical_conversion",
+           "radial_derivatives", "ball_derivatives", "exterior_derivatives",
+           "ultraspherical_derivative", "ultraspherical_conversion",
            "ultraspherical_multiplication", "chebyshev_boundary_rows"]
 
 
@@ -271,6 +272,33 @@ def radial_derivatives(derivatives: list[np.ndarray], rmap: RadialMap) -> list[n
         out.append(rows(x1**4, D[3]) + rows(6 * x1**2 * x2, D[2])
                    + rows(3 * x2**2 + 4 * x1 * x3, D[1]) + rows(x4, D[0]))
     return out
+
+
+def ball_derivatives(n_inner: int, parity: int) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+    """Radii and d/dr, d^2/dr^2 on 0 < r <= 1 for fields of one parity in r (a disc or a ball).
+
+    The nodes are the n_inner positive points of the Lobatto grid of odd degree 2 n_inner - 1 on
+    [-1, 1], descending from r = 1; the matrices act on functions with f(-r) = parity f(r)
+    (:func:`parity_fold`), which makes regularity at r = 0 automatic (no node, no row there).
+    """
+    n = 2 * n_inner - 1
+    x = lobatto_points(n)
+    D = differentiation_matrices(x, 2, lobatto_weights(n))
+    return x[:n_inner], tuple(parity_fold(Dk, parity) for Dk in D)
+
+
+def exterior_derivatives(n_outer: int, angle: float, scale: float
+                         ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+    """(xi, 1/r, (d/dr, d^2/dr^2)) on the exterior 1 <= r <= infinity of n_outer Lobatto nodes.
+
+    The map is :func:`reciprocal_map` with c = scale e^{i angle} (real when angle = 0); xi runs
+    from 1 (r = 1) down to 0 (r = infinity).
+    """
+    n = n_outer - 1
+    x = lobatto_points(n)
+    D = differentiation_matrices(x, 2, lobatto_weights(n))
+    rmap = reciprocal_map(x, scale=scale * np.exp(1j * angle) if angle else scale)
+    return (1 + x) / 2, rmap.r_inverse, tuple(radial_derivatives(D, rmap))
 
 
 # ----------------------------------------------------------------------------- coefficient space

@@ -22,15 +22,19 @@ C couples (connected components of the coupling graph; entries below COUPLING_TO
 largest count as zero): an axisymmetric kappa decouples the orders |k| (and cos from sin), an
 equatorially symmetric one the parity of l + k. Sectors equal up to the sign of their toroidal
 slots (the cos and sin copies of an order, the 2l + 1 orders of a uniform kappa) are solved
-once. A sector of toroidal slots only (e.g. the orders k = 0 of an axisymmetric kappa) is left
-out, as the per-degree solver's default component is poloidal: alone, the toroidal component is
-a damped relaxation without an oscillation to pump (the per-degree solver finds no marginal tau
-below 7.8e4 for l = 3, kappa = 0.02, nu = 0.006).
+once. Sectors of toroidal slots only (e.g. the orders k = 0 of an axisymmetric kappa, or
+every toroidal mode of a uniform one) are kept and sorted last: the toroidal component is no
+mere relaxation (its natural modes oscillate, e.g. gamma = -0.355 + 0.594 i for l = 2, kappa =
+0.02, nu = 0.006, and the per-degree solver finds a subharmonic tau_min of 1.16 there), so a
+toroidal sector can attain tau_min where the poloidal ones lie higher. Solved last, each is
+capped by the smallest tau_min found before it (its uncapped harmonic tau_min can be ~1e5 and
+out of reach of the truncation).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -42,6 +46,7 @@ from .._validate import require_int_in_range, require_positive
 from ..models.base import HillSystem
 from ..params.sphere import L_MAX_RANGE
 from ..models.sphere import lambda0_squared, poloidal_unforced, toroidal_unforced
+from ..special.spherical import spherical_jn_zeros
 from .shtns_adapter import grid as dealiased_grid
 from .sphere_coupled import COUPLING_TOL, StiffnessField, stiffness_field, weighted_load
 
@@ -63,6 +68,11 @@ class Sector:
     @property
     def degrees(self) -> tuple[int, ...]:
         return tuple(sorted({l for l, _, _ in self.slots}))
+
+    @property
+    def toroidal(self) -> bool:
+        """Whether the sector holds toroidal slots only."""
+        return all(name == "Phi" for _, _, name in self.slots)
 
     @property
     def modes(self) -> tuple[tuple[int, int, str], ...]:
@@ -122,7 +132,7 @@ def _same(a: Sector, b: Sector) -> bool:
 
 def sectors(C: np.ndarray, every: tuple) -> tuple[Sector, ...]:
     """The decoupled sectors of C over the slots ``every`` (module docstring), copies merged,
-    sorted by their lowest degree (then size)."""
+    sorted by their lowest degree (then size), the purely toroidal ones last."""
     scale = max(float(np.abs(C).max()), 1e-300)
     link = np.abs(C) > COUPLING_TOL * scale
     where = {s: i for i, s in enumerate(every)}
@@ -134,8 +144,6 @@ def sectors(C: np.ndarray, every: tuple) -> tuple[Sector, ...]:
     for j in range(n):
         idx = np.flatnonzero(label == j)
         chosen = tuple(every[i] for i in idx)
-        if all(name == "Phi" for _, _, name in chosen):
-            continue
         new = Sector(slots=chosen, indices=idx, coupling=C[np.ix_(idx, idx)])
         twin = next((i for i, s in enumerate(found) if _same(s, new)), None)
         if twin is None:
@@ -143,7 +151,7 @@ def sectors(C: np.ndarray, every: tuple) -> tuple[Sector, ...]:
         else:
             old = found[twin]
             found[twin] = dataclasses.replace(old, copies=old.copies + 1)
-    return tuple(sorted(found, key=lambda s: (s.degrees[0], len(s.slots))))
+    return tuple(sorted(found, key=lambda s: (s.toroidal, s.degrees[0], len(s.slots))))
 
 
 def sector_system(sector: Sector, *, nu: float, kappa_mean: float) -> HillSystem:
@@ -166,9 +174,25 @@ def sector_system(sector: Sector, *, nu: float, kappa_mean: float) -> HillSystem
             out[:, pos[:, None], pos[None, :]] += cache[l, component]
         return out
 
-    top = float(np.sqrt(lambda0_squared(max(sector.degrees), kappa_mean)))
+    # the natural frequency of the sector's highest degree; none for toroidal slots only, as
+    # for the uniform model's toroidal component (models.sphere.hill_system)
+    top = 0.0 if sector.toroidal else float(np.sqrt(lambda0_squared(max(sector.degrees),
+                                                                     kappa_mean)))
+    orders = tuple(sorted({l + 1 if c == "poloidal" else l for l, _, c in sector.modes}))
     return HillSystem(name="sphere", block_size=len(sector.slots), unforced=unforced,
-                      forcing=C.copy(), n_resonant=top, n_highest=top)
+                      forcing=C.copy(), n_resonant=top, n_highest=top or None,
+                      cut_poles=functools.partial(interior_poles, orders=orders, nu=nu))
+
+
+def interior_poles(x: float, *, orders: tuple[int, ...], nu: float) -> np.ndarray:
+    """The poles of a sector's D(s) on the cut in [x, 0): the interior fluid's decay rates
+    s = -nu z^2, z the zeros of j_n for n in ``orders`` (a poloidal degree l enters through
+    1/P_l, P_l = beta i_{l+1}(beta)/i_l(beta): n = l + 1; a toroidal degree l through P_l: n =
+    l). A poloidal l and a toroidal l + 1 in one sector share theirs: det D has double poles
+    there (``HillSystem.cut_poles``)."""
+    z_max = np.sqrt(max(-x, 0.0) / nu)
+    zeros = [spherical_jn_zeros(n, z_max) for n in orders]
+    return np.unique(-nu * np.concatenate(zeros) ** 2) if zeros else np.zeros(0)
 
 
 def perturbation_system(sector: Sector, weight: np.ndarray, l_max: int) -> HillSystem:
@@ -184,9 +208,11 @@ def perturbation_system(sector: Sector, weight: np.ndarray, l_max: int) -> HillS
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class NonUniformSphere:
-    """The sectors of one truncation l_max and their Hill systems, and the stiffness field."""
+    """The sectors of one truncation l_max and their Hill systems, the stiffness field and the
+    viscosity nu."""
 
     l_max: int
+    nu: float
     field: StiffnessField
     sectors: tuple[Sector, ...]
     systems: tuple[HillSystem, ...]
@@ -207,4 +233,4 @@ def nonuniform_sphere(*, kappa: Callable[[np.ndarray, np.ndarray], np.ndarray], 
     C, every = coupling_matrix(field.weight, l_max)
     found = sectors(C, every)
     systems = tuple(sector_system(s, nu=nu, kappa_mean=field.mean) for s in found)
-    return NonUniformSphere(l_max=l_max, field=field, sectors=found, systems=systems)
+    return NonUniformSphere(l_max=l_max, nu=nu, field=field, sectors=found, systems=systems)

@@ -91,8 +91,7 @@ import numpy as np
 
 from .._validate import require_choice, require_int_in_range, require_positive, require_real
 from ..errors import ParameterError
-from .chebyshev import (differentiation_matrices, lobatto_points, lobatto_weights, parity_fold,
-                        radial_derivatives, reciprocal_map)
+from .chebyshev import ball_derivatives, exterior_derivatives
 
 COMPONENTS = ("poloidal", "toroidal")
 MEMBRANE = {"poloidal": ("Y", "Psi"), "toroidal": ("Phi",)}
@@ -201,23 +200,6 @@ class RadialOperators:
         return out[0], out[1]
 
 
-def _inner_derivatives(n_inner: int, parity: int) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
-    """Positive nodes of the Lobatto grid of degree 2 n_inner - 1 and folded d/dr, d^2/dr^2."""
-    n = 2 * n_inner - 1
-    x = lobatto_points(n)
-    D = differentiation_matrices(x, 2, lobatto_weights(n))
-    return x[:n_inner], tuple(parity_fold(Dk, parity) for Dk in D)
-
-
-def _outer_derivatives(n_outer: int, angle: float, scale: float):
-    """xi nodes, 1/r at them, and d/dr, d^2/dr^2 on the exterior map."""
-    n = n_outer - 1
-    x = lobatto_points(n)
-    D = differentiation_matrices(x, 2, lobatto_weights(n))
-    rmap = reciprocal_map(x, scale=scale * np.exp(1j * angle) if angle else scale)
-    return (1 + x) / 2, rmap.r_inverse, tuple(radial_derivatives(D, rmap))
-
-
 def _check(m, nu, component, n_inner, n_outer, exterior_angle, exterior_scale):
     m = require_int_in_range("m", m, 2, 200)
     nu = require_positive("nu", nu)
@@ -288,8 +270,8 @@ def exterior_scale_hint(*, nu: float, s_scale: float) -> float:
 def _poloidal(m: int, nu: float, n_inner: int, n_outer: int, angle: float,
               scale: float) -> RadialOperators:
     c, q1 = m * (m + 1), (m - 1) * (m + 2)
-    r_in, d_in = _inner_derivatives(n_inner, (-1) ** (m + 1))
-    xi, rinv_out, d_out = _outer_derivatives(n_outer, angle, scale)
+    r_in, d_in = ball_derivatives(n_inner, (-1) ** (m + 1))
+    xi, rinv_out, d_out = exterior_derivatives(n_outer, angle, scale)
     rinv_in = 1.0 / r_in
 
     def lm(d, rinv):
@@ -342,8 +324,8 @@ def _poloidal(m: int, nu: float, n_inner: int, n_outer: int, angle: float,
 def _toroidal(m: int, nu: float, n_inner: int, n_outer: int, angle: float,
               scale: float) -> RadialOperators:
     c, q1 = m * (m + 1), (m - 1) * (m + 2)
-    r_in, d_in = _inner_derivatives(n_inner, (-1) ** m)
-    xi, rinv_out, d_out = _outer_derivatives(n_outer, angle, scale)
+    r_in, d_in = ball_derivatives(n_inner, (-1) ** m)
+    xi, rinv_out, d_out = exterior_derivatives(n_outer, angle, scale)
     rinv_in = 1.0 / r_in
 
     def lap(d, rinv):

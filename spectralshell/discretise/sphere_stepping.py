@@ -301,7 +301,7 @@ class _Reduction:
         return float(kinetic), float(dissipation)
 
 
-def _oscillatory_leader(values: np.ndarray, floor: float) -> complex | None:
+def oscillatory_leader(values: np.ndarray, floor: float) -> complex | None:
     """Least damped eigenvalue with Im s > OSCILLATORY |s| and |s| > floor (the nearly real
     discretised continuum near s = 0 is left out)."""
     osc = values[(values.imag > OSCILLATORY * np.abs(values)) & (np.abs(values) > floor)]
@@ -353,7 +353,7 @@ def _leader(m, nu, component, n, scale, kappa, radial="collocation") -> complex 
         A, B = _banded(m, nu, component, n, scale).pencil(kappa)
         return _nearest_eigenvalue(A, B, guess)
     red = _reduced(m, nu, component, n, scale)
-    return _oscillatory_leader(np.linalg.eigvals(red.L0 + kappa * red.L1), floor)
+    return oscillatory_leader(np.linalg.eigvals(red.L0 + kappa * red.L1), floor)
 
 
 def _resolve(m, kappa, nu, component, n_radial, scale, tol,

@@ -70,6 +70,12 @@ class HillSystem:
     branch_point : b, where D(s) is analytic off the real half-line (-inf, b] (its branch cut,
         the fluid's continuous spectrum; b <= 0): 0 for sqrt(s/nu), -nu k^2 for
         sqrt(s/nu + k^2). Floquet exponents on the cut are not listed.
+    cut_poles : x -> the poles of D(s) on its cut in [x, branch_point] (x < branch_point), or
+        None. Given where poles of several components coincide (the coupled sphere: an interior
+        fluid's decay rate shared by two degrees), so that det D has poles of higher order
+        there: the Floquet exponents' winding count puts a vertex of its slit above and below
+        each (:func:`spectralshell.solvers.hill_exponents.hill_exponents`), since the phase
+        turn of 2 pi by a double pole within the slit's width aliases to 0 between samples.
     """
 
     name: str
@@ -80,6 +86,7 @@ class HillSystem:
     n_resonant: float = 0.0
     n_highest: float | None = None
     branch_point: float = 0.0
+    cut_poles: Callable[[float], np.ndarray] | None = None
 
 
 def modal_system_in_beta(name: str, *, nu: float, n_modes: int, residual, residual_mp, seeds,

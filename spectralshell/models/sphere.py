@@ -44,31 +44,57 @@ def _p_q(m: int, s: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
         return beta * ratio_i(m, beta), beta / ratio_k(m - 1, beta)
 
 
-#: Fluid loads kept per process (:func:`_fluid_load`): a Fig 6.13 worker meets each of its
-#: 200 beat rates x 5 degrees x 2 kinds once per stiffness line, ~2000 keys of ~5 kB; only
-#: arrays of at most FLUID_CACHE_SIZE values of s (a Hill truncation's) are kept.
+#: Fluid-load tables kept per process (:func:`_fluid_table`): a Fig 6.13 worker meets each of
+#: its 200 beat rates x 5 degrees x 2 kinds once per stiffness line, ~2000 keys of ~5-20 kB.
 FLUID_CACHE = 4096
-FLUID_CACHE_SIZE = 1024
+#: A table covers the Fourier indices k = -top-1..top of s_k = i (gamma + k), top a multiple of
+#: FLUID_STEP (the truncations of neighbouring cells share it), at most FLUID_TOP.
+FLUID_STEP = 16
+FLUID_TOP = 512
 
 
 def poloidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:
     """D(s) of the poloidal pair (X^Y, X^Psi), shape (len(s), 2, 2); D(0) = q I (limit)."""
     s = np.asarray(s, dtype=complex).ravel()
     q = kappa * (m - 1) * (m + 2)
-    load = _fluid_load if s.size <= FLUID_CACHE_SIZE else _fluid_load.__wrapped__
-    out = load(m, float(nu), s.tobytes()).copy()
+    out = _fluid_load(m, float(nu), s)
     out[:, 0, 0] += q
     out[:, 1, 1] += q
     return out
 
 
+def _fluid_load(m: int, nu: float, s: np.ndarray) -> np.ndarray:
+    """D(s) - q I of the poloidal pair (a new array): cut out of a cached table where s is a run
+    of a Hill truncation's frequencies s_k = i (gamma + k), gamma 0 or 1/2 (a run of the
+    table's own s, bitwise), else computed afresh."""
+    gamma = s[0].imag % 1.0 if s.size else -1.0
+    if gamma in (0.0, 0.5) and not s.real.any():
+        first = int(round(s[0].imag - gamma))
+        top = FLUID_STEP * -(-max(-first - 1, first + s.size - 1, 1) // FLUID_STEP)
+        if top <= FLUID_TOP:
+            table_s, table = _fluid_table(m, nu, gamma, top)
+            start = first + top + 1
+            if table_s[start:start + s.size].tobytes() == s.tobytes():
+                return table[start:start + s.size].copy()
+    return _fluid_values(m, nu, s)
+
+
 @functools.lru_cache(maxsize=FLUID_CACHE)
-def _fluid_load(m: int, nu: float, s_bytes: bytes) -> np.ndarray:
-    """D(s) - q I of the poloidal pair at the complex128 s of ``s_bytes`` (read-only): the part
-    of D that does not depend on kappa, so that the cells of a map that share a beat rate (nu)
-    and a truncation evaluate the Bessel ratios once. D = H + q I adds q to the same H as
-    before, in the same order: the values are bitwise those computed afresh."""
-    s = np.frombuffer(s_bytes, dtype=complex)
+def _fluid_table(m: int, nu: float, gamma: float, top: int) -> tuple[np.ndarray, np.ndarray]:
+    """(s_k, D(s_k) - q I) for k = -top-1..top, s_k = i (gamma + k) as a Hill truncation forms
+    them (read-only): the part of D that does not depend on kappa, so that the cells of a map
+    that share a beat rate (nu) evaluate the Bessel ratios once. Each value depends only on its
+    own s (elementwise numpy and the compiled continued fraction), so a cut-out run equals the
+    values computed afresh at the truncation's s (tests/test_sphere_fluid_cache.py)."""
+    s = 1j * (gamma + np.arange(-top - 1, top + 1, dtype=float))
+    table = _fluid_values(m, nu, s)
+    s.setflags(write=False)
+    table.setflags(write=False)
+    return s, table
+
+
+def _fluid_values(m: int, nu: float, s: np.ndarray) -> np.ndarray:
+    """D(s) - q I of the poloidal pair at the complex128 s, computed."""
     out = np.zeros((s.size, 2, 2), dtype=complex)
     live = s != 0
     if live.any():
@@ -79,7 +105,6 @@ def _fluid_load(m: int, nu: float, s_bytes: bytes) -> np.ndarray:
         out[live, 0, 1] = s2 * (m / Q - (m + 1) / P)
         out[live, 1, 0] = out[live, 0, 1] / (m * (m + 1))
         out[live, 1, 1] = s2 * (1 / Q + 1 / P)
-    out.setflags(write=False)
     return out
 
 

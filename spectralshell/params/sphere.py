@@ -29,9 +29,10 @@ class SphereParams:
 
     m: int = field(metadata={"help": "spherical-harmonic degree m >= 2",
                                     "range": M_RANGE})
-    kappa: float = field(metadata={"help": "stiffness kappa (dimensionless, > 0); floquet also "
-                                           "takes an expression in theta, phi: a non-uniform "
-                                           "kappa, whose degrees couple"})
+    kappa: float = field(metadata={"help": "stiffness kappa (dimensionless, > 0); floquet, "
+                                           "exponents and sweeps also take an expression in "
+                                           "theta, phi: a non-uniform kappa, whose degrees "
+                                           "couple"})
     nu: float = field(metadata={"help": "viscosity nu (dimensionless, >= 0; 0 = inviscid)"})
     component: str = field(default="poloidal", metadata={"help": "poloidal or toroidal"})
 

@@ -36,6 +36,15 @@ are ranges of f in Hz -- the thesis's Fig 5.18 labels its axis "omega in [50, 20
 the packaged scenes spectralshell/scenes/fig-5.18-*.toml read as f in Hz (the figure's JSON
 states the shift, log10(2 pi) = 0.8 decade, that the reading omega in s^-1 would give).
 
+The sphere with a non-uniform stiffness (kappa in [params] an expression in theta, phi, e.g.
+``kappa = "0.02*(1 + 0.3*cos(theta)**2)"``; :mod:`spectralshell.runner.nonuniform`) sweeps nu
+and the degree truncation l_max (a list of integers, or 'lo:hi'); fixed, l_max is 'auto' (the
+default: refined per point to ``tol_spatial``, default 1e-6) or an integer. Each point is the
+``floquet`` of that kappa with the sweep's kinds, and the result also holds ``l_max`` (the
+degree truncation of the values) and the critical mode's dominant (l, k) and its share
+(``critical_l``, ``critical_k``, ``critical_share``). Its points are solved independently (no
+continuation).
+
 Models with spatial modes (the cochlea): with ``n_spatial`` fixed in [params] (or swept) every
 point is solved with that M, and error_estimate is the temporal one only; without it (and
 without spatial_mode) M is refined per point, M = 16, 32, ... <= 512, until each kind's tau_min
@@ -57,6 +66,7 @@ task (a chunk) is a run of at most ``chunk`` consecutive points of one line.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import math
@@ -77,6 +87,7 @@ from .physical import (COCHLEA_SWEEP_UNITS, PHYSICAL_UNITS, TABLE_5_1, cochlea_s
 from .registry import (check_model, get_model, int_bounds, make_params, models, param_fields,
                        param_names)
 from .scene import load_scene
+from .sphere import L_MAX_RANGE, is_nonuniform, nonuniform_params
 
 ASKS = ("tau_min",)
 KINDS = ("harmonic", "subharmonic")
@@ -105,7 +116,7 @@ PHYSICAL = tuple(PHYSICAL_UNITS)
 UNITS = {"kappa": "1", "nu": "1", "m": "1", "component": "", "kind": "", **PHYSICAL_UNITS}
 MODEL_UNITS = {"cochlea": {"alpha": "1", "n_spatial": "1", "spatial_mode": "1",
                            **COCHLEA_SWEEP_UNITS}}
-LONG_NAMES = {"kappa": "stiffness kappa", "nu": "viscosity nu", "m": "degree m",
+LONG_NAMES = {"l_max": "degree truncation l_max", "kappa": "stiffness kappa", "nu": "viscosity nu", "m": "degree m",
               "component": "component", "kind": "Floquet kind", "rho": "fluid density",
               "mu": "dynamic viscosity", "radius": "radius", "sigma": "membrane stiffness",
               "omega": "forcing angular frequency", "bpm": "beat rate",
@@ -118,7 +129,14 @@ VARIABLE_LONG_NAMES = {"tau_min": "smallest marginal forcing amplitude tau <= ta
                        "has_tau": "a marginal tau <= tau_max exists",
                        "error_estimate": "Floquet error estimate of tau_min",
                        "n_temporal": "final temporal truncation N",
-                       "n_spatial": "number of spatial modes M of the values"}
+                       "n_spatial": "number of spatial modes M of the values",
+                       "l_max": "degree truncation l_max of the values",
+                       "critical_l": "degree l of the critical mode's largest share",
+                       "critical_k": "order k of the critical mode's largest share",
+                       "critical_share": "that mode's share of the critical mode's squared "
+                                         "displacement norm"}
+#: What a sweep of the non-uniform sphere may put in its grid (kappa, an expression, is fixed).
+NONUNIFORM_GRID = ("nu", "l_max", "kind")
 #: Table 5.1 defaults of a physical cochlea sweep, and the dimensionless parameter each sets.
 _COCHLEA_DEFAULTS = {"rho": None, "length": None, "mu": "nu", "sigma": "kappa", "lambda_c": "alpha"}
 
@@ -181,7 +199,9 @@ class SolverOptions:
 class SweepSpec:
     """A validated sweep: model, fixed parameters, axes (grid order, 'kind' always present),
     ask, solver options, chunk length, the scene's stable hash ``digest`` (of
-    :meth:`canonical`) and ``source``, the scene as given (JSON; provenance only, not hashed)."""
+    :meth:`canonical`) and ``source``, the scene as given (JSON; provenance only, not hashed).
+    Its derived layout (dims, shape, kinds, point and line axes, spatial) is computed once: a
+    sweep reads it per point and kind."""
 
     model: str
     fixed: tuple[tuple[str, Any], ...]
@@ -193,12 +213,12 @@ class SweepSpec:
     digest: str = ""
     source: str = ""
 
-    @property
+    @functools.cached_property
     def dims(self) -> tuple[str, ...]:
         """Axis names in order (the dimensions of the result)."""
         return tuple(a.name for a in self.axes)
 
-    @property
+    @functools.cached_property
     def shape(self) -> tuple[int, ...]:
         """Number of values of each axis."""
         return tuple(len(a.values) for a in self.axes)
@@ -208,17 +228,17 @@ class SweepSpec:
         """Number of grid points (every axis, kind included)."""
         return math.prod(self.shape)
 
-    @property
+    @functools.cached_property
     def kinds(self) -> tuple[str, ...]:
         """The Floquet kinds swept."""
         return self.axis("kind").values
 
-    @property
+    @functools.cached_property
     def point_axes(self) -> tuple[int, ...]:
         """Positions of the axes other than 'kind' (one solve of each kind per combination)."""
         return tuple(i for i, a in enumerate(self.axes) if a.name != "kind")
 
-    @property
+    @functools.cached_property
     def line_axis(self) -> int | None:
         """Position of the line (continuation) axis: the last real axis, else the last
         non-kind axis; None when only 'kind' is swept."""
@@ -226,17 +246,23 @@ class SweepSpec:
         real = [i for i in points if self.axes[i].is_real]
         return real[-1] if real else (points[-1] if points else None)
 
-    @property
+    @functools.cached_property
     def spatial(self) -> bool:
         """The model has spatial modes (a parameter n_spatial): the result also stores
         n_spatial and spatial_converged."""
         return "n_spatial" in param_names(self.model)
 
-    @property
+    @functools.cached_property
     def refines_spatial(self) -> bool:
         """M is refined per point (a spatial model with neither n_spatial nor spatial_mode)."""
         given = set(dict(self.fixed)) | set(self.dims)
         return self.spatial and not given & {"n_spatial", "spatial_mode"}
+
+    @property
+    def nonuniform(self) -> bool:
+        """The sphere with kappa given as an expression: the result also stores l_max and the
+        critical mode's dominant (l, k)."""
+        return is_nonuniform(self.model, {**dict(self.fixed), **{n: None for n in self.dims}})
 
     def axis(self, name: str) -> Axis:
         """The axis called ``name``."""
@@ -285,12 +311,16 @@ def _field_types(model: str) -> dict[str, str]:
 def _value_type(model: str, name: str) -> str:
     if name == "kind":
         return "str"
+    if (model, name) == ("sphere", "l_max"):  # the non-uniform sphere's degree truncation
+        return "int"
     return _field_types(model).get(name, "float")
 
 
 def allowed_grid_names(model: str) -> tuple[str, ...]:
-    """Parameters a sweep of ``model`` may put in its grid."""
-    return param_names(model) + physical_names(model) + ("kind",)
+    """Parameters a sweep of ``model`` may put in its grid (the sphere: also l_max, the
+    degree truncation of a non-uniform kappa)."""
+    extra = ("l_max",) if model == "sphere" else ()
+    return param_names(model) + extra + physical_names(model) + ("kind",)
 
 
 def _distinct(name: str, values: list) -> None:
@@ -363,7 +393,8 @@ def parse_axis(model: str, name: str, spec: object, max_points: int | None = Non
     """
     kind = _value_type(model, name)
     if kind == "int":
-        values, spacing = _int_axis(name, spec, int_bounds(model, name), max_points)
+        bounds = L_MAX_RANGE if (model, name) == ("sphere", "l_max") else int_bounds(model, name)
+        values, spacing = _int_axis(name, spec, bounds, max_points)
     else:
         values, spacing = _real_axis(name, spec, max_points) if kind == "float" else \
             _str_axis(name, spec)
@@ -497,10 +528,36 @@ def _validate_points(spec: SweepSpec) -> None:
     """Every value of every axis, with the other axes at their first value, gives valid
     parameters (each parameter is range-checked on its own, so this covers the grid)."""
     first = {spec.axes[i].name: spec.axes[i].values[0] for i in spec.point_axes}
+    check = nonuniform_params if spec.nonuniform else (
+        lambda values: make_params(spec.model, values))
     for i in spec.point_axes:
         axis = spec.axes[i]
         for v in axis.values:
-            make_params(spec.model, spec.params_at({**first, axis.name: v}))
+            check(spec.params_at({**first, axis.name: v}))
+
+
+def _check_nonuniform(fixed: Mapping[str, Any], grid: Mapping[str, Any],
+                      options: SolverOptions) -> None:
+    """A sweep of the non-uniform sphere: kappa (an expression) fixed, only NONUNIFORM_GRID
+    swept, tol_spatial only with l_max refined ('auto').
+
+    Raises
+    ------
+    ParameterError : kappa swept or not an expression, another grid name, tol_spatial with a
+        fixed l_max.
+    """
+    if "kappa" in grid or not isinstance(fixed.get("kappa"), str):
+        raise ParameterError(f"kappa = {grid.get('kappa', fixed.get('kappa'))!r} is invalid "
+                             "with l_max: a non-uniform sweep needs kappa fixed in [params] as "
+                             "an expression in theta, phi (e.g. '0.02*(1 + 0.3*cos(theta)**2)')")
+    for name in grid:
+        if name not in NONUNIFORM_GRID:
+            raise ParameterError(f"grid parameter {name!r} is invalid with a non-uniform kappa: "
+                                 f"expected one of {', '.join(NONUNIFORM_GRID)}")
+    fixed_l = "l_max" in grid or fixed.get("l_max", "auto") != "auto"
+    if options.tol_spatial is not None and fixed_l:
+        raise ParameterError(f"tau_min.tol_spatial = {options.tol_spatial!r} is invalid with a "
+                             "fixed l_max: it sets when the refinement in l_max stops")
 
 
 def is_sweep_scene(scene: Mapping[str, Any]) -> bool:
@@ -568,11 +625,17 @@ def sweep_spec(scene: str | Path | Mapping, *, max_points: int | None = None) ->
     if "kind" in fixed:
         raise ParameterError("kind is invalid in [params]: sweep kinds in [grid], e.g. "
                              "kind = ['harmonic']")
-    physical = _check_physical(model, set(fixed) | set(grid))
+    # a kappa in [grid] is a grid (its 'start:stop:num' text is no expression); l_max anywhere
+    if is_nonuniform(model, {**fixed, **{name: None for name in grid if name != "kappa"}}):
+        options = _options(data.get("tau_min", {}))
+        _check_nonuniform(fixed, grid, options)
+        physical = False
+    else:
+        physical = _check_physical(model, set(fixed) | set(grid))
+        options = _spatial_options(model, _options(data.get("tau_min", {})), fixed, grid)
     if physical and model == "cochlea":
         fixed = _with_cochlea_defaults(fixed, grid)
     axes = _axes(model, grid, max_points)
-    options = _spatial_options(model, _options(data.get("tau_min", {})), fixed, grid)
     spec = SweepSpec(model=model,
                      fixed=tuple((k, _normalised(model, k, v)) for k, v in fixed.items()),
                      axes=axes, ask=ask, options=options,

@@ -84,11 +84,13 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
         tau_min changes by at most ``tol_spatial`` (absolute; default 1e-3), see
         :func:`_floquet_spatial`. The sphere with a non-uniform kappa: the tolerance of
         tau_min in the degree truncation l_max (default 1e-6).
-    max_seconds : models with spatial modes only: raise the limit on the estimated cost
-        (default :data:`spectralshell.params.limits.SECONDS`, 600 s, or
-        $SPECTRALSHELL_MAX_SECONDS). The truncations N and M a solve needs are priced from the
-        parameters before it starts (:mod:`spectralshell.solvers.cost`); a solve whose least
-        work is estimated above the limit is refused with what it needs.
+    max_seconds : models with spatial modes, and the non-uniform sphere, only: raise the
+        limit on the estimated cost (default :data:`spectralshell.params.limits.SECONDS`, 600 s,
+        or $SPECTRALSHELL_MAX_SECONDS). The truncations N and M a solve needs are priced from
+        the parameters before it starts (:mod:`spectralshell.solvers.cost`); a solve whose least
+        work is estimated above the limit is refused with what it needs. The non-uniform
+        sphere prices each degree truncation's sector solves before solving it
+        (:class:`spectralshell.runner.nonuniform.Price`).
     progress : models with spatial modes, and the non-uniform sphere, only: a progress bar
         over the spatial truncations M on stderr, its label stating the estimate (the sphere:
         over the sector solves of each l_max).
@@ -143,11 +145,8 @@ def _floquet_nonuniform(kind: str, options: dict[str, Any], params: dict[str, An
     from .nonuniform import floquet_nonuniform
 
     p = nonuniform_params(params)
-    if max_seconds is not None:
-        raise ParameterError(f"max_seconds = {max_seconds!r} is invalid with a non-uniform "
-                             "kappa: its solve is not priced")
     return floquet_nonuniform(p, kind=kind, tol_spatial=tol_spatial, options=options,
-                              progress=progress)
+                              progress=progress, max_seconds=max_seconds)
 
 
 def priced_spatial(model: str, factory, kinds: tuple[str, ...], options: dict[str, Any],
@@ -403,11 +402,12 @@ def _solve_some(factory, points: list, kinds: tuple[str, ...], workers: int | No
 
 
 def _map_axis(model: str, label: str, axis: object, physical: bool,
-              max_points: int | None) -> tuple[str, Any]:
+              max_points: int | None, nonuniform: bool = False) -> tuple[str, Any]:
     """(name, grid spec) of the map axis ``label`` = (name, grid): the name one of the model's
-    real parameters, or with physical input one of the model's cgs quantities in a sweep."""
+    real parameters, or with physical input one of the model's cgs quantities in a sweep, or
+    for the sphere with a non-uniform kappa nu or l_max (``nonuniform``)."""
     cgs = physical_names(model)
-    names = tuple(cgs) if physical else tuple(
+    names = ("nu", "l_max") if nonuniform else tuple(cgs) if physical else tuple(
         f.name for f in param_fields(model) if f.type in (float, "float"))
     if not (isinstance(axis, (tuple, list)) and len(axis) == 2):
         raise ParameterError(f"{label} = {axis!r} is invalid: must be a pair (name, grid) with "
@@ -417,6 +417,8 @@ def _map_axis(model: str, label: str, axis: object, physical: bool,
         raise ParameterError(f"{label} axis name = {axis[0]!r} is invalid: must be one of "
                              f"{', '.join(names)}{hint}")
     grid = axis[1]
+    if axis[0] == "l_max":  # integers: the sweep reads them
+        return "l_max", grid if isinstance(grid, str) else list(np.atleast_1d(grid).tolist())
     if not isinstance(grid, (str, Mapping)):  # values: plain floats for the scene
         grid = _grid(axis[0], grid, max_points).tolist()
     return str(axis[0]), grid
@@ -436,6 +438,9 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
         num[, spacing = 'log']}. Names are real model parameters (e.g. 'kappa', 'nu') or, with
         ``physical``, the model's cgs quantities (sphere: 'sigma' (dyn/cm), 'omega' (rad/s),
         'bpm' (beats/min), 'radius', 'mu', 'rho'; see :mod:`spectralshell.params.sweep_grid`).
+        The sphere with ``kappa`` an expression in theta, phi (a non-uniform stiffness, fixed):
+        'nu' and 'l_max' (integers, the degree truncation: a map of the convergence in l), and
+        the Dataset also holds l_max and the critical mode's largest (l, k) share.
     m : degrees, e.g. '2:6' (models with a degree m; None for the others).
     tau_max : only instabilities below it count (1/2: stiffness > 0).
     physical : fixed cgs values (e.g. rho, mu, radius), converted with the axes' values as the
@@ -465,8 +470,13 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
     require_positive("tol", tol)
     require_positive("tau_max", tau_max)
     cgs = physical_inputs(physical, physical_names(model)) if physical is not None else {}
+    nonuniform = is_nonuniform(model, params)
+    if nonuniform and (m is not None or physical is not None):
+        name, value = ("m", m) if m is not None else ("physical", physical)
+        raise ParameterError(f"{name} = {value!r} is invalid with a non-uniform kappa: its "
+                             "degrees couple (the map's axes are nu and l_max)")
     (xname, xgrid), (yname, ygrid) = (_map_axis(model, label, axis, physical is not None,
-                                                max_points)
+                                                max_points, nonuniform)
                                       for label, axis in (("x", x), ("y", y)))
     grid: dict[str, Any] = {xname: xgrid, yname: ygrid}
     if m is not None:
@@ -496,16 +506,41 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
     ``scipy.integrate.solve_ivp`` in the tests. A viscous model (non-polynomial D(s)): the
     natural modes (tau = 0) continued in tau as roots of the truncated Hill determinant, their
     number in a region of the strip proved by the argument principle (``complete_in``)
-    (:mod:`spectralshell.solvers.hill_exponents`).
+    (:mod:`spectralshell.solvers.hill_exponents`). The sphere with ``kappa`` an expression in
+    theta, phi (a non-uniform stiffness; ``l_max`` 'auto' or an integer 4..64, as in
+    :func:`floquet`): the exponents of every decoupled sector of the coupled degrees, each
+    continued from the sector's natural modes
+    (:func:`spectralshell.runner.nonuniform.exponents_nonuniform`); ``params`` states the l_max
+    used.
     """
-    from ..solvers.hill_exponents import hill_exponents  # lazy: only the viscous models' path
-    from .modes import natural_modes
-
     model = check_model(model)
     tau = require_real("tau", tau)
     if count is not None:
         count = require_int_in_range("count", count, 1)
     options = solver_options(tol, n_temporal)
+    if is_nonuniform(model, params):
+        from .nonuniform import exponents_nonuniform
+
+        p = nonuniform_params(params)
+        result, l_max = exponents_nonuniform(p, tau=tau, options=options)
+        p = dataclasses.replace(p, l_max=l_max)
+    else:
+        p, result = _exponents(model, tau, options, params)
+    if count is not None and count < result.gamma.size:
+        bounds = result.complete_in  # still proved: lo < Re gamma <= hi, lo the first dropped
+        if bounds is not None:
+            bounds = (float(result.gamma[count].real), bounds[1])
+        result = dataclasses.replace(result, gamma=result.gamma[:count], complete_in=bounds)
+    return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
+                                 exponents=result, options=options)
+
+
+def _exponents(model: str, tau: float, options: dict[str, Any], params: dict[str, Any]):
+    """(the model's parameters, its Floquet exponents at ``tau``) of a model given by
+    parameters (:func:`exponents`)."""
+    from ..solvers.hill_exponents import hill_exponents  # lazy: only the viscous models' path
+    from .modes import natural_modes
+
     p, system = _system(model, params)
     if system.polynomial is not None:
         result = floquet_exponents(system, tau, **options)
@@ -521,13 +556,7 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
             raise ParameterError(f"{exc} (the Floquet exponents of model {model!r} are continued "
                                  "from its natural modes)") from None
         result = hill_exponents(system, tau, seeds, **options)
-    if count is not None and count < result.gamma.size:
-        bounds = result.complete_in  # still proved: lo < Re gamma <= hi, lo the first dropped
-        if bounds is not None:
-            bounds = (float(result.gamma[count].real), bounds[1])
-        result = dataclasses.replace(result, gamma=result.gamma[:count], complete_in=bounds)
-    return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
-                                 exponents=result, options=options)
+    return p, result
 
 
 def stability(model: str, *, tau: float, m: int | str | Sequence[int], kind: str = "both",

@@ -11,14 +11,21 @@ Truncation in degree (``l_max = 'auto'``, the default): l_max = start, start + 2
 between l_max - 2 and l_max (as the cochlea's M, :mod:`spectralshell.solvers.spatial_refinement`,
 whose change and error rules are used); start is the first degree whose natural frequency at
 the mean stiffness lies above the harmonic resonance 1, plus one (at least 4). An integer l_max
-is solved as given, with its change from l_max - 2 as the spatial error.
+is solved as given, with its change from l_max - 2 as the spatial error. Each truncation is
+priced before it is solved (:class:`Price`, refused above the limit on estimated seconds).
+
+Floquet exponents (:func:`exponents_nonuniform`): those of every sector, each continued from
+the sector's natural modes (:func:`sector_modes`) by
+:func:`~spectralshell.solvers.hill_exponents.hill_exponents` and counted complete there.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -33,21 +40,25 @@ from ..errors import ConvergenceError, ParameterError
 from ..models.base import HillSystem
 from ..models.sphere import lambda0_squared
 from ..params.expression import parse_expression
+from ..params.limits import SECONDS
 from ..params.sphere import NonUniformSphereParams
 from ..params.stiffness import threshold_warnings
 from .progress import progress_bar
 from ..results.floquet import certification_warnings, provenance, resolution_warnings
 from ..results.nonuniform import NonUniformFloquetResult
-from ..results.records import MarginalTau
-from ..solvers.hill_exponents import pencil_family
+from ..results.records import Exponents, MarginalTau
+from ..solvers.exponents import distance
+from ..solvers.hill_exponents import hill_exponents, pencil_family
 from ..solvers.marginal import finer, marginal_tau
 from ..solvers.marginal_mode import marginal_mode, marginal_sensitivity
+from ..solvers.cost import duration, solve_seconds, temporal_schedule
 from ..solvers.nonlinear_eigen import newton
 from ..solvers.spatial_refinement import spatial_change, spatial_error
 
 #: Default tolerance of tau_min in the degree truncation l_max (absolute).
 TOL_DEGREES = 1e-6
 SHARE_FLOOR = 1e-4     # smallest share of a mode listed in a result's content
+DERIVATIVE_STEP = 1e-6  # relative step of D'(s) in the natural modes' Newton iteration
 
 
 def sector_minimum(systems: tuple[HillSystem, ...], kind: str, options: dict[str, Any],
@@ -61,7 +72,8 @@ def sector_minimum(systems: tuple[HillSystem, ...], kind: str, options: dict[str
         found = marginal_tau(system, kind, **{**options, "tau_max": cap})
         if bar is not None:
             bar.update(1)
-        if found.tau_min is not None and (best is None or found.tau_min < best.tau_min):
+        if found.tau_min is not None and (best is None or best.tau_min is None
+                                          or found.tau_min < best.tau_min):
             best, where, cap = found, i, found.tau_min
         elif best is None:
             best = found
@@ -83,15 +95,53 @@ def mode_content(sector: Sector, coefficients: np.ndarray) -> list[dict[str, Any
     return sorted(rows, key=lambda r: -r["share"])
 
 
-def solve_truncation(kappa: Callable, nu: float, l_max: int, kinds: tuple[str, ...],
-                     options: dict[str, Any], progress: bool = False
-                     ) -> tuple[NonUniformSphere, dict]:
-    """The sectors at ``l_max`` and per kind (MarginalTau, critical sector index); with
-    ``progress`` a bar over the sector solves."""
-    sphere = nonuniform_sphere(kappa=kappa, nu=nu, l_max=l_max)
-    with progress_bar(len(sphere.systems) * len(kinds), f"sphere, degrees <= {l_max}", "sector",
+def solve_truncation(sphere: NonUniformSphere, kinds: tuple[str, ...], options: dict[str, Any],
+                     progress: bool = False) -> dict:
+    """Per kind (MarginalTau, critical sector index) of the sectors of one truncation; with
+    ``progress`` a bar over the sector solves, its label stating the estimate."""
+    price = Price.of(sphere, len(kinds), options.get("n_temporal"))
+    with progress_bar(len(sphere.systems) * len(kinds),
+                      f"sphere, degrees <= {sphere.l_max} ({price.describe()})", "sector",
                       progress, leave=False) as bar:
-        return sphere, {k: sector_minimum(sphere.systems, k, options, bar) for k in kinds}
+        return {k: sector_minimum(sphere.systems, k, options, bar) for k in kinds}
+
+
+@dataclass(frozen=True)
+class Price:
+    """Estimated cost of the sector solves of one truncation (:mod:`spectralshell.solvers.cost`:
+    each distinct sector priced as dense truncations of its block size up to the N its
+    frequencies need): ``seconds``, the largest coupled block ``block`` (slots) and the largest
+    truncation N ``n_temporal`` of the priced schedules."""
+
+    seconds: float
+    block: int
+    n_temporal: int
+
+    @classmethod
+    def of(cls, sphere: NonUniformSphere, kinds: int, n_temporal: int | None) -> Price:
+        """The price of the truncation ``sphere`` for ``kinds`` kinds (``n_temporal``: a fixed
+        N, or None)."""
+        return cls(seconds=sum(solve_seconds(s, kinds, n_temporal) for s in sphere.systems),
+                   block=max(s.block_size for s in sphere.systems),
+                   n_temporal=max(temporal_schedule(s, n_temporal)[-1] for s in sphere.systems))
+
+    def describe(self) -> str:
+        """'blocks <= 120, N = 24: about 5 min', the sizes and the estimate in words."""
+        return f"blocks <= {self.block}, N = {self.n_temporal}: about {duration(self.seconds)}"
+
+
+def priced_sphere(kappa: Callable, nu: float, l_max: int, kinds: tuple[str, ...],
+                  options: dict[str, Any], max_seconds: float | None) -> NonUniformSphere:
+    """The truncation ``l_max`` of the sphere with stiffness ``kappa``, refused (ParameterError)
+    when its sector solves are estimated above the limit on seconds
+    (:data:`spectralshell.params.limits.SECONDS`; ``max_seconds`` raises it) before any is
+    solved: a kappa without symmetry couples every mode (314 s measured at l_max = 10)."""
+    sphere = nonuniform_sphere(kappa=kappa, nu=nu, l_max=l_max)
+    price = Price.of(sphere, len(kinds), options.get("n_temporal"))
+    SECONDS.check(f"the non-uniform sphere at l_max = {l_max} ({len(sphere.systems)} sectors, "
+                  f"{price.describe()})", price.seconds, max_seconds,
+                  "give a smaller l_max")
+    return sphere
 
 
 def start_degree(kappa_mean: float) -> int:
@@ -109,7 +159,8 @@ def _mean(kappa: Callable) -> float:
 
 def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
                        tol_spatial: float | None = None, options: dict[str, Any],
-                       progress: bool = False) -> NonUniformFloquetResult:
+                       progress: bool = False, max_seconds: float | None = None
+                       ) -> NonUniformFloquetResult:
     """Marginal tau of the sphere with stiffness kappa(theta, phi) (module docstring).
 
     Parameters
@@ -117,12 +168,17 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
     p : kappa (an expression), nu and l_max ('auto': refined to ``tol_spatial``, default
         :data:`TOL_DEGREES`; or an integer degree truncation).
     options : marginal_tau options (tol, n_temporal, tau_max).
-    progress : a progress bar over the sector solves of each truncation on stderr (a kappa
-        without symmetry couples many modes: degrees <= 10 take minutes).
+    progress : a progress bar over the sector solves of each truncation on stderr, its label
+        stating the estimate (a kappa without symmetry couples many modes: degrees <= 10 take
+        minutes).
+    max_seconds : raise the limit on the estimated seconds of a truncation's sector solves
+        (default :data:`spectralshell.params.limits.SECONDS`, 600 s, or
+        $SPECTRALSHELL_MAX_SECONDS): each truncation is priced (:class:`Price`) before it is
+        solved, and refused above the limit.
 
     Raises
     ------
-    ParameterError : an argument out of range.
+    ParameterError : an argument out of range; a truncation estimated above the limit.
     ConvergenceError : tau_min did not settle in l_max by L_MAX_LIMIT, or in N.
     """
     expr = parse_expression("kappa", p.kappa, positive=True)
@@ -136,9 +192,12 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
                                    else tol_spatial)
     cap = options.get("tau_max") or math.inf
     fine_l = l_max if not auto else start_degree(_mean(expr.function))
-    coarse = solve_truncation(expr.function, nu, fine_l - 2, kinds, options, progress)[1]
+    priced = functools.partial(priced_sphere, expr.function, nu, kinds=kinds, options=options,
+                               max_seconds=max_seconds)
+    sphere = priced(fine_l)
+    coarse = solve_truncation(priced(fine_l - 2), kinds, options, progress)
     while True:
-        sphere, fine = solve_truncation(expr.function, nu, fine_l, kinds, options, progress)
+        fine = solve_truncation(sphere, kinds, options, progress)
         change = {k: spatial_change(fine[k][0], coarse[k][0], cap) for k in kinds}
         if not auto or all(c is not None and c <= tol_spatial for c in change.values()):
             break
@@ -148,6 +207,7 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
                 f"by l_max={fine_l} (last changes {list(change.values())}); relax tol_spatial or "
                 "give l_max")
         fine_l, coarse = fine_l + 2, fine
+        sphere = priced(fine_l)
     res = {k: spatial_error(fine[k][0], change[k]) for k in kinds}
     content = {k: _content(sphere, k, *fine[k]) for k in kinds if fine[k][1] is not None}
     multiplicity = {k: sphere.sectors[fine[k][1]].copies for k in content}
@@ -257,3 +317,102 @@ def critical_exponent(*, kappa: str, nu: float, kind: str, tau: float, l_max: in
                                    f"did not converge (n_temporal = {n})")
         values.append(got[0] + 1j * GAMMA[kind])
     return complex(values[1]), float(abs(values[1] - values[0]))
+
+
+def sector_modes(sector: Sector, system: HillSystem, uniform: Callable[[int, str], np.ndarray],
+                 tol: float = 1e-13) -> list[complex]:
+    """Natural modes of a coupled sector (det D(s) = 0, one per conjugate pair): deflated
+    Newton's method on det D from the natural modes ``uniform(l, component)`` of each of its
+    modes at the mean stiffness (the exponents' count then proves the list complete in its
+    region, :func:`~spectralshell.solvers.hill_exponents.hill_exponents`)."""
+    def T(s: complex) -> np.ndarray:
+        return system.unforced(np.array([s]))[0]
+
+    def dT(s: complex) -> np.ndarray:    # central difference: Newton's rate, not its root
+        h = DERIVATIVE_STEP * max(1.0, abs(s))
+        return (T(s + h) - T(s - h)) / (2 * h)
+
+    found: list[complex] = []
+    for l, _, component in sector.modes:
+        for seed in uniform(l, component):
+            got = newton(T, dT, complex(seed), known=found + [g.conjugate() for g in found],
+                         tol=tol)
+            if got is not None:
+                root = got[0] if got[0].imag >= 0 else got[0].conjugate()
+                if all(abs(root - g) > 1e-9 * max(1.0, abs(g)) for g in found):
+                    found.append(root)
+    return found
+
+
+def sector_exponents(sphere: NonUniformSphere, tau: float, options: dict[str, Any]
+                     ) -> Exponents:
+    """Floquet exponents of one degree truncation at amplitude ``tau``: those of every
+    decoupled sector (a coupled Hill system: :func:`~spectralshell.solvers.hill_exponents.
+    hill_exponents` from its natural modes, :func:`sector_modes`), merged; an exponent of a
+    sector standing for several equal ones is listed that many times. ``complete_in`` is the
+    Re gamma range every sector's count covers; the error estimate is the largest of the
+    sectors' (the temporal truncation).
+
+    Raises
+    ------
+    ConvergenceError : a sector's exponents did not converge or could not be counted.
+    """
+    from .modes import natural_modes
+
+    @functools.cache
+    def uniform(l: int, component: str) -> np.ndarray:
+        return natural_modes("sphere", m=l, kappa=sphere.field.mean, nu=sphere.nu,
+                             component=component).gamma
+
+    gamma, errors, depths, lows, highs = [], [0.0], [0], [], []
+    for sector, system in zip(sphere.sectors, sphere.systems):
+        found = hill_exponents(system, tau, sector_modes(sector, system, uniform), **options)
+        gamma += [g for g in found.gamma for _ in range(sector.copies)]
+        errors.append(found.error_estimate)
+        depths.append(found.n_temporal)
+        lows.append(found.complete_in[0])
+        highs.append(found.complete_in[1])
+    gamma = np.array(gamma, dtype=complex)
+    return Exponents(gamma=gamma[np.lexsort((gamma.imag, -gamma.real))],
+                     n_temporal=max(depths), error_estimate=max(errors),
+                     complete_in=(max(lows), min(highs)))
+
+
+def exponents_nonuniform(p: NonUniformSphereParams, *, tau: float, options: dict[str, Any]
+                         ) -> tuple[Exponents, int]:
+    """(Floquet exponents, the degree truncation l_max used) of the sphere with stiffness
+    kappa(theta, phi) at amplitude ``tau`` (:func:`sector_exponents`).
+
+    ``p.l_max`` 'auto': l_max = start, start + 2, ... (:func:`start_degree`) until the least
+    damped exponent (the first, largest Re gamma) moves by at most :data:`TOL_DEGREES` from
+    l_max - 2; that move enters the error estimate. An integer l_max is solved as given (the
+    error estimate is then that of the temporal truncation only).
+
+    Raises
+    ------
+    ParameterError : an argument out of range. ConvergenceError : no convergence in N, or in
+        l_max by L_MAX_LIMIT.
+    """
+    expr = parse_expression("kappa", p.kappa, positive=True)
+    solve = functools.partial(_truncation_exponents, expr.function, p.nu, tau, options)
+    if p.l_max != "auto":
+        return solve(p.l_max), p.l_max
+    l_max = start_degree(_mean(expr.function))
+    coarse = solve(l_max - 2)
+    while True:
+        fine = solve(l_max)
+        change = float(distance(fine.gamma[:1], coarse.gamma[:1]))
+        if change <= TOL_DEGREES:
+            return dataclasses.replace(fine, error_estimate=max(fine.error_estimate,
+                                                                change)), l_max
+        if l_max + 2 > L_MAX_LIMIT:
+            raise ConvergenceError(
+                f"the least damped Floquet exponent did not settle to {TOL_DEGREES:g} in the "
+                f"degree truncation by l_max={l_max} (last change {change:.3g}); give l_max")
+        l_max, coarse = l_max + 2, fine
+
+
+def _truncation_exponents(kappa: Callable, nu: float, tau: float, options: dict[str, Any],
+                          l_max: int) -> Exponents:
+    """:func:`sector_exponents` of the truncation l_max."""
+    return sector_exponents(nonuniform_sphere(kappa=kappa, nu=nu, l_max=l_max), tau, options)

@@ -71,6 +71,7 @@ from ..errors import ConvergenceError, ParameterError, SpectralShellError
 from ..models.base import HillSystem
 from ..models.registry import hill_system
 from ..params.registry import make_params
+from ..params.sphere import nonuniform_params
 from ..params.sweep_grid import SolverOptions, SweepSpec
 from ..results.records import MarginalTau
 from ..solvers.marginal import (Truncation, TruncationSchedule, converged_pair, marginal_tau,
@@ -90,6 +91,11 @@ VARIABLES = {"tau_min": np.float64, "has_tau": np.bool_, "error_estimate": np.fl
              "n_temporal": np.int32}
 #: Further variables of models with spatial modes (SweepSpec.spatial).
 SPATIAL_VARIABLES = {"n_spatial": np.int32, "spatial_converged": np.bool_}
+#: Further variables of the sphere with a non-uniform kappa (SweepSpec.nonuniform): the degree
+#: truncation of the values and the critical mode's largest (l, k) share (0, 0, 0 where there
+#: is no tau_min).
+NONUNIFORM_VARIABLES = {"l_max": np.int32, "critical_l": np.int32, "critical_k": np.int32,
+                        "critical_share": np.float64}
 
 
 class SweepError(SpectralShellError, RuntimeError):
@@ -115,11 +121,19 @@ class KindSolution:
     n_spatial: int = 0
     n_spatial_previous: int = 0
     spatial_converged: bool = True
+    l_max: int = 0
+    critical_l: int = 0
+    critical_k: int = 0
+    critical_share: float = 0.0
 
 
 def variables(spec: SweepSpec) -> dict[str, type]:
     """Result variables of a sweep and their dtypes (VARIABLES, plus SPATIAL_VARIABLES for a
-    model with spatial modes)."""
+    model with spatial modes, NONUNIFORM_VARIABLES for a non-uniform sphere, but l_max where
+    it is an axis)."""
+    if spec.nonuniform:
+        return {**VARIABLES, **{name: dtype for name, dtype in NONUNIFORM_VARIABLES.items()
+                                if name not in spec.dims}}
     return {**VARIABLES, **SPATIAL_VARIABLES} if spec.spatial else dict(VARIABLES)
 
 
@@ -284,6 +298,27 @@ def _minimising(solutions: dict[str, KindSolution]) -> str | None:
     return min(found, key=lambda k: solutions[k].tau_min) if found else None
 
 
+def solve_nonuniform(spec: SweepSpec, params: dict) -> dict[str, KindSolution]:
+    """Every kind of the sweep at one point of a non-uniform sphere: its ``floquet``
+    (:func:`~spectralshell.runner.nonuniform.floquet_nonuniform` with the sweep's kinds and
+    options), with the degree truncation and the critical mode's largest (l, k) share."""
+    from .nonuniform import floquet_nonuniform
+
+    kind = "both" if len(spec.kinds) == 2 else spec.kinds[0]
+    res = floquet_nonuniform(nonuniform_params(params), kind=kind,
+                             tol_spatial=spec.options.tol_spatial,
+                             options=spec.options.marginal_kwargs())
+    out = {}
+    for k in spec.kinds:
+        sol = dataclasses.replace(from_marginal(getattr(res, k)), l_max=res.l_max)
+        if k in res.content:
+            lead = res.content[k][0]
+            sol = dataclasses.replace(sol, critical_l=lead["l"], critical_k=lead["k"],
+                                      critical_share=lead["share"])
+        out[k] = sol
+    return out
+
+
 def _fixed_modes(params: dict) -> int:
     """M of a point with the spatial truncation given (1 for a single spatial_mode)."""
     return int(params.get("n_spatial") or 1)
@@ -347,9 +382,14 @@ def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
         params = spec.params_at(values)
         kind = spec.kinds[0]
         try:
-            system = None if spec.refines_spatial else hill_system(make_params(spec.model, params))
+            system = None if spec.refines_spatial or spec.nonuniform else hill_system(
+                make_params(spec.model, params))
             joint = None
-            if joint_wanted:
+            if spec.nonuniform:
+                started = time.perf_counter()
+                joint = solve_nonuniform(spec, params)
+                joint_seconds = time.perf_counter() - started
+            elif joint_wanted:
                 started = time.perf_counter()
                 go_on = spec.options.continuation
                 joint = solve_spatial_minimum(spec, params,

@@ -15,7 +15,13 @@ and, for a model with spatial modes (the cochlea):
 * ``n_spatial``: the number M of spatial modes of the values (the finer M of the last pair
   compared where M is refined per point; 1 for a single spatial_mode);
 * ``spatial_converged``: the refinement in M met tol_spatial (false: it reached M = 512 first,
-  and the values are those at M = 512; always true with n_spatial given).
+  and the values are those at M = 512; always true with n_spatial given);
+
+and, for the sphere with a non-uniform kappa:
+
+* ``l_max``: the degree truncation of the values;
+* ``critical_l``, ``critical_k``, ``critical_share``: the mode (l, k) with the largest share of
+  the critical mode's squared displacement norm, and that share (0 where has_tau is false).
 
 A Zarr store (format 2, consolidated metadata) is created whole -- metadata, coordinates and
 fill values -- in a hidden directory that is then renamed into place, so it is always readable.
@@ -56,10 +62,11 @@ from ..params.sweep_grid import LONG_NAMES, VARIABLE_LONG_NAMES, SweepSpec, swee
 from .integrity import (DECODE_ERRORS, census, dataset_digest, read_records, read_variable,
                         record_path, write_record)
 from .layout import Chunk, chunk_key, chunks, region, store_chunks
-from .solve import SPATIAL_VARIABLES, VARIABLES, variables
+from .solve import NONUNIFORM_VARIABLES, SPATIAL_VARIABLES, VARIABLES, variables
 
 #: Every variable a store may hold, in the order a loaded Dataset lists them.
-KNOWN_VARIABLES = {**VARIABLES, **SPATIAL_VARIABLES, "computed": np.bool_}
+KNOWN_VARIABLES = {**VARIABLES, **SPATIAL_VARIABLES, **NONUNIFORM_VARIABLES,
+                   "computed": np.bool_}
 SUFFIXES = (".zarr", ".nc")
 _VAR_ATTRS = {
     "tau_min": {"long_name": VARIABLE_LONG_NAMES["tau_min"], "units": "1",
@@ -72,6 +79,7 @@ _VAR_ATTRS = {
     "spatial_converged": {"long_name": "tau_min converged to tol_spatial in M (false: M = 512 "
                                        "reached first; values at M = 512)"},
     "computed": {"long_name": "point solved (false only in an interrupted store)"},
+    **{name: {"long_name": VARIABLE_LONG_NAMES[name]} for name in NONUNIFORM_VARIABLES},
 }
 
 

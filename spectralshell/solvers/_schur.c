@@ -1,5 +1,6 @@
 /* log det(A - tau B) of a block-tridiagonal bipartite Hill pencil at points z = tau^2, and the
- * winding number of det(A - tau B) around a polygon in z (spectralshell/solvers/contour.py).
+ * zero count of det(A - tau B) inside a contour in z from its upper half, and a real zero
+ * (spectralshell/solvers/contour.py).
  *
  * A is block diagonal (blocks A_k), B couples block k only to k - 1 (``lower`` L_k = B_{k,k-1})
  * and k + 1 (``upper`` U_k = B_{k,k+1}). Block elimination without pivoting across blocks gives
@@ -16,14 +17,31 @@
  *   and a power of 2, so it neither overflows nor underflows. Status 1: a pivot of some S_k is
  *   exactly zero or a value is not finite.
  * winding(diag, lower, upper, nodes, max_bend, max_turn, max_nodes) -> float or None: the
- *   phase change of det(A - tau B) around the closed polygon ``nodes`` (complex128, at least
- *   3), in turns, each edge bisected adaptively (see ``segment``); None on a zero pivot or
- *   after max_nodes evaluations.
- * winding_of(evaluate, nodes, max_bend, max_turn, max_nodes) -> float or None: the same walk
- *   for any log det: ``evaluate(z)`` (a Python callable, called with the GIL held) returns
- *   (log g(z), d log g / dz) as two complex numbers, or None where it cannot (a zero pivot);
- *   its exceptions propagate. Used for blocks larger than 2 x 2, whose evaluation (block LU
- *   by LAPACK) costs far more than the call.
+ *   number of zeros of det(A - tau B) in z inside a contour symmetric about the real axis, given
+ *   by its upper half ``nodes`` (complex128, at least 2), a path from one real point to another
+ *   that runs counter-clockwise around the inside: twice the phase change along the path, in
+ *   turns (det(A - tau B) is real on the real axis and takes conjugate values at conjugate
+ *   points, so the lower half turns the phase as much as the upper), each edge bisected
+ *   adaptively (see ``segment``); None on a zero pivot or after max_nodes evaluations.
+ * winding_of(evaluate, nodes, max_bend, max_turn, max_nodes) -> float or None: the same count,
+ *   by the same walk along the upper half ``nodes``, for any g real on the real axis with
+ *   conjugate values at conjugate points: ``evaluate(z)`` (a Python callable, called with the
+ *   GIL held) returns (log g(z), d log g / dz) as two complex numbers, or None where it cannot
+ *   (a zero pivot); its exceptions propagate. Used for blocks larger than 2 x 2 (the
+ *   cochlea's M x M), whose evaluation (block LU by LAPACK) costs far more than the call.
+ *   Their g has the symmetry too, in both bipartite forms (real blocks in the real form; the
+ *   reality condition in the two-sided one; tests/test_contour_blocks.py checks it on the
+ *   cochlea), so no closed-polygon variant is kept.
+ * root(diag, lower, upper, lo, hi, rtol) -> float, NaN or None: the zero of det(A - tau B) in
+ *   the real interval [lo, hi] of z, where it changes sign, by Newton's method on d/dz log det
+ *   safeguarded by bisection (each step keeps the sign change), started at the midpoint and
+ *   stopped once a step is at most rtol |z|; NaN if the sign does not change between lo and hi,
+ *   None on a zero pivot.
+ * conditioning(diag, lower, upper) -> (cond, coupled): the largest 1-norm condition number
+ *   ||A_k||_1 ||A_k^{-1}||_1 of the blocks and the largest ||A_k^{-1}||_1 times
+ *   max_k ||L_k||_1 + max_k ||U_k||_1 (the inverse by the adjugate: ||adj A_k||_1 is the largest
+ *   row sum of |A_k|); both inf where a block is singular (solvers/half_product.py compares
+ *   them with its limit).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -31,11 +49,15 @@
 #include <math.h>
 #include <string.h>
 
+/* Evaluations allowed to one root(). */
+#define ROOT_STEPS 200
+
 static inline double norm1(double complex z) { return fabs(creal(z)) + fabs(cimag(z)); }
 
 /* log det(A - tau B) at z = tau^2 into *out and its derivative in z into *slope; 1 on a zero
  * pivot or a non-finite value. The derivative is carried forward: with M = L S^{-1} and
- * X = S^{-1} U, S_k' = -M U + z M S' X, and (log det S)' = trace(S^{-1} S'). */
+ * X = S^{-1} U, S_k' = -M U + z M S' X, and (log det S)' = trace(S^{-1} S'); a coupling
+ * that is a multiple of the identity (checked per block, exactly) takes a shorter form. */
 static int schur_logdet(const double complex *diag, const double complex *lower,
                         const double complex *upper, Py_ssize_t K, double complex z,
                         double complex *out, double complex *slope)
@@ -61,20 +83,45 @@ static int schur_logdet(const double complex *diag, const double complex *lower,
             break;
         const double complex *L = lower + 4 * (k - 1), *U = upper + 4 * (k - 1);
         const double complex *Ak = diag + 4 * k;
-        /* S^{-1} = r [[d, -b], [-c, a]]; M = L S^{-1}, X = S^{-1} U */
-        double complex m00 = r * (L[0] * d - L[1] * c), m01 = r * (L[1] * a - L[0] * b);
-        double complex m10 = r * (L[2] * d - L[3] * c), m11 = r * (L[3] * a - L[2] * b);
-        double complex x00 = r * (d * U[0] - b * U[2]), x01 = r * (d * U[1] - b * U[3]);
-        double complex x10 = r * (a * U[2] - c * U[0]), x11 = r * (a * U[3] - c * U[1]);
-        double complex n00 = m00 * U[0] + m01 * U[2], n01 = m00 * U[1] + m01 * U[3];
-        double complex n10 = m10 * U[0] + m11 * U[2], n11 = m10 * U[1] + m11 * U[3];
-        /* P = M S' (2 x 2), then S_k' = -N + z P X */
-        double complex p00 = m00 * da + m01 * dc, p01 = m00 * db + m01 * dd;
-        double complex p10 = m10 * da + m11 * dc, p11 = m10 * db + m11 * dd;
-        da = -n00 + z * (p00 * x00 + p01 * x10);
-        db = -n01 + z * (p00 * x01 + p01 * x11);
-        dc = -n10 + z * (p10 * x00 + p11 * x10);
-        dd = -n11 + z * (p10 * x01 + p11 * x11);
+        double complex n00, n01, n10, n11, t00, t01, t10, t11; /* N = M U, T = z M S' X */
+        if (L[1] == 0.0 && L[2] == 0.0 && L[0] == L[3] && U[1] == 0.0 && U[2] == 0.0 &&
+            U[0] == U[3]) {
+            /* L = l I, U = u I (the sphere's coupling G = q I): with S^{-1} = r adj S,
+             * N = l u r adj S and M S' X = l u r^2 (adj S) S' (adj S) */
+            const double complex w = L[0] * U[0] * r, v = z * w * r;
+            n00 = w * d;
+            n01 = -w * b;
+            n10 = -w * c;
+            n11 = w * a;
+            double complex q00 = d * da - b * dc, q01 = d * db - b * dd; /* (adj S) S' */
+            double complex q10 = a * dc - c * da, q11 = a * dd - c * db;
+            t00 = v * (q00 * d - q01 * c);
+            t01 = v * (q01 * a - q00 * b);
+            t10 = v * (q10 * d - q11 * c);
+            t11 = v * (q11 * a - q10 * b);
+        } else {
+            /* S^{-1} = r [[d, -b], [-c, a]]; M = L S^{-1}, X = S^{-1} U */
+            double complex m00 = r * (L[0] * d - L[1] * c), m01 = r * (L[1] * a - L[0] * b);
+            double complex m10 = r * (L[2] * d - L[3] * c), m11 = r * (L[3] * a - L[2] * b);
+            double complex x00 = r * (d * U[0] - b * U[2]), x01 = r * (d * U[1] - b * U[3]);
+            double complex x10 = r * (a * U[2] - c * U[0]), x11 = r * (a * U[3] - c * U[1]);
+            n00 = m00 * U[0] + m01 * U[2];
+            n01 = m00 * U[1] + m01 * U[3];
+            n10 = m10 * U[0] + m11 * U[2];
+            n11 = m10 * U[1] + m11 * U[3];
+            /* P = M S' (2 x 2), then T = z P X */
+            double complex p00 = m00 * da + m01 * dc, p01 = m00 * db + m01 * dd;
+            double complex p10 = m10 * da + m11 * dc, p11 = m10 * db + m11 * dd;
+            t00 = z * (p00 * x00 + p01 * x10);
+            t01 = z * (p00 * x01 + p01 * x11);
+            t10 = z * (p10 * x00 + p11 * x10);
+            t11 = z * (p10 * x01 + p11 * x11);
+        }
+        /* S_k' = -N + T */
+        da = -n00 + t00;
+        db = -n01 + t01;
+        dc = -n10 + t10;
+        dd = -n11 + t11;
         a = Ak[0] - z * n00;
         b = Ak[1] - z * n01;
         c = Ak[2] - z * n10;
@@ -118,7 +165,7 @@ static int pencil_buffers(PyObject *const *args, const char *usage, const char *
             release(v, i);
             return -1;
         }
-    Py_ssize_t K = v[0].shape[0], n = v[3].shape[0];
+    Py_ssize_t K = v[0].shape[0], n = count > 3 ? v[3].shape[0] : 0;
     int ok = v[0].shape[1] == 2 && v[0].shape[2] == 2 && K >= 1 && n >= least;
     for (int i = 1; i < 3; i++)
         ok = ok && v[i].shape[0] == K - 1 && v[i].shape[1] == 2 && v[i].shape[2] == 2;
@@ -174,6 +221,25 @@ static int call_back(PyObject *callback, double complex z, double complex *value
     return failed;
 }
 
+/* The shared preamble of winding() and root(): exactly `want` args, of which the first `count`
+ * are the pencil and 1-d arrays (see pencil_buffers), held in v, the pencil also in *c (no
+ * budget yet, no callback); -1 (exception set, nothing held) otherwise. */
+static int contour_args(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t want,
+                        const char *usage, const char **names, int count, Py_ssize_t least,
+                        Py_buffer *v, Contour *c)
+{
+    if (nargs != want) {
+        PyErr_Format(PyExc_TypeError, "%s takes %zd arguments", usage, want);
+        return -1;
+    }
+    if (pencil_buffers(args, usage, names, count, least, v) < 0)
+        return -1;
+    *c = (Contour){.diag = (const double complex *)v[0].buf,
+                   .lower = (const double complex *)v[1].buf,
+                   .upper = (const double complex *)v[2].buf, .K = v[0].shape[0]};
+    return 0;
+}
+
 static int evaluate(Contour *c, double complex z, double complex *value, double complex *slope)
 {
     if (c->budget-- <= 0)
@@ -207,24 +273,18 @@ static int segment(Contour *c, double complex z0, double complex f0, double comp
            segment(c, zm, fm, sm, z1, f1, s1, depth + 1, turn);
 }
 
-/* Turns of g around the closed polygon z[0..n-1] into *turn (radians); 1 on failure. The GIL
- * is released only for the compiled evaluator. */
+/* Phase change (radians) of g along the path z[0..n-1] into *turn, each edge refined by
+ * segment(); 1 on failure. The one walk of winding() and winding_of(): the GIL is released
+ * only for the compiled evaluator (the callback needs it held). */
 static int contour_turns(Contour *c, const double complex *z, Py_ssize_t n, double *turn)
 {
     int failed = 0;
     PyThreadState *saved = c->callback == NULL ? PyEval_SaveThread() : NULL;
-    double complex f_first, s_first, f0, s0, f1, s1;
-    failed = evaluate(c, z[0], &f_first, &s_first);
-    f0 = f_first;
-    s0 = s_first;
-    for (Py_ssize_t j = 0; j < n && !failed; j++) {
-        if (j + 1 < n)
-            failed = evaluate(c, z[j + 1], &f1, &s1);
-        else {
-            f1 = f_first;
-            s1 = s_first;
-        }
-        failed = failed || segment(c, z[j], f0, s0, z[(j + 1) % n], f1, s1, 0, turn);
+    double complex f0, s0, f1, s1;
+    failed = evaluate(c, z[0], &f0, &s0);
+    for (Py_ssize_t j = 0; j + 1 < n && !failed; j++) {
+        failed = evaluate(c, z[j + 1], &f1, &s1) ||
+                 segment(c, z[j], f0, s0, z[j + 1], f1, s1, 0, turn);
         f0 = f1;
         s0 = s1;
     }
@@ -233,32 +293,33 @@ static int contour_turns(Contour *c, const double complex *z, Py_ssize_t n, doub
     return failed;
 }
 
+/* The count from the upper half's phase change: twice it, in turns (conjugate values at
+ * conjugate points: the lower half turns the phase as much); NULL if the callback raised. */
 static PyObject *turns_result(int failed, double turn)
 {
     if (PyErr_Occurred())
         return NULL;
     if (failed)
         Py_RETURN_NONE;
-    return PyFloat_FromDouble(turn / (2 * M_PI));
+    return PyFloat_FromDouble(turn / M_PI);
 }
 
 static PyObject *py_winding(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
     static const char *names[4] = {"diag", "lower", "upper", "nodes"};
-    if (nargs != 7) {
-        PyErr_SetString(PyExc_TypeError, "winding(diag, lower, upper, nodes, max_bend, "
-                                         "max_turn, max_nodes) takes seven arguments");
+    Py_buffer v[4];
+    Contour c;
+    if (contour_args(args, nargs, 7, "winding(diag, lower, upper, nodes, max_bend, max_turn, "
+                     "max_nodes)", names, 4, 2, v, &c) < 0)
+        return NULL;
+    c.max_bend = PyFloat_AsDouble(args[4]);
+    c.max_turn = PyFloat_AsDouble(args[5]);
+    c.budget = PyLong_AsLong(args[6]);
+    if (PyErr_Occurred()) {
+        release(v, 4);
         return NULL;
     }
-    double max_bend = PyFloat_AsDouble(args[4]), max_turn = PyFloat_AsDouble(args[5]);
-    long max_nodes = PyLong_AsLong(args[6]);
-    Py_buffer v[4];
-    if (PyErr_Occurred() || pencil_buffers(args, "winding", names, 4, 3, v) < 0)
-        return NULL;
-    Contour c = {(const double complex *)v[0].buf, (const double complex *)v[1].buf,
-                 (const double complex *)v[2].buf, v[0].shape[0], NULL, max_bend, max_turn,
-                 max_nodes};
     double turn = 0.0;
     int failed = contour_turns(&c, (const double complex *)v[3].buf, v[3].shape[0], &turn);
     release(v, 4);
@@ -273,21 +334,99 @@ static PyObject *py_winding_of(PyObject *self, PyObject *const *args, Py_ssize_t
                                          "max_nodes) takes a callable and four arguments");
         return NULL;
     }
-    double max_bend = PyFloat_AsDouble(args[2]), max_turn = PyFloat_AsDouble(args[3]);
-    long max_nodes = PyLong_AsLong(args[4]);
+    Contour c = {.callback = args[0], .max_bend = PyFloat_AsDouble(args[2]),
+                 .max_turn = PyFloat_AsDouble(args[3]), .budget = PyLong_AsLong(args[4])};
     Py_buffer v;
     if (PyErr_Occurred() || complex_buffer(args[1], &v, "nodes", 1) < 0)
         return NULL;
-    if (v.shape[0] < 3) {
+    if (v.shape[0] < 2) {
         PyBuffer_Release(&v);
-        PyErr_SetString(PyExc_ValueError, "winding_of: at least 3 nodes");
+        PyErr_SetString(PyExc_ValueError, "winding_of: at least 2 nodes");
         return NULL;
     }
-    Contour c = {NULL, NULL, NULL, 0, args[0], max_bend, max_turn, max_nodes};
     double turn = 0.0;
     int failed = contour_turns(&c, (const double complex *)v.buf, v.shape[0], &turn);
     PyBuffer_Release(&v);
     return turns_result(failed, turn);
+}
+
+/* The sign of the real function det(A - tau B) / det A at real z from its log det (``phase0``:
+ * the phase of det A). */
+static inline int real_sign(double complex log_det, double phase0)
+{
+    return cos(cimag(log_det) - phase0) > 0 ? 1 : -1;
+}
+
+/* The zero in [lo, hi] (see root() in the header) into *z; 1 on a zero pivot, 2 without a sign
+ * change. Each step is Newton's, z - 1 / (d/dz log det), if that stays inside the bracket and,
+ * after a Newton step, is at most half as long as it; else a bisection. The bracket keeps the
+ * sign change, so it halves at least every other step. Done when a Newton step is at most
+ * rtol |z| (its result returned) or the bracket at most rtol |z| wide (its midpoint). */
+static int real_root(Contour *c, double lo, double hi, double rtol, double *z)
+{
+    double complex f, s;
+    if (evaluate(c, 0.0, &f, &s))
+        return 1;
+    double phase0 = cimag(f);
+    if (evaluate(c, lo, &f, &s))
+        return 1;
+    int sign_lo = real_sign(f, phase0);
+    if (evaluate(c, hi, &f, &s))
+        return 1;
+    if (real_sign(f, phase0) == sign_lo)
+        return 2;
+    double x = 0.5 * (lo + hi), last = 0.0;
+    int newton_before = 0;
+    for (;;) {
+        if (evaluate(c, x, &f, &s))
+            return 1;
+        if (real_sign(f, phase0) == sign_lo)
+            lo = x;
+        else
+            hi = x;
+        double newton = -1.0 / creal(s), next = x + newton;
+        if (next > lo && next < hi && !(newton_before && fabs(newton) > 0.5 * last)) {
+            newton_before = 1;
+            last = fabs(newton);
+            x = next;
+            if (last <= rtol * fabs(x))
+                break;
+        } else {
+            newton_before = 0;
+            x = 0.5 * (lo + hi);
+            if (hi - lo <= rtol * fabs(x) || !(lo < x && x < hi))
+                break;
+        }
+    }
+    *z = x;
+    return 0;
+}
+
+static PyObject *py_root(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    static const char *names[3] = {"diag", "lower", "upper"};
+    Py_buffer v[3];
+    Contour c;
+    if (contour_args(args, nargs, 6, "root(diag, lower, upper, lo, hi, rtol)", names, 3, 0, v,
+                     &c) < 0)
+        return NULL;
+    double lo = PyFloat_AsDouble(args[3]), hi = PyFloat_AsDouble(args[4]);
+    double rtol = PyFloat_AsDouble(args[5]);
+    if (PyErr_Occurred()) {
+        release(v, 3);
+        return NULL;
+    }
+    c.budget = ROOT_STEPS;
+    double z = 0.0;
+    int status;
+    Py_BEGIN_ALLOW_THREADS
+    status = real_root(&c, lo, hi, rtol, &z);
+    Py_END_ALLOW_THREADS
+    release(v, 3);
+    if (status == 1)
+        Py_RETURN_NONE;
+    return PyFloat_FromDouble(status == 2 ? NAN : z);
 }
 
 static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
@@ -315,22 +454,63 @@ static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nar
     return PyLong_FromLong(status);
 }
 
+/* Largest 1-norm (column sum of moduli) of the 2 x 2 blocks m[0..count). */
+static double largest_norm1(const double complex *m, Py_ssize_t count)
+{
+    double out = 0.0;
+    for (Py_ssize_t k = 0; k < count; k++, m += 4)
+        out = fmax(out, fmax(cabs(m[0]) + cabs(m[2]), cabs(m[1]) + cabs(m[3])));
+    return out;
+}
+
+static PyObject *py_conditioning(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    static const char *names[3] = {"diag", "lower", "upper"};
+    Py_buffer v[3];
+    Contour c;
+    if (contour_args(args, nargs, 3, "conditioning(diag, lower, upper)", names, 3, 0, v, &c) < 0)
+        return NULL;
+    double cond = 0.0, inverse = 0.0;
+    for (Py_ssize_t k = 0; k < c.K; k++) {
+        const double complex *a = c.diag + 4 * k;
+        double det = cabs(a[0] * a[3] - a[1] * a[2]);
+        double rows = fmax(cabs(a[0]) + cabs(a[1]), cabs(a[2]) + cabs(a[3]));
+        double columns = fmax(cabs(a[0]) + cabs(a[2]), cabs(a[1]) + cabs(a[3]));
+        double inv_norm = det > 0.0 ? rows / det : INFINITY;
+        cond = fmax(cond, columns * inv_norm);
+        inverse = fmax(inverse, inv_norm);
+    }
+    double coupling = largest_norm1(c.lower, c.K - 1) + largest_norm1(c.upper, c.K - 1);
+    release(v, 3);
+    return Py_BuildValue("(dd)", cond, inverse * coupling);
+}
+
 static PyMethodDef methods[] = {
     {"logdet", (PyCFunction)(void (*)(void))py_logdet, METH_FASTCALL,
      "logdet(diag, lower, upper, z, out, slope) -> status: log det(A - tau B) at z = tau^2 "
      "and its derivative in z, written into out and slope (status 0; 1: a zero pivot)."},
     {"winding", (PyCFunction)(void (*)(void))py_winding, METH_FASTCALL,
-     "winding(diag, lower, upper, nodes, max_bend, max_turn, max_nodes) -> turns of the "
-     "phase of det(A - tau B) around the closed polygon nodes in z = tau^2 (float; None when "
+     "winding(diag, lower, upper, nodes, max_bend, max_turn, max_nodes) -> zeros of "
+     "det(A - tau B) in z = tau^2 inside the contour symmetric about the real axis whose upper "
+     "half is the path nodes (float; None when "
      "a zero pivot or the node budget stops it)."},
     {"winding_of", (PyCFunction)(void (*)(void))py_winding_of, METH_FASTCALL,
-     "winding_of(evaluate, nodes, max_bend, max_turn, max_nodes) -> turns of g around the "
-     "closed polygon nodes, evaluate(z) giving (log g(z), d log g / dz) or None (float; None "
-     "when evaluate declines or the node budget stops it)."},
+     "winding_of(evaluate, nodes, max_bend, max_turn, max_nodes) -> zeros of g inside the "
+     "contour symmetric about the real axis whose upper half is the path nodes, g real on the "
+     "real axis, evaluate(z) giving (log g(z), d log g / dz) or None (float; None when "
+     "evaluate declines or the node budget stops it)."},
+    {"root", (PyCFunction)(void (*)(void))py_root, METH_FASTCALL,
+     "root(diag, lower, upper, lo, hi, rtol) -> the real zero z of det(A - tau B) in [lo, hi] "
+     "by safeguarded Newton (NaN: no sign change; None: a zero pivot)."},
+    {"conditioning", (PyCFunction)(void (*)(void))py_conditioning, METH_FASTCALL,
+     "conditioning(diag, lower, upper) -> (largest 1-norm condition of the blocks of A, largest "
+     "||A_k^{-1}||_1 times the coupling's 1-norm)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_schur",
-                                    "Compiled kernel: log det of a block-tridiagonal pencil, and winding numbers.", -1,
+                                    "Compiled kernel: log det of a block-tridiagonal "
+                                    "pencil, zero counts, a real zero, block conditioning.", -1,
                                     methods, NULL, NULL, NULL, NULL};
 
 PyMODINIT_FUNC PyInit__schur(void) { return PyModule_Create(&module); }

@@ -19,8 +19,10 @@ The answer and its certificate
 ------------------------------
 A candidate z* is bracketed by a sign change of g on the real axis (within 5 % of the caller's
 ``hint`` squared, a neighbour's tau_min; else, once the count below finds zeros, on a grid over
-[0, tau_max^2]) and refined by Brent's method. The argument principle then counts the zeros of
-g (real or not) inside
+[0, tau_max^2]) and refined by Newton's method on the kernel's g'/g, safeguarded by bisection
+(``_schur.root``; first to 1e-13, then again, to rounding, inside a fixed dyadic cell around
+that value, so that the answer does not depend on the hint). The argument principle then
+counts the zeros of g (real or not) inside
 
 * the rectangle [-a, z* - rho/2] x [-a, a] (a = s tau_max^2 for the first s of STRIPS for which
   the count is zero: the viscous models' truncations carry complex eigenvalues within 1 % of
@@ -28,10 +30,14 @@ g (real or not) inside
 * the disk |z - z*| <= rho: exactly one (z* itself),
 
 which proves that no real tau lies below tau* = sqrt(z*) and no other one up to
-sqrt(z* + rho / 2): ``complete_to``. Without a sign change near the hint the rectangle runs to
-tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real tau <= tau_max exists.
+sqrt(z* + rho / 2): ``complete_to``. Without a sign change near the hint the rectangle of the
+widest strip runs to tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real
+tau <= tau_max exists; holding some, the grid looks for the sign change, and only where it
+finds none are the thinner strips counted (none there: no real tau <= tau_max either).
 The count is the winding number of g along the boundary (:func:`winding`, in the compiled
-kernel ``_schur.c``), and must lie within 0.05 of an integer. Where any of this fails (a
+kernel ``_schur.c``; g takes conjugate values at conjugate points, so the upper half of each
+contour is read and its phase change doubled), and must lie within 0.05 of an integer. Where
+any of this fails (a
 complex eigenvalue within 1e-6 tau_max^2 of the real axis below tau*, another zero within rho of z*, a zero
 pivot, MAX_NODES evaluations) the function returns None and the caller solves the truncation
 densely: the answer is then the dense path's, never an uncertified one. Like the Krylov path's
@@ -47,7 +53,10 @@ BLOCK_STRIPS), which :mod:`spectralshell.solvers.marginal` tries on the truncati
 empty one and to certify an empty answer of a viscous model. One point costs a block LU sweep,
 O(K M^3) (about 45 K M^3 flops), against O((K M)^3) for the dense eig; the same walk
 (``_schur.winding_of``, calling :meth:`LogDet.point` back) refines the nodes, within
-MAX_BLOCK_NODES. Counts are checked against QZ in tests/test_contour_blocks.py.
+MAX_BLOCK_NODES, along the upper half of each contour as for 2 x 2 blocks: the cochlea's g
+takes conjugate values at conjugate points too, in both bipartite forms (real blocks in the
+real form, the reality condition in the two-sided one). Counts are checked against QZ, and
+that symmetry on the cochlea, in tests/test_contour_blocks.py.
 
 The value agrees with the dense eig of W (tests/test_contour.py: to 1e-10 relative, in practice
 ~1e-14, on Fig 6.13 cells); what differs is that only tau_min and ``complete_to`` are reported,
@@ -60,8 +69,19 @@ One point of a contour costs O(K) (K = 2N + 1 or 2N + 2 blocks of 2 x 2), a coun
 a few hundred points; the dense eig of W costs O(N^3). Measured on a 20 x 20 Fig 6.13 map (m =
 2..6, both kinds, serial, one BLAS thread, CPU time under load): 17.5 s with the dense eig of W
 per truncation, 7.5 s with this path (6.2 s with the sphere's fluid-load cache), the same map
-to 6e-15 with the same truncation pairs; assembly and the sweep's Python then dominate. The
-200 x 200 figure: validation/bench_fig613.py.
+to 6e-15 with the same truncation pairs. Then (issue 25, load 8-10 on 2 cores, CPU time, the
+previous path and this one run alternately): the root by Newton in the kernel instead of Brent
+from Python, half contours, one strip before the scan, no block inverses, per-(m, nu, kind)
+fluid-load tables and the sphere's scalar coupling in the kernel took the 20 x 20 map from
+5.4-6.1 s to 3.3-3.9 s, and 12 full lines of the 200 x 200 grid (sigma lines 0-3, 100-103,
+196-199, 200 beat rates each) from 25.3-28.2 s to 12.0-14.6 s (two runs): the 200 x 200 map
+projects to 100-120 s on 2 workers from CPU time (wall time under that load: 2-3x more; a
+table's first use is a quarter of these lines' assemblies, fewer in the whole map, where each
+worker meets every beat rate on many stiffness lines). What remains is about a fifth
+each: the counts in the kernel (mostly at low beat rates, where many complex eigenvalues lie
+near the real axis), the Bessel ratios of the fluid load (a table's first use), and the
+sweep's and solver's Python per point and truncation. The 200 x 200 figure:
+validation/bench_fig613.py.
 """
 
 from __future__ import annotations
@@ -84,13 +104,15 @@ DISK = 1e-3
 #: Nodes per contour before giving up (dense path instead).
 MAX_NODES = 4000
 #: The same for blocks larger than 2 x 2 (the cochlea's M x M), whose every node costs a block
-#: LU sweep, O(K M^3) (0.07-0.12 s at M = 32, K = 81-283, under load): about twice the
-#: ~200 nodes a zero-free strip took on the Fig 5.18 cells measured.
-MAX_BLOCK_NODES = 500
+#: LU sweep, O(K M^3) (0.04-0.12 s at M = 32, K = 81-283, under load): about twice the ~100
+#: nodes a zero-free strip's upper half takes on the Fig 5.18 cells measured (gerbil, 116.9 Hz,
+#: sigma = 1.16e9, M = 32, N = 141, tau_max = 1/2, 1e-4 strip: 106 harmonic, 92 subharmonic;
+#: the whole closed rectangle took 211 and 183, and the budget was 500 then).
+MAX_BLOCK_NODES = 250
 #: The strips tried for such blocks: the viscous cochlea's truncations carry tens of complex
 #: eigenvalues within 1 % of the axis (86 at the gerbil, 116.9 Hz, sigma = 1.16e9, M = 32,
 #: N = 141), whose count in the 1e-2 strip took 1300 nodes against 210 for the zero count in
-#: the 1e-4 one.
+#: the 1e-4 one (both around the closed rectangle; the upper half takes about half).
 BLOCK_STRIPS = STRIPS[1:]
 #: Largest mismatch (radians) between the phase change read between neighbouring nodes and
 #: the one predicted from g'/g, and largest change of dz g'/g along an edge (:func:`winding`).
@@ -113,22 +135,20 @@ class LogDet:
             raise ValueError("LogDet needs a bipartite pencil (no self-coupling in B)")
         self.blocks = tuple(np.ascontiguousarray(x, dtype=complex)
                             for x in (hill.diag, hill.lower, hill.upper))
-        a = self.blocks[0]
-        self.compiled = a.shape[1] == 2
-        if self.compiled:
-            self.offset = complex(np.log(a[:, 0, 0] * a[:, 1, 1]
-                                         - a[:, 0, 1] * a[:, 1, 0]).sum())
-        else:
-            sign, modulus = np.linalg.slogdet(a)
+        self.compiled = self.blocks[0].shape[1] == 2
+        if not self.compiled:  # log det A, which the compiled kernel reads at z = 0 instead
+            sign, modulus = np.linalg.slogdet(self.blocks[0])
             self.offset = complex(modulus.sum(), np.angle(sign).sum())
 
     def __call__(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-        z = np.ascontiguousarray(z, dtype=complex).ravel()
-        out, slope = np.empty_like(z), np.empty_like(z)
-        if self.compiled:
+        if self.compiled:  # log det A as the first point: g = det(A - tau B) / det A
+            z = np.concatenate([[0.0], np.ravel(z)]).astype(complex)
+            out, slope = np.empty_like(z), np.empty_like(z)
             if _schur.logdet(*self.blocks, z, out, slope):
                 return None
-            return out - self.offset, slope
+            return out[1:] - out[0], slope[1:]
+        z = np.ascontiguousarray(z, dtype=complex).ravel()
+        out, slope = np.empty_like(z), np.empty_like(z)
         with one_blas_thread():
             for j, zj in enumerate(z):
                 found = self.point(zj)
@@ -145,21 +165,15 @@ class LogDet:
         value = found[0] - self.offset
         return complex(value.real, math.remainder(value.imag, 2 * math.pi)), found[1]
 
-    def turns(self, nodes: np.ndarray) -> float | None:
-        """Turns of g around the closed polygon ``nodes`` by the compiled adaptive walk
-        (:func:`winding`), None if it stops."""
-        nodes = np.array(nodes, dtype=complex)
+    def turns(self, path: np.ndarray) -> float | None:
+        """Zeros of g inside the contour symmetric about the real axis whose upper half is
+        ``path`` (:func:`winding`), not rounded, by the compiled adaptive walk; None if it
+        stops."""
+        path = np.array(path, dtype=complex)
         if self.compiled:
-            return _schur.winding(*self.blocks, nodes, MAX_BEND, MAX_TURN, MAX_NODES)
+            return _schur.winding(*self.blocks, path, MAX_BEND, MAX_TURN, MAX_NODES)
         with one_blas_thread():  # M x M blocks: BLAS threads only cost (_threads.py)
-            return _schur.winding_of(self.point, nodes, MAX_BEND, MAX_TURN, MAX_BLOCK_NODES)
-
-    def real(self, z: float, scale: float) -> float:
-        """g(z) exp(-scale) for real z (g is real there; its rounding imaginary part dropped)."""
-        found = self(np.array([z]))
-        if found is None:
-            raise ZeroDivisionError("zero pivot")
-        return float(np.exp(found[0][0] - scale).real)
+            return _schur.winding_of(self.point, path, MAX_BEND, MAX_TURN, MAX_BLOCK_NODES)
 
 
 def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray,
@@ -198,13 +212,17 @@ def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray,
     return complex(value), complex(slope)
 
 
-def winding(log_g: LogDet, nodes: np.ndarray) -> int | None:
-    """Zeros of g inside the closed polygon ``nodes`` (counter-clockwise, not repeated), by the
-    argument principle; None if it cannot be trusted (a zero pivot, MAX_NODES evaluations, a
-    sum farther than 0.05 from an integer).
+def winding(log_g: LogDet, path: np.ndarray) -> int | None:
+    """Zeros of g inside the contour symmetric about the real axis whose upper half is ``path``
+    (from a real point, counter-clockwise around the inside, to another), by the argument
+    principle; None if it cannot be trusted (a zero pivot, MAX_NODES evaluations, a count
+    farther than 0.05 from an integer).
 
-    The compiled kernel walks each edge (for blocks larger than 2 x 2 it calls back
-    :meth:`LogDet.point` at each node): the phase change along a segment is predicted by the
+    g takes conjugate values at conjugate points (its zeros are real or conjugate pairs), so the
+    lower half turns the phase of g as much as the upper one: the kernel reads the upper half
+    and doubles it (for blocks larger than 2 x 2 it calls back :meth:`LogDet.point` at each
+    node; their g is real on the real axis too, see the module notes). Along each edge the
+    phase change over a segment is predicted by the
     trapezoid rule on g'/g, Im (dz (g'/g(z_0) + g'/g(z_1)) / 2), and read modulo 2 pi from the
     two values of log g; a segment is bisected until dz g'/g changes along it by at most
     MAX_BEND (the prediction then errs by much less than pi) and the reading agrees with the
@@ -212,31 +230,36 @@ def winding(log_g: LogDet, nodes: np.ndarray) -> int | None:
     g'/g vary there like 1/distance and forces the nodes closer (a zero pair between two far
     nodes would otherwise turn the phase by 2 pi unseen); the many far-away zeros, which make
     |g'/g| large but smooth, do not."""
-    total = log_g.turns(nodes)
+    total = log_g.turns(path)
     if total is None:
         return None
     count = round(total)
     return count if abs(total - count) <= 0.05 else None
 
 
-def _unit_rectangle(per_edge: int) -> np.ndarray:
-    """Counter-clockwise nodes of [0, 1] x [-1, 1], ``per_edge`` per edge from each corner."""
-    t = np.linspace(0.0, 1.0, per_edge, endpoint=False)
-    return np.concatenate([t - 1j, 1 + 1j * (2 * t - 1), 1 - t + 1j, 1j * (1 - 2 * t)])
+def _upper_rectangle(per_edge: int) -> np.ndarray:
+    """The upper half of [0, 1] x [-1, 1] from (1, 0) counter-clockwise to (0, 0): ``per_edge``
+    segments along the top, half as many on each side."""
+    side = np.linspace(0.0, 1.0, per_edge // 2, endpoint=False)
+    top = np.linspace(1.0, 0.0, per_edge, endpoint=False)
+    return np.concatenate([1 + 1j * side, top + 1j, 1j * (1 - side), [0.0]])
 
 
-UNIT_RECTANGLE = _unit_rectangle(8)
+UPPER_RECTANGLE = _upper_rectangle(8)
+_ACROSS, _UP = UPPER_RECTANGLE.real.copy(), 1j * UPPER_RECTANGLE.imag
 
 
 def rectangle(left: float, right: float, half_height: float) -> np.ndarray:
-    """Counter-clockwise nodes of the rectangle [left, right] x [-half_height, half_height],
-    8 per edge (the kernel refines them)."""
-    return left + (right - left) * UNIT_RECTANGLE.real + 1j * half_height * UNIT_RECTANGLE.imag
+    """The upper half (:func:`winding`) of the rectangle [left, right] x [-half_height,
+    half_height], 16 segments (the kernel refines them)."""
+    return left + (right - left) * _ACROSS + half_height * _UP
 
 
 def circle(centre: float, radius: float, count: int = 16) -> np.ndarray:
-    """Counter-clockwise nodes of a circle."""
-    return centre + radius * np.exp(2j * math.pi * np.arange(count) / count)
+    """The upper half (:func:`winding`) of a circle, ``count // 2`` segments."""
+    nodes = centre + radius * np.exp(1j * math.pi * np.arange(count // 2 + 1) / (count // 2))
+    nodes[-1] = centre - radius  # on the real axis exactly
+    return nodes
 
 
 def _near(log_g: LogDet, z_max: float, hint: float) -> tuple[float, float] | None:
@@ -262,14 +285,16 @@ def _first_change(log_g: LogDet, points: np.ndarray) -> tuple[float, float] | No
 
 def _root(log_g: LogDet, lo: float, hi: float, rtol: float,
           otherwise: float | None = None) -> float:
-    """The zero of g in the sign change [lo, hi] by Brent's method (``otherwise`` if g does not
-    change sign there)."""
-    from scipy.optimize import brentq  # lazy: a Mathieu solve never imports scipy.optimize
-
-    scale = log_g(np.array([lo]))[0][0].real  # g exp(-scale): no overflow near the zero
-    if otherwise is not None and log_g.real(lo, scale) * log_g.real(hi, scale) > 0:
+    """The zero of g in the sign change [lo, hi] by Newton's method on the kernel's g'/g,
+    safeguarded by bisection (``otherwise`` if g does not change sign there)."""
+    z = _schur.root(*log_g.blocks, lo, hi, rtol)
+    if z is None:
+        raise ZeroDivisionError("zero pivot")
+    if math.isnan(z):
+        if otherwise is None:
+            raise ZeroDivisionError("no sign change")
         return otherwise
-    return brentq(log_g.real, lo, hi, args=(scale,), xtol=1e-300, rtol=rtol)
+    return z
 
 
 def _dyadic_cell(z: float) -> tuple[float, float]:
@@ -281,13 +306,16 @@ def _dyadic_cell(z: float) -> tuple[float, float]:
     return lo, lo + step
 
 
-def _zeros_below(log_g: LogDet, right: float, z_max: float) -> int | None:
+def _zeros_below(log_g: LogDet, right: float, z_max: float,
+                 strips: tuple[float, ...] | None = None) -> int | None:
     """Zeros of g in the rectangle [-a, right] x [-a, a], a = s z_max for the first s of
-    STRIPS (BLOCK_STRIPS for blocks larger than 2 x 2) that finds none (else the count in the
-    thinnest; None if a count fails): complex eigenvalues close to the real axis are left
-    outside a thinner strip."""
+    ``strips`` (by default STRIPS, BLOCK_STRIPS for blocks larger than 2 x 2) that finds none
+    (else the count in the thinnest; None if a count fails): complex eigenvalues close to the
+    real axis are left outside a thinner strip."""
+    if strips is None:
+        strips = STRIPS if log_g.compiled else BLOCK_STRIPS
     count = None
-    for strip in STRIPS if log_g.compiled else BLOCK_STRIPS:
+    for strip in strips:
         side = strip * z_max
         count = winding(log_g, rectangle(-side, right, side))
         if count == 0:
@@ -308,21 +336,23 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
                       hint: float | None = None) -> tuple[float | None, float] | None:
     """(tau_min or None, complete_to) of one bipartite truncation, certified as in the module
     notes: no real tau below tau_min (none at all <= tau_max when None), and every real tau up
-    to complete_to is tau_min. None when the certificate cannot be had (use the dense path)."""
+    to complete_to is tau_min. None when the certificate cannot be had (use the dense path).
+    Blocks of 2 x 2 only (the root is the compiled kernel's ``_schur.root``); larger ones have
+    the count alone, :func:`none_up_to`."""
     log_g = LogDet(hill)
+    if not log_g.compiled:
+        raise ValueError("smallest_real_tau needs 2 x 2 blocks (larger ones: none_up_to)")
     z_max = tau_max * tau_max
     bracket = None if hint is None else _near(log_g, z_max, hint)
     if bracket is None:
-        whole = _zeros_below(log_g, z_max * (1 + 1e-6), z_max)
-        if whole == 0:
+        right = z_max * (1 + 1e-6)
+        if _zeros_below(log_g, right, z_max, STRIPS[:1]) == 0:
             return None, tau_max
-        if whole is None:
-            return None
         bracket = _first_change(log_g, np.linspace(0.0, z_max, SCAN_POINTS + 1))
-        if bracket is None:
-            return None
+        if bracket is None:  # only complex zeros near the real axis, or a close pair
+            return (None, tau_max) if _zeros_below(log_g, right, z_max, STRIPS[1:]) == 0 else None
     try:
-        z = _root(log_g, *bracket, rtol=1e-10)
+        z = _root(log_g, *bracket, rtol=1e-13)
         z = _root(log_g, *_dyadic_cell(z), rtol=4 * np.finfo(float).eps, otherwise=z)
     except ZeroDivisionError:
         return None

@@ -58,6 +58,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from ..discretise.hill import HillMatrices, realify
+from . import _schur
 
 COND_LIMIT = 1e8
 REAL_RTOL = 1e-9
@@ -237,6 +238,17 @@ def block_inverses(hill: HillMatrices,
     if not cond.max() <= COND_LIMIT or inv_norm.max() * coupling > COND_LIMIT:  # NaN, inf: None
         return None
     return inv
+
+
+def well_conditioned(hill: HillMatrices) -> bool:
+    """Whether :func:`block_inverses` would give the inverses (not None), without forming them:
+    for 2 x 2 blocks (no self-coupling) the compiled kernel takes ||A_k^{-1}||_1 =
+    ||adj A_k||_1 / |det A_k| in closed form (the contour path needs the answer only)."""
+    if hill.diag.shape[1] != 2 or hill.self_coupling is not None:
+        return block_inverses(hill) is not None
+    cond, coupled = _schur.conditioning(*(np.ascontiguousarray(x, dtype=complex)
+                                          for x in (hill.diag, hill.lower, hill.upper)))
+    return cond <= COND_LIMIT and coupled <= COND_LIMIT  # NaN: False
 
 
 def dense_half_product(hill: HillMatrices, inverses: BlockInverses) -> np.ndarray:

@@ -288,15 +288,20 @@ def slit_width(gamma: Sequence[complex], branch: float = 0.0) -> float:
     return min([SLIT] + [0.5 * y for y in near])
 
 
-def _contour(re_lo: float, re_hi: float, slit: float, branch: float) -> list[complex]:
+def _contour(re_lo: float, re_hi: float, slit: float, branch: float,
+             marks: Sequence[float] = ()) -> list[complex]:
     """The counter-clockwise boundary of R slit along [re_lo, b + w] with half-width w = ``slit``
     (module notes, step 3): the slit ends w to the right of the branch point b = ``branch``, so
-    that the contour misses an exponent at gamma = b (at b = 0: the harmonic tau_min)."""
+    that the contour misses an exponent at gamma = b (at b = 0: the harmonic tau_min). The slit
+    has a vertex above and below each of ``marks`` in (re_lo, b) (the poles of D on its cut,
+    ``HillSystem.cut_poles``)."""
     bottom, top = STRIP
     path = [complex(re_hi, bottom), complex(re_hi, top), complex(re_lo, top)]
     if re_lo < branch:
         end = branch + slit
-        path += [complex(re_lo, slit), complex(end, slit), complex(end, -slit),
+        inside = sorted(x for x in marks if re_lo < x < branch)
+        path += [complex(re_lo, slit), *(complex(x, slit) for x in inside), complex(end, slit),
+                 complex(end, -slit), *(complex(x, -slit) for x in reversed(inside)),
                  complex(re_lo, -slit)]
     return path + [complex(re_lo, bottom)]
 
@@ -322,7 +327,8 @@ def _counted(found: Sequence[complex], slit: float, branch: float) -> int:
     return sum(not _in_slit(g, slit, branch) for g in found)
 
 
-def _slit_count(T, re_lo: float, re_hi: float, slit: float, branch: float) -> tuple[float, int]:
+def _slit_count(T, re_lo: float, re_hi: float, slit: float, branch: float,
+                marks: Sequence[float] = ()) -> tuple[float, int]:
     """(slit half-width, winding count of R) with the slit of :func:`slit_width`, or, where an
     exponent lies on that contour to rounding (an exponent a few 1e-11 off the cut makes the
     slit as narrow: the fibre at m = 12, kappa = nu = 1, tau = -1.138), with the default SLIT,
@@ -334,7 +340,7 @@ def _slit_count(T, re_lo: float, re_hi: float, slit: float, branch: float) -> tu
     """
     for width in dict.fromkeys((slit, SLIT)):
         try:
-            return width, count_by_winding(T, _contour(re_lo, re_hi, width, branch))
+            return width, count_by_winding(T, _contour(re_lo, re_hi, width, branch, marks))
         except ConvergenceError as exc:
             failure = exc
     raise ConvergenceError(f"{failure}, so the Floquet exponents there cannot be counted: give "
@@ -348,7 +354,8 @@ def _completed(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: in
     re_lo, re_hi = region(gamma)
     T, dT = pencil_family(system, "harmonic", n_temporal, dense)(tau)
     branch = system.branch_point
-    slit, count = _slit_count(T, re_lo, re_hi, slit_width(gamma, branch), branch)
+    marks = () if system.cut_poles is None else tuple(system.cut_poles(re_lo))
+    slit, count = _slit_count(T, re_lo, re_hi, slit_width(gamma, branch), branch, marks)
     found = [g for g in _in_strip(gamma) if not _on_cut(g, slit, branch)]
     bottom, top = STRIP
     grid = np.linspace(re_lo, re_hi, max(3, int(SEARCH_DENSITY * (re_hi - re_lo))))

@@ -65,7 +65,10 @@ truncation:
   2 cores under a load of 5-11): 56.2 s before, 52.3 s with the count, which replaced the four
   N = 141 truncations (M = 16 and 32, both kinds; 165 nodes each, 0.03 s CPU per node), the
   same answer. Counting also after a truncation whose tau_min lies within 1 % of tau_max (the
-  N = 94 ones here) cost 88.8 s: most such counts meet the tau and are lost. Cells whose
+  N = 94 ones here) cost 88.8 s: most such counts meet the tau and are lost. (These counts
+  walked the closed rectangle; since the merge with the half-contour kernel they walk its upper
+  half, about half the nodes: 106 and 92 instead of 211 and 183 at N = 141, M = 32,
+  harmonic and subharmonic; the cell's times were not measured again.) Cells whose
   kinds converge below COUNT_MIN_N are unchanged (3 of the seeded sample: 7.6 / 3.3 / 10.3 s
   before, 8.1 / 3.1 / 9.1 s after, within the load's noise).
 * ``method = "auto"`` (default): Krylov for truncations with (N + 1) b >= KRYLOV_MIN_ORDER
@@ -147,7 +150,8 @@ from ..results.records import MarginalTau
 from . import tridiagonal
 from .contour import STRIPS, none_up_to, smallest_real_tau
 from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
-                           smallest_taus, tau_from_squares, tridiagonal_half_product)
+                           smallest_taus, tau_from_squares, tridiagonal_half_product,
+                           well_conditioned)
 from .shift_invert import Shift, dense_work, interval_taus
 
 ZERO_CLUSTER = 1e-6
@@ -160,6 +164,8 @@ KRYLOV_MIN_ORDER = 600
 #: (:func:`truncation_taus`): a count (~250 nodes of ~45 K M^3 flops, K ~ 2N blocks) undercuts
 #: the dense eig of W (~3 (K M)^3) only from K ~ 60; on a Fig 5.18 cell whose empty kind
 #: converged at N = 33 (human, 59.9 Hz) the count made the cell 1.7x slower (CPU time).
+#: Measured with closed contours; the half contours now used take about half the nodes, which
+#: may lower this threshold (not measured again).
 COUNT_MIN_N = 60
 #: The smallest-|tau| Arnoldi run of a truncation gives up past this fraction of the estimated
 #: cost of its dense solve (:func:`~spectralshell.solvers.shift_invert.dense_work`).
@@ -370,33 +376,52 @@ class Pencils:
 
     def __init__(self, system: HillSystem, kind: str):
         self.system, self.kind = system, kind
-        self._largest: dict[str, tuple[HillMatrices, BlockInverses | None]] = {}
+        self._largest: dict[str, HillMatrices] = {}
+        self._inverses: dict[str, BlockInverses | None] = {}  # of the largest, once asked for
+        self._conditioned: dict[str, bool] = {}  # well_conditioned(the largest), once asked for
         self.reserve = 0
+
+    def pencil(self, n_temporal: int, form: str) -> HillMatrices:
+        """The pencil of truncation ``n_temporal`` (no block inverses: the contour path)."""
+        big = self._largest.get(form)
+        if big is None or big.n_temporal < n_temporal:
+            big = self._assemble(max(n_temporal, self.reserve), form)
+        return big if big.n_temporal == n_temporal else big.truncated(n_temporal)
+
+    def well_conditioned(self, n_temporal: int, form: str) -> bool:
+        """Whether truncation ``n_temporal`` has its block inverses (:func:`well_conditioned`),
+        without forming them; decided once on the largest pencil, whose blocks include this
+        one's (and B is the same coupling G throughout), so that its passing implies this one's."""
+        hill = self.pencil(n_temporal, form)
+        if form not in self._conditioned:
+            self._conditioned[form] = well_conditioned(self._largest[form])
+        return self._conditioned[form] or well_conditioned(hill)
 
     def get(self, n_temporal: int, form: str) -> tuple[HillMatrices, BlockInverses | None]:
         """(pencil, block inverses or None if ill conditioned) of truncation ``n_temporal``."""
-        cached = self._largest.get(form)
-        if cached is None or cached[0].n_temporal < n_temporal:
-            cached = self._assemble(max(n_temporal, self.reserve), form)
-        big, inv = cached
+        hill = self.pencil(n_temporal, form)
+        big = self._largest[form]
+        if form not in self._inverses:
+            self._inverses[form] = block_inverses(big)
+        inv = self._inverses[form]
         if big.n_temporal == n_temporal:
-            return big, inv
-        hill = big.truncated(n_temporal)
+            return hill, inv
         if inv is None:  # the larger pencil's bad block may lie outside this one
             return hill, block_inverses(hill)
         return hill, inv.subset(big.block_range(n_temporal))
 
-    def _assemble(self, n_temporal: int, form: str) -> tuple[HillMatrices, BlockInverses | None]:
-        cached = self._largest.get(form)
+    def _assemble(self, n_temporal: int, form: str) -> HillMatrices:
+        """Assemble a larger truncation; its block inverses are formed when asked for, reusing
+        those of the blocks it shares with the previous one (when bitwise equal)."""
+        previous, known_inv = self._largest.get(form), self._inverses.pop(form, None)
+        self._conditioned.pop(form, None)
         hill = assemble(self.system, self.kind, n_temporal, form)
-        known = None
-        if cached is not None and cached[1] is not None:
-            rows = hill.block_range(cached[0].n_temporal)
-            if np.array_equal(hill.diag[rows], cached[0].diag):
-                known = (rows, cached[1])
-        inv = block_inverses(hill, known)
-        self._largest[form] = (hill, inv)
-        return hill, inv
+        self._largest[form] = hill
+        if previous is not None and known_inv is not None:
+            rows = hill.block_range(previous.n_temporal)
+            if np.array_equal(hill.diag[rows], previous.diag):
+                self._inverses[form] = block_inverses(hill, (rows, known_inv))
+        return hill
 
 
 def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
@@ -426,12 +451,12 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
         return Truncation(tau=np.empty(0), method="structured")  # no finite marginal amplitude
     pencils = Pencils(system, kind) if pencils is None else pencils
     if (count_first and system.block_size > 2 and n_temporal >= COUNT_MIN_N
-            and method in ("auto", "smallest") and math.isfinite(tau_max) and none_up_to(pencils.get(n_temporal, "two-sided")[0],
-                                                      tau_max)):
+            and method in ("auto", "smallest") and math.isfinite(tau_max)
+            and none_up_to(pencils.pencil(n_temporal, "two-sided"), tau_max)):
         return Truncation(tau=np.empty(0), method="contour", complete_to=tau_max)
     if method == "smallest" and system.block_size == 2 and math.isfinite(tau_max):
-        hill, inv = pencils.get(n_temporal, "two-sided")
-        found = None if inv is None else smallest_real_tau(hill, tau_max, hint)
+        found = (smallest_real_tau(pencils.pencil(n_temporal, "two-sided"), tau_max, hint)
+                 if pencils.well_conditioned(n_temporal, "two-sided") else None)
         if found is not None:
             return Truncation(tau=np.array([] if found[0] is None else [found[0]]),
                               method="contour", complete_to=found[1])
@@ -652,7 +677,7 @@ def _empty_certified(pencils: Pencils, pair: tuple[tuple[Truncation, int], ...],
     count proves a strip of half-height 1e-6..1e-2 tau_max^2 around the real axis free of any
     eigenvalue."""
     return all((found.method == "contour" and found.complete_to >= tau_max)
-               or none_up_to(pencils.get(n, "two-sided")[0], tau_max) for found, n in pair)
+               or none_up_to(pencils.pencil(n, "two-sided"), tau_max) for found, n in pair)
 
 
 def _empty_not_certified(kind: str, n_prev: int, n: int, tau_max: float) -> ConvergenceError:

@@ -306,3 +306,18 @@ def logderiv_k(m, z):
     """
     mm, zz, shape = _prepare(m, z, allow_zero=True)
     return _finish(mm - _zk_ratio_all(mm, zz), zz, shape)
+
+
+def spherical_jn_zeros(m: int, z_max: float) -> np.ndarray:
+    """The positive zeros z < ``z_max`` of the spherical Bessel function j_m (increasing), to
+    rounding: sign changes on a grid of step 1/2 (consecutive zeros of J_{m+1/2}, m >= 0, lie
+    at least pi apart), each refined by Brent's method. i_m(beta) vanishes at beta = +- i z."""
+    from scipy.optimize import brentq
+    from scipy.special import spherical_jn
+
+    m = int(_check_m(m))
+    x = np.arange(0.5, float(z_max) + 0.5, 0.5)
+    f = spherical_jn(m, x)
+    found = [brentq(lambda t: spherical_jn(m, t), a, b, xtol=1e-15, rtol=1e-15)
+             for a, b, fa, fb in zip(x[:-1], x[1:], f[:-1], f[1:]) if fa * fb < 0]
+    return np.array([z for z in found if z < z_max])
