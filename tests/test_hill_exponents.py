@@ -230,3 +230,25 @@ def test_batched_shifts_give_the_same_phases_and_log_derivatives(monkeypatch):
     assert len(T._batches(g, 3)) == g.size
     np.testing.assert_array_equal(T.phases(g), whole[0])
     np.testing.assert_array_equal(T.log_derivatives(g), whole[1])
+
+
+def test_winding_count_evaluates_each_point_once():
+    """count_by_winding repeats the count with twice the sub-intervals (whose grid holds the
+    previous one) and edges share their ends: each distinct point is now evaluated once (the
+    cochlea's count at M = 16, N = 20 took 29 s); the count is still the number of zeros inside
+    (three of det T = (s - z1)(s - z2)(s - z3)(s - z4), one outside, two 1e-9 from the edges),
+    and an edge along a cut (Im s = +0) is still the limit from above (sqrt s - sqrt z, z above
+    the cut: one zero)."""
+    inside = [0.3 + 0.2j, -0.4 + 1e-9j, 0.1 + 0.5j - 1e-9j]
+    zeros = np.array(inside + [0.2 - 0.7j])
+    asked = []
+
+    def T(s):
+        asked.append(complex(s).__repr__())
+        return np.array([[np.prod(s - zeros)]])
+
+    box = [-1 + 0j, 1 + 0j, 1 + 0.5j, -1 + 0.5j]
+    assert count_by_winding(T, box) == len(inside)
+    assert len(asked) == len(set(asked))
+    above = [complex(-1, 0.0), 1 + 0j, 1 + 0.5j, -1 + 0.5j]
+    assert count_by_winding(lambda s: np.array([[np.sqrt(s) - np.sqrt(-0.5 + 0.1j)]]), above) == 1
