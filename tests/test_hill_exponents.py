@@ -252,3 +252,24 @@ def test_winding_count_evaluates_each_point_once():
     assert len(asked) == len(set(asked))
     above = [complex(-1, 0.0), 1 + 0j, 1 + 0.5j, -1 + 0.5j]
     assert count_by_winding(lambda s: np.array([[np.sqrt(s) - np.sqrt(-0.5 + 0.1j)]]), above) == 1
+
+
+def test_strongly_damped_fibre_forced_keeps_both_members_of_each_pair():
+    """m = 8, kappa = 0.01, nu = 0.1, tau = -0.3 (raised 'counts 4 ... but 2 were found': each
+    conjugate pair, 7e-10 apart, was taken for one exponent): four exponents, each next to a
+    natural mode of the dispersion relation or its conjugate (they move by 1.1e-3 from tau = 0,
+    a third of the modes' spacing), and each a singular point of the dense truncated Hill matrix
+    (smallest singular value, LAPACK)."""
+    from spectralshell.solvers.hill_exponents import window
+    from spectralshell.solvers.nonlinear_eigen import singular_ratio
+
+    params = dict(m=8, kappa=0.01, nu=0.1)
+    res = ss.exponents("fibre", tau=-0.3, **params)
+    modes = pairs(ss.natural_modes("fibre", **params).gamma)
+    assert len(res.gamma) == 4 and len(np.unique(res.gamma)) == 4
+    assert distance(res.gamma, modes) < 1.5e-3 and distance(modes, res.gamma) < 1.5e-3
+    system = hill_system(make_params("fibre", params))
+    for gamma in res.gamma:
+        kind, g = window(complex(gamma))
+        T, _ = pencil_family(system, kind, res.n_temporal, dense=True)(-0.3)
+        assert singular_ratio(T, g) < 1e-10
