@@ -34,7 +34,7 @@ def _modes(**params):
 
 @pytest.mark.parametrize("m,kappa,nu", [(2, 1.0, 0.01), (3, 0.02, 2e-4), (5, 0.3, 0.02),
                                         (2, 1.0, 0.3), (3, 4.0, 0.5), (10, 1.0, 0.3),
-                                        (60, 1.0, 0.2), (60, 0.25, 0.1)])
+                                        (60, 1.0, 0.15), (25, 0.25, 0.15)])
 def test_k_zero_modes_are_the_fibre_modes(m, kappa, nu):
     """Also above zeta = 0.05, where the modes approach the cut (the fibre's own determinant,
     a different derivation and code, is the reference)."""
@@ -140,10 +140,10 @@ def test_mode_count_agrees_with_the_argument_principle_over_the_range(component,
 
 @pytest.mark.slow
 @pytest.mark.parametrize("m,k", [(60, 1.0), (60, 2.0), (40, 1.0), (40, 0.5)])
-@pytest.mark.parametrize("zeta", [0.07, 0.15, 0.3])
+@pytest.mark.parametrize("zeta", [0.07, 0.1, 0.15])
 def test_former_failures_large_m_at_the_cut(m, k, zeta):
-    """m = 60 at zeta 0.07-0.3 failed before the seeds were continued in zeta on both sheets
-    (m = 100, 200 there still fail at some zeta and are refused above 0.05)."""
+    """m = 60 at zeta 0.07-0.15 failed before the seeds were continued in zeta on both sheets
+    (above 0.15, and for m = 100, 200 above 0.05, a mode can still be missed: refused there)."""
     found, count = _count("coupled", m, k, zeta)
     assert abs(count - round(count)) < 1e-6 and round(count) == found
 
@@ -173,6 +173,8 @@ def test_out_of_range_is_refused_with_the_range():
         _modes(m=3, k=20.0, kappa=1.0, nu=0.06)
     with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.05\] for m = 100, k = 1 "):
         _modes(m=100, k=1.0, kappa=1.0, nu=0.06)
+    with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.15\] for m = 40, k = 1 "):
+        _modes(m=40, k=1.0, kappa=1.0, nu=0.2)
     with pytest.raises(ParameterError, match="k = 0.5 is invalid"):
         _modes(m=0, k=0.5, kappa=1.0, nu=0.01)
 

@@ -222,16 +222,17 @@ ZETA_MAX = 0.3
 #: alone find every mode.
 ZETA_START = 0.04
 ZETA_START_CHECKED = 0.05
-#: Largest m whose modes are offered above ZETA_START_CHECKED (checked on grids up to m = 60).
-M_CONTINUED = 60
+#: (largest m of a tier, its upper end of zeta) above ZETA_START_CHECKED (checked on grids).
+_ZETA_TOPS = ((25, 0.3), (60, 0.15))
 #: Relative step of the 4-point derivative of the determinant in beta (error ~ step^4).
 _STEP = 1e-3
 
 
 def zeta_max(m: int, k: float, component: str = "coupled") -> float:
     """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered:
-    max(0.05, min(0.3, 2/k^2)) for m <= 60, 0.05 above (for m = 100, 200 the continuation in zeta
-    still loses a mode near the cut at some zeta in 0.1-0.3).
+    max(0.05, min(z_m, 2/k^2)) with z_m = 0.3 for m <= 25, 0.15 for m <= 60 and 0.05 above (the
+    continuation in zeta loses a mode near the cut at zeta 0.2-0.3 for m = 35..60 and at some
+    zeta in 0.1-0.3 for m = 100, 200).
 
     Above it the number of modes on the physical sheet can exceed the number b of components (a
     conjugate pair of overdamped modes splits into two real decays in -nu k^2 < gamma < 0: four
@@ -240,9 +241,8 @@ def zeta_max(m: int, k: float, component: str = "coupled") -> float:
     checked for m <= 200, k <= 10, and up to the end here also the continuation in zeta
     (tests/test_cylinder_modes.py). At k = 0 the fibre pair also stops at
     :func:`spectralshell.models.fibre.zeta_max` (not reached below 0.3)."""
-    if m > M_CONTINUED:
-        return ZETA_START_CHECKED
-    top = max(ZETA_START_CHECKED, min(ZETA_MAX, 2.0 / k**2)) if k > 0 else ZETA_MAX
+    tier = next((end for largest, end in _ZETA_TOPS if m <= largest), ZETA_START_CHECKED)
+    top = max(ZETA_START_CHECKED, min(tier, 2.0 / k**2)) if k > 0 else tier
     if k == 0 and component == "coupled":
         top = min(top, fibre.zeta_max(m))
     return top
