@@ -1,4 +1,4 @@
-"""fibre-parametric (issue 29): Floquet quantities only (no fibre time stepper). The exponents
+"""fibre-parametric (issue 29): Floquet quantities only (the fibre stepper writes no series). The exponents
 against the marginal amplitudes of the independent tau-eigenproblem, the eigen-shape against
 the marginal solution's null vector, the 2D spring-constant relation against the arc force,
 score on synthetic runs with known perturbations, bit-identical writing through the CLI."""
@@ -45,7 +45,7 @@ def test_exponents_change_sign_at_the_marginal_amplitude(reference):
         assert attrs["exact_frequency"] == pytest.approx(p["omega"] / 2)
         assert np.max(np.abs(reference[f"shape_{case}"].values)) == 1.0
         assert reference[f"shape_{case}_error"].max() < 1e-10
-    assert "no time stepper for the fibre" in reference.attrs["specification"]
+    assert "writes no\nseries" in reference.attrs["specification"]
 
 
 def test_floquet_mode_is_the_marginal_solution():

@@ -240,3 +240,16 @@ def test_scalar_in_scalar_out():
     for f in FUNCS.values():
         assert isinstance(f(2, 1.5), np.complex128)
         assert f(np.arange(4)[:, None], np.array([0.5, 2j, 30.0])).shape == (4, 3)
+
+
+@pytest.mark.parametrize("m", [0, 1, 3, 10])
+@pytest.mark.parametrize("z", [-0.01 + 0.5j, -1 + 3j, -2 - 5j, -0.3 + 20j, 2 + 1j])
+def test_logderiv_k_continued_against_mpmath(m, z):
+    """z K_m'/K_m continued across the imaginary axis equals mpmath's principal branch (cut on the
+    negative real axis: the continuation from above for Im z > 0, from below for Im z < 0)."""
+    from spectralshell.special.cylindrical import logderiv_k_continued
+
+    with mpmath.workdps(30):
+        b = mpmath.mpc(z)
+        want = complex(b * mpmath.diff(lambda x: mpmath.besselk(m, x), b) / mpmath.besselk(m, b))
+    assert abs(logderiv_k_continued(m, z) - want) <= 1e-13 * abs(want)

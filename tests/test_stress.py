@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from threadpoolctl import threadpool_limits
 
 import spectralshell as ss
-from spectralshell.models.cylinder import ZETA_MAX, ZETA_MIN, lambda0_squared
+from spectralshell.models.cylinder import ZETA_MIN, lambda0_squared, zeta_max
 from spectralshell.models.nonlinear_coefficients import NOT_NORMAL_MODES
 from spectralshell.params.registry import models
 
@@ -38,8 +38,11 @@ def _amplitude(lo: float, hi: float):
     return st.floats(lo, hi).filter(lambda x: x == 0.0 or abs(x) >= 1e-100)
 
 
-#: zeta = nu/sqrt(kappa) range of the cylinder's natural modes (exponents continue from them).
-CYLINDER_ZETA = (ZETA_MIN, ZETA_MAX)
+def _cylinder_zeta(params: dict) -> tuple[float, float]:
+    """zeta = nu/sqrt(kappa) range of the cylinder's natural modes (exponents continue from them)."""
+    return ZETA_MIN, zeta_max(params["m"], params["k"], params.get("component", "coupled"))
+
+
 NU = st.one_of(st.just(0.0), _log(-9, 1))
 KAPPA = _log(-4, 3)
 DEGREE = st.integers(2, 60)
@@ -212,7 +215,8 @@ def _exponents(model, params, tau, n_temporal):
             ss.exponents(model, tau=tau, n_temporal=n_temporal, **params)
         return
     zeta = params["nu"] / math.sqrt(params["kappa"])
-    if model == "cylinder" and params["nu"] > 0 and not CYLINDER_ZETA[0] <= zeta <= CYLINDER_ZETA[1]:
+    if model == "cylinder" and params["nu"] > 0 and not \
+            _cylinder_zeta(params)[0] <= zeta <= _cylinder_zeta(params)[1]:
         with pytest.raises(ss.ParameterError, match=r"^zeta = .* is invalid: .* continued from"):
             ss.exponents(model, tau=tau, n_temporal=n_temporal, **params)
         return
@@ -318,7 +322,7 @@ def _modes(model, params, count, precision):
         with pytest.raises(ss.ParameterError, match="toroidal"):
             call()
         return
-    lo, hi = CYLINDER_ZETA if model == "cylinder" else (1e-10, 1e3)
+    lo, hi = _cylinder_zeta(params) if model == "cylinder" else (1e-10, 1e3)
     if params["nu"] > 0 and not lo <= zeta <= hi:  # the documented domain of the mode solvers
         with pytest.raises(ss.ParameterError, match=r"^zeta = .* is invalid: must be in"):
             call()

@@ -23,6 +23,7 @@ from __future__ import annotations
 import cmath
 import contextlib
 import functools
+import math
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from typing import Any
@@ -131,6 +132,40 @@ def damped_newton(residual: Callable[[complex], tuple[complex, complex]], x: com
         if abs(step) <= rtol * abs(x):
             return x
     return None
+
+
+def continued_roots(residual_at: Callable[[float], Callable[[complex], tuple[complex, complex]]],
+                    roots: Iterable[complex], start: float, stop: float, *,
+                    failures: tuple[type[Exception], ...] = (ParameterError, OverflowError,
+                                                             ZeroDivisionError)) -> Iterator[complex]:
+    """Roots of residual_at(zeta) (x -> (f, f')) near ``roots`` at zeta = start, each continued
+    to zeta = stop > start in geometric steps of ratio <= 10^(1/40): predictor the root scaled
+    by sqrt(zeta_old/zeta_new) on the first step (x ~ zeta^(-1/2) for x = beta ~ sqrt(gamma/nu)),
+    then linear extrapolation in the step index; corrector :func:`damped_newton` (relative
+    tolerance 1e-10). A branch whose corrector fails, or jumps by more than 10 % of |x|, is
+    dropped; the others are yielded at ``stop`` in turn (lazily)."""
+    steps = max(2, math.ceil(40 * math.log10(stop / start)))
+    path = [start * (stop / start) ** (k / steps) for k in range(steps + 1)]
+
+    def polish(zeta: float, x: complex) -> complex | None:
+        return damped_newton(residual_at(zeta), x, rtol=1e-10, failures=failures)
+
+    for x0 in roots:
+        x = polish(start, complex(x0))
+        history = [] if x is None else [x]
+        for k in range(1, steps + 1):
+            if not history:
+                break
+            guess = history[-1] * math.sqrt(path[k - 1] / path[k])
+            if len(history) >= 2:
+                guess = 2 * history[-1] - history[-2]
+            x = polish(path[k], guess)
+            if x is None or abs(x - guess) > 0.1 * abs(guess):
+                history = []
+            else:
+                history.append(x)
+        if history:
+            yield history[-1]
 
 
 def _conjugate(x):

@@ -42,9 +42,9 @@ from .._validate import invalid
 from ..errors import ParameterError
 from ..params.cylinder import CYLINDER_UNITS, CylinderParams, cylinder_physical
 from ..params.registry import Model, PhysicalInput, register
-from ..special.cylindrical import logderiv_i, logderiv_k
-from . import mathieu
-from .base import HillSystem, ModalSystem, boundary_layer, damped_newton
+from ..special.cylindrical import logderiv_i, logderiv_k, logderiv_k_continued
+from . import fibre, mathieu
+from .base import (HillSystem, ModalSystem, boundary_layer, continued_roots, damped_newton)
 
 _S = np.array([1.0, -1j, -1j])  # complex amplitude of (cos, sin, sin) per real coefficient
 
@@ -123,12 +123,23 @@ def fluid_load(s: np.ndarray, *, m: int, k: float, nu: float) -> np.ndarray:
     ParameterError : an s whose beta = sqrt(s/nu + k^2) leaves the Bessel kernels' domain.
     """
     s = np.asarray(s, dtype=complex).ravel()
-    beta = np.sqrt(s / nu + k * k)
+    return _fluid_load_at(s, np.sqrt(s / nu + k * k), m=m, k=k, nu=nu)
+
+
+def _fluid_load_at(s: np.ndarray, beta: np.ndarray, *, m: int, k: float, nu: float) -> np.ndarray:
+    """H(s) at beta with beta^2 = s/nu + k^2 on either sheet: the principal one (Re beta >= 0, the
+    exterior field decays) or, for Re beta < 0, its continuation across the imaginary beta axis
+    (:func:`~spectralshell.special.cylindrical.logderiv_k_continued`; I_m(beta r) is even up to
+    sign, so only K_m carries the sheet)."""
     lam_in, lam_out = _pressure_logderivs(m, k)
+    second = beta.real < 0
     with boundary_layer(nu):
-        L_in, L_out = logderiv_i(m, beta), logderiv_k(m, beta)
-    Vi, Ti = _interface(m, k, s, nu, lam_in, np.atleast_1d(L_in))
-    Vo, To = _interface(m, k, s, nu, lam_out, np.atleast_1d(L_out))
+        L_in = np.atleast_1d(logderiv_i(m, np.where(second, -beta, beta))).astype(complex)
+        L_out = np.empty(beta.shape, dtype=complex)
+        L_out[~second] = logderiv_k(m, beta[~second])
+        L_out[second] = [logderiv_k_continued(m, b) for b in beta[second]]
+    Vi, Ti = _interface(m, k, s, nu, lam_in, L_in)
+    Vo, To = _interface(m, k, s, nu, lam_out, L_out)
     # Z = T V^-1 on each side, as (V^T)^-1 T^T transposed
     Z = (np.linalg.solve(np.swapaxes(Vi, 1, 2), np.swapaxes(Ti, 1, 2))
          - np.linalg.solve(np.swapaxes(Vo, 1, 2), np.swapaxes(To, 1, 2)))
@@ -139,13 +150,20 @@ def fluid_load(s: np.ndarray, *, m: int, k: float, nu: float) -> np.ndarray:
 def unforced(s: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
              component: str = "coupled") -> np.ndarray:
     """D(s) = H(s) + kappa E on the set ``component``, shape (len(s), b, b); D(0) = kappa E."""
-    idx = components(m, k, component)
     s = np.asarray(s, dtype=complex).ravel()
+    return _unforced_at(s, np.sqrt(s / nu + k * k), m=m, k=k, kappa=kappa, nu=nu,
+                        component=component)
+
+
+def _unforced_at(s: np.ndarray, beta: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
+                 component: str) -> np.ndarray:
+    """:func:`unforced` at beta on either sheet (:func:`_fluid_load_at`)."""
+    idx = components(m, k, component)
     E = kappa * elastic_matrix(m, k)[np.ix_(idx, idx)]
     out = np.broadcast_to(E, (s.size, len(idx), len(idx))).astype(complex)
     live = s != 0
     if live.any():
-        out[live] += fluid_load(s[live], m=m, k=k, nu=nu)[:, idx][:, :, idx]
+        out[live] += _fluid_load_at(s[live], beta[live], m=m, k=k, nu=nu)[:, idx][:, :, idx]
     return out
 
 
@@ -195,22 +213,49 @@ def _hill_system(p: CylinderParams) -> HillSystem:
 # pressure's I_m(k r), K_m(k r) do not depend on gamma. An overdamped mode with
 # -nu k^2 < gamma < 0 has a real beta in (0, k): on the physical sheet, off the cut.
 
-#: Range of zeta = nu/sqrt(kappa) over which the mode count was checked by the argument principle
-#: (tests/test_cylinder_modes.py) and the seeds find every mode for m <= 200, k <= 10 (checked on
-#: grids; from zeta ~ 0.07 the modes of large m reach the cut, where they can miss one).
+#: Range of zeta = nu/sqrt(kappa) over which the seeds find every mode and the count was checked
+#: by the argument principle (tests/test_cylinder_modes.py), for m <= 200, k <= 10; the upper end
+#: depends on m and k (:func:`zeta_max`), ZETA_MAX is its largest value.
 ZETA_MIN = 1e-8
-ZETA_MAX = 0.05
+ZETA_MAX = 0.3
+#: Where the seeds' continuation in zeta starts: below ZETA_START_CHECKED the asymptotic seeds
+#: alone find every mode.
+ZETA_START = 0.04
+ZETA_START_CHECKED = 0.05
+#: (largest m of a tier, its upper end of zeta) above ZETA_START_CHECKED (checked on grids).
+_ZETA_TOPS = ((25, 0.3), (60, 0.15))
 #: Relative step of the 4-point derivative of the determinant in beta (error ~ step^4).
 _STEP = 1e-3
 
 
+def zeta_max(m: int, k: float, component: str = "coupled") -> float:
+    """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered:
+    max(0.05, min(z_m, 2/k^2)) with z_m = 0.3 for m <= 25, 0.15 for m <= 60 and 0.05 above (the
+    continuation in zeta loses a mode near the cut at zeta 0.2-0.3 for m = 35..60 and at some
+    zeta in 0.1-0.3 for m = 100, 200).
+
+    Above it the number of modes on the physical sheet can exceed the number b of components (a
+    conjugate pair of overdamped modes splits into two real decays in -nu k^2 < gamma < 0: four
+    modes at m = 1, k = 2, zeta = 1 and at m = 1, k = 10, zeta = 0.3), which the root finder,
+    looking for b modes, does not yet certify; up to 0.05 the asymptotic seeds alone were
+    checked for m <= 200, k <= 10, and up to the end here also the continuation in zeta
+    (tests/test_cylinder_modes.py). At k = 0 the fibre pair also stops at
+    :func:`spectralshell.models.fibre.zeta_max` (not reached below 0.3)."""
+    tier = next((end for largest, end in _ZETA_TOPS if m <= largest), ZETA_START_CHECKED)
+    top = max(ZETA_START_CHECKED, min(tier, 2.0 / k**2)) if k > 0 else tier
+    if k == 0 and component == "coupled":
+        top = min(top, fibre.zeta_max(m))
+    return top
+
+
 def natural_matrix(beta: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
                    component: str = "coupled") -> np.ndarray:
-    """D(gamma)/kappa at gamma = nu (beta^2 - k^2) for each beta with Re beta > 0, shape
-    (len(beta), b, b); its determinant vanishes at the natural modes e^{gamma t}."""
+    """D(gamma)/kappa at gamma = nu (beta^2 - k^2) for each beta, shape (len(beta), b, b): on the
+    physical sheet for Re beta > 0, continued across the imaginary axis (the cut) for
+    Re beta < 0; its determinant vanishes at the natural modes e^{gamma t}."""
     beta = np.asarray(beta, dtype=complex).ravel()
-    return unforced(nu * (beta * beta - k * k), m=m, k=k, kappa=kappa, nu=nu,
-                    component=component) / kappa
+    return _unforced_at(nu * (beta * beta - k * k), beta, m=m, k=k, kappa=kappa, nu=nu,
+                        component=component) / kappa
 
 
 def _four_point(f: list, h) -> object:
@@ -294,12 +339,11 @@ def _asymptotic_modes(m: int, k: float, kappa: float, nu: float, component: str)
     return [complex(g) for g in small + large]
 
 
-def modal_seeds(*, m: int, k: float, kappa: float, nu: float,
-                component: str = "coupled") -> Iterator[complex]:
-    """Starting points beta for the natural modes, best first (lazy): the roots that deflated
-    Newton's method reaches from each value of :func:`_asymptotic_modes` in turn (each root found
-    so far and its images -beta, +-conj(beta) divided out of the determinant, so that the nearly
-    equal Stokes-layer values of the two tangential components lead to two different modes)."""
+def _deflated_seeds(m: int, k: float, kappa: float, nu: float, component: str) -> Iterator[complex]:
+    """The roots that deflated Newton's method reaches from each value of
+    :func:`_asymptotic_modes` in turn (each root found so far and its images -beta, +-conj(beta)
+    divided out of the determinant, so that the nearly equal Stokes-layer values of the two
+    tangential components lead to two different modes)."""
     fixed = {"m": m, "k": k, "kappa": kappa, "nu": nu, "component": component}
     known: list[complex] = []
 
@@ -315,6 +359,29 @@ def modal_seeds(*, m: int, k: float, kappa: float, nu: float,
             continue
         known += [root, root.conjugate(), -root, -root.conjugate()]
         yield root
+
+
+def modal_seeds(*, m: int, k: float, kappa: float, nu: float,
+                component: str = "coupled") -> Iterator[complex]:
+    """Starting points beta for the natural modes, best first (lazy).
+
+    * at k = 0 (the fibre pair) the fibre's seeds (:func:`spectralshell.models.fibre.modal_seeds`,
+      the same beta = sqrt(gamma/nu));
+    * the deflated roots from the asymptotic limits (:func:`_deflated_seeds`);
+    * for zeta = nu/sqrt(kappa) above ZETA_START, those roots at ZETA_START continued in zeta
+      (:func:`~spectralshell.models.base.continued_roots`, on both sheets of the residual): from
+      zeta ~ 0.07 the modes of large m reach the cut, where the asymptotic seeds can miss one.
+    """
+    zeta = nu / np.sqrt(kappa)
+    if k == 0 and component == "coupled":
+        yield from fibre.modal_seeds(m=m, zeta=zeta)
+    yield from _deflated_seeds(m, k, kappa, nu, component)
+    if zeta > ZETA_START:
+        scale = np.sqrt(kappa)
+        starts = list(_deflated_seeds(m, k, kappa, ZETA_START * scale, component))
+        yield from continued_roots(
+            lambda z: functools.partial(modal_residual, m=m, k=k, kappa=kappa, nu=z * scale,
+                                        component=component), starts, ZETA_START, zeta)
 
 
 def modal_system(*, m: int, k: float, kappa: float, nu: float,
@@ -334,18 +401,20 @@ def modal_system(*, m: int, k: float, kappa: float, nu: float,
     Raises
     ------
     ParameterError : invalid parameters (:class:`CylinderParams`), nu = 0 (the one inviscid mode
-        is gamma = i lambda0) or zeta = nu/sqrt(kappa) outside [ZETA_MIN, ZETA_MAX].
+        is gamma = i lambda0) or zeta = nu/sqrt(kappa) outside [ZETA_MIN, :func:`zeta_max`].
     """
     p = CylinderParams(m=m, k=k, kappa=kappa, nu=nu, component=component)
     if p.nu == 0:
         raise invalid("nu", p.nu, "> 0 for the viscous natural modes (the inviscid one is "
                       "gamma = i lambda0, lambda0^2 = kappa (m^2 + k^2 - 1)/M(m, k))")
     zeta = p.nu / np.sqrt(p.kappa)
-    if not ZETA_MIN <= zeta <= ZETA_MAX:
-        raise invalid("zeta", zeta, f"in [{ZETA_MIN:g}, {ZETA_MAX:g}] (zeta = nu/sqrt(kappa): the "
-                      "range over which the mode count is verified)")
+    top = zeta_max(p.m, p.k, p.component)
+    if not ZETA_MIN <= zeta <= top:
+        raise invalid("zeta", zeta, f"in [{ZETA_MIN:g}, {top:.4g}] for m = {p.m}, k = {p.k:g} "
+                      "(zeta = nu/sqrt(kappa): the range over which the mode count is verified)")
     fixed = {"m": p.m, "k": p.k, "kappa": p.kappa, "nu": p.nu, "component": p.component}
     nu_, k2 = p.nu, p.k * p.k
+
     return ModalSystem(name="cylinder", n_modes=len(components(p.m, p.k, p.component)),
                        residual=functools.partial(modal_residual, **fixed),
                        residual_mp=functools.partial(modal_residual_mp, **fixed),

@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import cmath
 import dataclasses
+import functools
 import math
 from collections.abc import Iterator
 
@@ -48,9 +49,10 @@ from .._validate import require_positive
 from ..errors import ParameterError
 from ..params.fibre import FibreParams
 from ..params.registry import Model, register
-from ..special.cylindrical import ratio_i, ratio_k
+from ..special.cylindrical import k_continuation, ratio_i, ratio_k
 from . import mathieu
-from .base import HillSystem, ModalSystem, boundary_layer, damped_newton, modal_system_in_beta
+from .base import (HillSystem, ModalSystem, boundary_layer, continued_roots,
+                   modal_system_in_beta)
 
 
 def lambda0_squared(m: int, kappa: float) -> float:
@@ -188,25 +190,19 @@ _EULER_GAMMA = 0.57721566490153286
 def _q_second_sheet(m: int, w: complex, q_w: complex, upper: bool) -> complex:
     """Q(beta) at beta = -w, Re w > 0: K_n(w e^{+-i pi}) = (-1)^n K_n(w) -+ i pi I_n(w) (DLMF 10.34.2),
 
-        Q(-w) = (Q(w) - (-1)^m e w rho / r) / (1 + (-1)^m e rho),   e = -+ i pi,
+        Q(-w) = (Q(w) - c w / r) / (1 + c),   c = (-1)^m e rho,   e = -+ i pi,
 
-    rho = I_m(w)/K_m(w) from scipy's scaled ``ive``/``kve`` (0 where it underflows: then Q is
+    rho = I_m(w)/K_m(w) (c from :func:`~spectralshell.special.cylindrical.k_continuation`; 0 where
+    it underflows: then Q is
     continued as an even function, correct to double precision: by the Wronskian
     I_m K_m' - I_m' K_m = -1/w, K_m overflows or I_m underflows only where rho is below 1e-300),
     r = I_m(w)/I_{m-1}(w).
     The upper sign holds for Im beta >= 0."""
-    e = -1j * math.pi if upper else 1j * math.pi
-    sign = -1.0 if m % 2 else 1.0
-    import scipy.special as sc  # lazy: ~0.2 s to import, needed only on this branch
-
-    i_scaled, k_scaled = complex(sc.ive(m, w)), complex(sc.kve(m, w))
-    rho = 0j
-    if i_scaled != 0 and cmath.isfinite(k_scaled) and k_scaled != 0:
-        rho = i_scaled / k_scaled * cmath.exp(w.real + w)  # I/K = (ive/kve) e^{|Re w| + w}
-    if not cmath.isfinite(rho):
+    c = k_continuation(m, w, upper)
+    if not cmath.isfinite(c):
         raise OverflowError("I_m/K_m overflows: beta is far into the second sheet")
     r = complex(ratio_i(m - 1, w))
-    return (q_w - sign * e * w * rho / r) / (1.0 + sign * e * rho)
+    return (q_w - c * w / r) / (1.0 + c)
 
 
 def _p_q(m: int, beta: complex) -> tuple[complex, complex, complex, complex]:
@@ -358,35 +354,13 @@ def modal_seeds(*, m: int, zeta: float) -> Iterator[complex]:
         yield from _continued(m, zeta, start)
 
 
-def _newton_polish(m: int, zeta: float, beta: complex) -> complex | None:
-    """Damped Newton on :func:`modal_residual` from beta (relative tolerance 1e-10); None if it
-    fails."""
-    return damped_newton(lambda b: modal_residual(b, m=m, zeta=zeta), beta, rtol=1e-10,
-                         failures=(ParameterError, OverflowError, ZeroDivisionError))
-
-
 def _continued(m: int, zeta: float, start: float) -> Iterator[complex]:
-    """The two small-nu modes at zeta = start, continued to zeta in geometric steps of ratio
-    <= 10^(1/40) (predictor: linear extrapolation of beta in log zeta; corrector: Newton).
-    A branch whose corrector fails, or jumps by more than 10 % of |beta|, is dropped."""
-    steps = max(2, math.ceil(40 * math.log10(zeta / start)))
-    path = [start * (zeta / start) ** (k / steps) for k in range(steps + 1)]
-    for sigma in (oscillatory_limit(m=m, kappa=1.0, nu=start), fast_limit(m=m, kappa=1.0, nu=start)):
-        beta = _newton_polish(m, start, cmath.sqrt(sigma / start))
-        history = [] if beta is None else [beta]
-        for k in range(1, steps + 1):
-            if not history:
-                break
-            guess = history[-1] * math.sqrt(path[k - 1] / path[k])
-            if len(history) >= 2:
-                guess = 2 * history[-1] - history[-2]
-            beta = _newton_polish(m, path[k], guess)
-            if beta is None or abs(beta - guess) > 0.1 * abs(guess):
-                history = []
-            else:
-                history.append(beta)
-        if history:
-            yield _first_quadrant(history[-1])
+    """The two small-nu modes at zeta = start, continued to zeta (:func:`continued_roots`)."""
+    starts = [cmath.sqrt(sigma / start) for sigma in (oscillatory_limit(m=m, kappa=1.0, nu=start),
+                                                       fast_limit(m=m, kappa=1.0, nu=start))]
+    for beta in continued_roots(lambda z: functools.partial(modal_residual, m=m, zeta=z), starts,
+                                start, zeta):
+        yield _first_quadrant(beta)
 
 
 def modal_system(*, m: int, kappa: float, nu: float) -> ModalSystem:

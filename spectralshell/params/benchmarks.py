@@ -5,7 +5,8 @@ quantities a code reports (with units) and holds its one-page specification text
 data are computed by :mod:`spectralshell.runner.benchmark`. Problems are registered in
 :data:`BENCHMARKS` only once their reference computation exists (issue 29:
 fibre-parametric offers the Floquet quantities only; fibre-release is computed by exact Laplace
-inversion, as the package has no fibre time stepper).
+inversion; the fibre's time stepper, runner/fibre_stepping, fits growth rates and writes no
+series).
 """
 
 from __future__ import annotations
@@ -279,7 +280,8 @@ Dimensionless form (thesis (4.5)-(4.6)). Lengths in R, time in 1 / omega:
 nu = mu / (rho R^2 omega) = {nu:.10g}, kappa = sigma / (rho R^2 omega^2) = {kappa:.10g},
 K(t) = kappa (1 + 2 tau sin t) (offered: nu in [5e-05, 0.005], m = 2..12).
 
-No reference time series: this package has no time stepper for the fibre, so the reference
+No reference time series: the package's fibre stepper only fits growth rates (it writes no
+series), so the reference
 holds the Floquet quantities only, from Hill's method on the exact fluid equations (thesis
 (4.24)-(4.25) with the sign of ERRATA.md corrected; spectralshell exponents fibre):
   tau_below: g = {rate_below:.12g} 1/s ({rate_below_nd:.12g} omega), growth per forcing

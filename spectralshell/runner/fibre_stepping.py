@@ -31,7 +31,7 @@ from ..params.fibre import FibreParams
 from ..results.records import RateFit
 from ..solvers.eigen import finite_eigenvalues
 from ..solvers.rate_fit import fit_rate
-from .simulate import _runs, _window, time_grid
+from .simulate import stepped_runs, fit_window, time_grid
 
 N_INNER, N_OUTER = 48, 64       # default radial resolution (both modes to ~1e-9 at zeta = 1e-3)
 N_CHECK = 8                     # the radial error compares with this many nodes fewer
@@ -87,9 +87,9 @@ def fibre_rate(*, m: int, kappa: float, nu: float, tau: float, forcing: str = "b
     step, every, steps, t_end = time_grid(dt=dt, rate=abs(leading), tau=system.tau,
                                           t_end=periods * 2 * math.pi)
     y0 = system.initial_state([1.0, -1.0 / p.m])
-    (fine,), (coarse,) = _runs([system], [y0], scheme, step, steps, every, progress=False)
+    (fine,), (coarse,) = stepped_runs([system], [y0], scheme, step, steps, every, progress=False)
     forced = system.tau != 0.0
-    window = _window(t_end, leading, forced)
+    window = fit_window(t_end, leading, forced)
     period = 2 * math.pi if forced else None
     f, c = (fit_rate(run.times, run.values[:, 0], period=period, window=window)
             for run in (fine, coarse))

@@ -70,7 +70,7 @@ def time_grid(*, dt: float | None, rate: float, tau: float, t_end: float) -> tup
     return step, every, steps, steps * step
 
 
-def _window(t_end: float, leading: complex, forced: bool) -> tuple[float, float]:
+def fit_window(t_end: float, leading: complex, forced: bool) -> tuple[float, float]:
     period = 2 * np.pi if forced else 2 * np.pi / max(abs(leading), 1e-12)
     t_a = min(TRANSIENT_PERIODS * period, 0.2 * t_end)
     t_b = t_end
@@ -82,7 +82,7 @@ def _window(t_end: float, leading: complex, forced: bool) -> tuple[float, float]
 def _fit_mode(mode: tuple[int, int], fine: tuple, coarse: tuple, leading: complex,
               spatial_error: float, forced: bool, warnings: list[str]) -> list[ModeFit]:
     """The fit of one mode's coefficient (fine and coarse (times, values)), with its error."""
-    t_a, t_b = _window(fine[0][-1], leading, forced)
+    t_a, t_b = fit_window(fine[0][-1], leading, forced)
     period = 2 * np.pi if forced else None
     try:
         f = fit_rate(*fine, period=period, window=(t_a, t_b))
@@ -95,7 +95,7 @@ def _fit_mode(mode: tuple[int, int], fine: tuple, coarse: tuple, leading: comple
     return [Trajectory.fit_of(mode[0], mode[1], f, time_error + space_error)]
 
 
-def _runs(systems: list, initials: list, scheme: str, step: float, steps: int, every: int,
+def stepped_runs(systems: list, initials: list, scheme: str, step: float, steps: int, every: int,
           progress: bool) -> tuple[list[Run], list[Run]]:
     """Every system stepped at dt and, for the error estimate, at 2 dt (same saved times when
     ``every`` is even, every other one otherwise)."""
@@ -128,7 +128,7 @@ def _decoupled(sc: SimulationScene, shape: dict, scheme: str, warnings: list[str
                           n_radial=sc.n_radial, tol=sc.tol)
     rate = max(abs(b.system.leading) for b in blocks)
     step, every, steps, t_end = time_grid(dt=sc.dt, rate=rate, tau=sc.tau, t_end=sc.t_end)
-    fine, coarse = _runs([b.system for b in blocks], [b.initial for b in blocks], scheme, step,
+    fine, coarse = stepped_runs([b.system for b in blocks], [b.initial for b in blocks], scheme, step,
                          steps, every, progress)
     times = fine[0].times
     columns: dict[str, list] = {"radial": [], "tangential": [], "toroidal": []}
@@ -168,7 +168,7 @@ def _coupled(sc: SimulationScene, shape: dict, scheme: str, warnings: list[str],
     warnings += system.warnings
     rate = max(abs(g.system.leading) for g in system.groups)
     step, every, steps, t_end = time_grid(dt=sc.dt, rate=rate, tau=sc.tau, t_end=sc.t_end)
-    (fine,), (coarse,) = _runs([system], [system.initial_state(shape)], scheme, step, steps,
+    (fine,), (coarse,) = stepped_runs([system], [system.initial_state(shape)], scheme, step, steps,
                                every, progress)
     n = len(system.modes)
     radial, tangential, toroidal = fine.values[:, :n], fine.values[:, n:2 * n], fine.values[:, 2 * n:]

@@ -34,7 +34,9 @@ Method
    harmonic tau_min an exponent passes through it). The half-width w is SLIT, or half the smallest
    |Im gamma| of an exponent found nearer the cut (just below a harmonic tau_min a pair
    approaches the cut from both sides): a conjugate pair inside the band would pass the
-   contour on one side within a sampling step and alias its phase by 2 pi. When the count exceeds the
+   contour on one side within a sampling step and alias its phase by 2 pi. For the same reason the
+   contour has a vertex next to each exponent and natural mode close to an edge (at tau = 0 the
+   fibre's strongly damped modes lie 1e-9 off the cut, 0.04 apart). When the count exceeds the
    exponents found in R, deflated Newton searches from a grid of seeds over R (and next to the
    branch point, where a harmonic exponent is born at the cut); a count still larger
    raises. The result states R (``complete_in``): every exponent of the truncation in it is
@@ -76,7 +78,7 @@ from ..results.records import Exponents
 from .exponents import N_MAX, distance, first_truncation, fold
 from .block_tridiagonal import log_det_phase_and_derivative
 from .marginal import coarser, finer
-from .nonlinear_eigen import DUPLICATE_RTOL, Matrix, continue_roots, count_by_winding, newton
+from .nonlinear_eigen import Matrix, continue_roots, count_by_winding, newton
 
 #: Im gamma of the counting region: one period of the exponents, both locking lines inside.
 STRIP = (-0.25, 0.75)
@@ -99,6 +101,11 @@ LOST_REACH = 1e-3
 #: Seeds per unit length of the region's edges in the search for exponents the count says are
 #: missing.
 SEARCH_DENSITY = 8
+#: An exponent nearer an edge of the counting contour than this fraction of its length adds a
+#: vertex there (:func:`_through`); the count samples each edge at 16 or more points.
+NEAR_EDGE = 1 / 16
+#: Two Newton results closer than this many times their largest last step are one exponent.
+DUPLICATE = 16
 #: Memory for the blocks of one batch of shifts in HillPencil.phases / log_derivatives: the
 #: winding count evaluates whole refinement levels at once, and unbatched the cochlea at
 #: M = 32, N = 40 held 4.9 GB (the stress test's larger draws were killed by the kernel).
@@ -217,16 +224,16 @@ def _followed(system: HillSystem, tau: float, seeds: Sequence[complex], n_tempor
         if not start:
             continue
         family = pencil_family(system, kind, n_temporal, dense)
-        if tau == 0.0:
-            roots, err, ok = np.array(start), np.zeros(len(start)), np.ones(len(start), bool)
-            roots = roots.astype(complex)
+        tau0 = START_FRACTION * abs(tau)
+        T, dT = family(math.copysign(tau0, tau))
+        polished = [newton(T, dT, g, tol=tol) for g in start]
+        if any(p is None for p in polished):
+            raise ConvergenceError("a natural mode is not a root of the truncated Hill "
+                                   f"determinant at n_temporal={n_temporal}: raise n_temporal=")
+        if tau == 0.0:  # the error is the Newton step: a mode on the cut is then one exponent
+            roots, err = (np.array(x) for x in zip(*polished))
+            ok = np.ones(len(roots), bool)
         else:
-            tau0 = START_FRACTION * abs(tau)
-            T, dT = family(math.copysign(tau0, tau))
-            polished = [newton(T, dT, g, tol=tol) for g in start]
-            if any(p is None for p in polished):
-                raise ConvergenceError("a natural mode is not a root of the truncated Hill "
-                                       f"determinant at n_temporal={n_temporal}: raise n_temporal=")
             roots, err, ok = continue_roots(
                 lambda t: family(math.copysign(t, tau)), tau0, abs(tau),
                 [p[0] for p in polished], tol=tol, conjugate_symmetric=True)
@@ -263,15 +270,17 @@ def _newton_from(T: Matrix, dT: Matrix, seeds: Sequence[complex], found: list[co
     last step to ``steps``."""
     for seed in seeds:
         got = newton(T, dT, seed, known=found, tol=tol)
-        if got is not None and _new(got[0], found):
+        if got is not None and _new(got[0], found, max(got[1], *steps)):
             found.append(got[0])
             steps.append(got[1])
 
 
-def _new(gamma: complex, found: Sequence[complex]) -> bool:
-    """gamma differs (mod i) from every exponent in ``found``."""
-    return not found or distance(np.array([gamma]), np.array(found)) > \
-        DUPLICATE_RTOL * max(abs(gamma), 1.0)
+def _new(gamma: complex, found: Sequence[complex], error: float) -> bool:
+    """gamma differs (mod i) from every exponent in ``found`` by more than DUPLICATE times
+    ``error``, the largest last Newton step of gamma and of ``found``. The scale is the Newton
+    error, not a fraction of |gamma|: the two members of a conjugate pair next to the cut can be
+    6e-10 apart (the fibre at m = 8, kappa = 0.01, nu = 0.1, tau = 0) and are two exponents."""
+    return not found or distance(np.array([gamma]), np.array(found)) > DUPLICATE * error
 
 
 def region(gamma: np.ndarray) -> tuple[float, float]:
@@ -289,12 +298,13 @@ def slit_width(gamma: Sequence[complex], branch: float = 0.0) -> float:
 
 
 def _contour(re_lo: float, re_hi: float, slit: float, branch: float,
-             marks: Sequence[float] = ()) -> list[complex]:
+             marks: Sequence[float] = (), near: Sequence[complex] = ()) -> list[complex]:
     """The counter-clockwise boundary of R slit along [re_lo, b + w] with half-width w = ``slit``
     (module notes, step 3): the slit ends w to the right of the branch point b = ``branch``, so
     that the contour misses an exponent at gamma = b (at b = 0: the harmonic tau_min). The slit
     has a vertex above and below each of ``marks`` in (re_lo, b) (the poles of D on its cut,
-    ``HillSystem.cut_poles``)."""
+    ``HillSystem.cut_poles``), and each exponent of ``near`` close to an edge adds a vertex there
+    (:func:`_through`)."""
     bottom, top = STRIP
     path = [complex(re_hi, bottom), complex(re_hi, top), complex(re_lo, top)]
     if re_lo < branch:
@@ -303,7 +313,28 @@ def _contour(re_lo: float, re_hi: float, slit: float, branch: float,
         path += [complex(re_lo, slit), *(complex(x, slit) for x in inside), complex(end, slit),
                  complex(end, -slit), *(complex(x, -slit) for x in reversed(inside)),
                  complex(re_lo, -slit)]
-    return path + [complex(re_lo, bottom)]
+    return _through(path + [complex(re_lo, bottom)], near)
+
+
+def _through(path: Sequence[complex], near: Sequence[complex]) -> list[complex]:
+    """The closed polygon ``path`` with a vertex added at the foot of the perpendicular from
+    each point of ``near`` (and its copies +- i, a period away) that lies within NEAR_EDGE of an
+    edge's length from that edge.
+
+    An exponent at distance d from an edge turns the phase of det T by ~pi over a length ~d
+    there. A sampling of the edge cannot see that turn when two such exponents (each turning the
+    phase by pi the same way) fall into one sampling interval: their 2 pi aliases to 0. The
+    exponents next to the cut lie ~1e-9 from the slit's edges, two of them 0.04 apart (the fibre
+    at m = 8, kappa = nu = 1, tau = 0: counted 2 exponents of 4). With a vertex at its foot,
+    each turn is split between two intervals that end there and is refined to its scale."""
+    points = np.concatenate([np.asarray(near, dtype=complex) + k for k in (-1j, 0, 1j)])
+    out: list[complex] = []
+    for a, b in zip(path, [*path[1:], path[0]]):
+        t = ((points - a) / (b - a)).real
+        foot = a + (b - a) * t
+        close = (t > 0) & (t < 1) & (np.abs(points - foot) < NEAR_EDGE * abs(b - a))
+        out += [a, *(a + (b - a) * np.unique(t[close]))]
+    return out
 
 
 def _in_strip(gamma: np.ndarray) -> np.ndarray:
@@ -328,11 +359,12 @@ def _counted(found: Sequence[complex], slit: float, branch: float) -> int:
 
 
 def _slit_count(T, re_lo: float, re_hi: float, slit: float, branch: float,
-                marks: Sequence[float] = ()) -> tuple[float, int]:
+                marks: Sequence[float] = (), near: Sequence[complex] = ()) -> tuple[float, int]:
     """(slit half-width, winding count of R) with the slit of :func:`slit_width`, or, where an
     exponent lies on that contour to rounding (an exponent a few 1e-11 off the cut makes the
     slit as narrow: the fibre at m = 12, kappa = nu = 1, tau = -1.138), with the default SLIT,
-    which leaves such exponents in the band (on the cut to working precision).
+    which leaves such exponents in the band (on the cut to working precision). The exponents
+    ``near`` add vertices to the contour (:func:`_through`).
 
     Raises
     ------
@@ -340,22 +372,28 @@ def _slit_count(T, re_lo: float, re_hi: float, slit: float, branch: float,
     """
     for width in dict.fromkeys((slit, SLIT)):
         try:
-            return width, count_by_winding(T, _contour(re_lo, re_hi, width, branch, marks))
+            return width, count_by_winding(T, _contour(re_lo, re_hi, width, branch, marks,
+                                                       near))
         except ConvergenceError as exc:
             failure = exc
     raise ConvergenceError(f"{failure}, so the Floquet exponents there cannot be counted: give "
                            "a nearby tau or n_temporal=")
 
 
-def _completed(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int,
-               tol: float, dense: bool) -> tuple[np.ndarray, tuple[float, float]]:
-    """``gamma`` with any exponent the winding count finds missing in R added (module notes,
-    step 3), and R's real extent."""
+def _completed(system: HillSystem, tau: float, gamma: np.ndarray, step: float,
+               seeds: Sequence[complex], n_temporal: int, tol: float, dense: bool
+               ) -> tuple[np.ndarray, tuple[float, float]]:
+    """``gamma`` (largest Newton step ``step``) with any exponent the winding count finds
+    missing in R added (module notes, step 3), and R's real extent. The exponents and the
+    natural modes ``seeds`` (those on the cut are not listed, but turn the phase along the slit)
+    place vertices on the contour (:func:`_through`)."""
     re_lo, re_hi = region(gamma)
     T, dT = pencil_family(system, "harmonic", n_temporal, dense)(tau)
     branch = system.branch_point
     marks = () if system.cut_poles is None else tuple(system.cut_poles(re_lo))
-    slit, count = _slit_count(T, re_lo, re_hi, slit_width(gamma, branch), branch, marks)
+    seeds = np.asarray(seeds, dtype=complex)
+    near = _in_strip(np.concatenate([gamma, seeds, seeds.conj()]))
+    slit, count = _slit_count(T, re_lo, re_hi, slit_width(gamma, branch), branch, marks, near)
     found = [g for g in _in_strip(gamma) if not _on_cut(g, slit, branch)]
     bottom, top = STRIP
     grid = np.linspace(re_lo, re_hi, max(3, int(SEARCH_DENSITY * (re_hi - re_lo))))
@@ -371,7 +409,8 @@ def _completed(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: in
             out = None
         if out is not None:
             g = complex(_in_strip(np.array([out[0]]))[0])
-            if _new(g, found) and re_lo < g.real < re_hi and not _on_cut(g, slit, branch):
+            if _new(g, found, max(out[1], step)) and re_lo < g.real < re_hi and \
+                    not _on_cut(g, slit, branch):
                 found.append(g)
     if _counted(found, slit, branch) != count:
         raise ConvergenceError(
@@ -413,14 +452,14 @@ def hill_exponents(system: HillSystem, tau: float, seeds: Sequence[complex], *,
             return _followed(system, tau, seeds, n, tol, dense)
         return _polished(system, tau, near, n, tol, dense)
 
-    def counted(gamma: np.ndarray, n: int) -> tuple[np.ndarray, tuple[float, float]]:
-        gamma, bounds = _completed(system, tau, gamma, n, tol, dense)
+    def counted(gamma: np.ndarray, step: float, n: int) -> tuple[np.ndarray, tuple[float, float]]:
+        gamma, bounds = _completed(system, tau, gamma, step, seeds, n, tol, dense)
         return gamma[np.lexsort((gamma.imag, -gamma.real))], bounds
 
     if n_temporal is not None:
         smaller = found(coarser(n_temporal))[0]
         gamma, step = found(n_temporal, smaller)
-        gamma, bounds = counted(gamma, n_temporal)
+        gamma, bounds = counted(gamma, step, n_temporal)
         if len(gamma) != len(smaller):  # the count added some: look for them at the coarser N
             smaller = found(coarser(n_temporal), gamma)[0]
         if len(gamma) != len(smaller):
@@ -448,13 +487,13 @@ def hill_exponents(system: HillSystem, tau: float, seeds: Sequence[complex], *,
             change = distance(gamma, previous) if settled else math.inf
             if change < tol and previous is not None:  # the (costly) count once settled in N
                 try:
-                    gamma, bounds = counted(gamma, n)
+                    gamma, bounds = counted(gamma, step, n)
                 except ConvergenceError:  # unmatched at two settled truncations: not a matter of N
                     if miscounted or n >= n_max:
                         raise
                     miscounted = True
-                else:
-                    change = distance(gamma, previous) if len(gamma) == len(previous) else math.inf
+                else:  # one it added is far from the previous ones; those on the cut it drops
+                    change = distance(gamma, previous)
                     if change < tol:
                         return Exponents(gamma=gamma, n_temporal=n,
                                          error_estimate=max(change, step), complete_in=bounds)

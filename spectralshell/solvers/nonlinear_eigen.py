@@ -180,6 +180,22 @@ def _phases(T: Matrix, s: np.ndarray) -> np.ndarray:
     return np.array([np.linalg.slogdet(T(x))[0] for x in s], dtype=complex)
 
 
+def _remembered(T: Matrix) -> Callable[[np.ndarray], np.ndarray]:
+    """s -> :func:`_phases` of T at s, each distinct point (bitwise: +0 and -0 in Im s are two
+    sides of a cut) evaluated once however often it is asked for."""
+    seen: dict[bytes, complex] = {}
+
+    def phases(s: np.ndarray) -> np.ndarray:
+        s = np.asarray(s, dtype=complex)
+        keys = [x.tobytes() for x in s]
+        new = {k: x for k, x in zip(keys, s) if k not in seen}
+        if new:
+            seen.update(zip(new, _phases(T, np.array(list(new.values()), dtype=complex))))
+        return np.array([seen[k] for k in keys], dtype=complex)
+
+    return phases
+
+
 def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | None = None,
                      n_start: int = 16, n_max: int = 1024, max_phase: float = 0.5,
                      min_width: float = 1e-14, pieces: int | None = None) -> int:
@@ -190,7 +206,8 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
     -----
     The change of arg det T (the sign of slogdet: no overflow for large b) is summed over the
     edges, each cut into ``n_start`` equal sub-intervals that are refined until the phase turns by
-    at most ``max_phase`` across each. A sampled phase cannot tell a turn theta from
+    at most ``max_phase`` across each (a point met again, e.g. at the next ``n_start``, is not
+    evaluated again). A sampled phase cannot tell a turn theta from
     theta + 2 pi n (clustered eigenvalues near the contour alias that way); with ``dT`` each
     sub-interval must also agree to ``max_phase``/2 with the midpoint rule for the turn,
     Im(ds tr(T^{-1} T')) at its midpoint, which follows the full turn. The count is repeated with
@@ -210,6 +227,7 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
         by ``n_max`` sub-intervals per edge.
     """
     v = [complex(z) for z in vertices]
+    phases_at = _remembered(T)  # the grid of n sub-intervals holds that of n / 2
     if pieces is None:
         pieces = 4 if isinstance(T, StructuredMatrix) else 2
     cuts = np.linspace(0.0, 1.0, pieces + 1)
@@ -218,7 +236,7 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
     while n <= n_max:
         total = 0.0
         t = np.linspace(0.0, 1.0, n + 1)
-        phases = _phases(T, np.concatenate([a + (b - a) * t for a, b in edges]))
+        phases = phases_at(np.concatenate([a + (b - a) * t for a, b in edges]))
         phases = phases.reshape(len(edges), n + 1)
         pending = [(a, b, t[j], t[j + 1], p[j], p[j + 1]) for (a, b), p in zip(edges, phases)
                    for j in range(n)]
@@ -241,7 +259,7 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
             if not split:
                 break
             inner = np.array([[lo + (hi - lo) * c for c in cuts[1:-1]] for _, _, lo, hi, _, _ in split])
-            middle = _phases(T, np.concatenate([a + (b - a) * x for (a, b, *_), x in zip(split, inner)]))
+            middle = phases_at(np.concatenate([a + (b - a) * x for (a, b, *_), x in zip(split, inner)]))
             middle = middle.reshape(len(split), pieces - 1)
             pending = []
             for (a, b, lo, hi, p_lo, p_hi), x, p in zip(split, inner, middle):

@@ -28,11 +28,15 @@ naming the argument; no function returns NaN or inf. Validation (and its message
 
 from __future__ import annotations
 
+import cmath
+import math
+
 import numpy as np
 
 from .spherical import M_MAX, _finish, _invalid, _prepare, ratio_i_continued_fraction
 
-__all__ = ["M_MAX", "ratio_i", "ratio_k", "logderiv_i", "logderiv_k"]
+__all__ = ["M_MAX", "ratio_i", "ratio_k", "logderiv_i", "logderiv_k", "k_continuation",
+           "logderiv_k_continued"]
 
 # |z| below which I_{m+1}/I_m = z/(2(m+1)) to double precision: the next term of the power series
 # (DLMF 10.25.2) is relatively z^2/(4(m+1)(m+2)) < 1e-200.
@@ -215,3 +219,54 @@ def logderiv_k(m, z):
     """
     mm, zz, shape = _prepare(m, z, allow_zero=False)
     return _finish(mm - zz * _k_ratio_all(mm, zz), zz, shape)
+
+
+# ----------------------------------------------------------------------------- second sheet
+
+
+def k_continuation(m: int, w: complex, upper: bool) -> complex:
+    """c with K_m(w e^{+-i pi}) = (-1)^m K_m(w) (1 + c), Re w > 0: the continuation of K_m across
+    the imaginary axis onto the second sheet (DLMF 10.34.2, integer m),
+
+        c = (-1)^m e I_m(w)/K_m(w),      e = -i pi (upper sign, for Im(-w) >= 0), +i pi (lower).
+
+    I_m/K_m comes from scipy's exponentially scaled ``ive``/``kve`` (AMOS); c = 0 where I_m
+    underflows, and an I_m/K_m beyond double range raises OverflowError (w far into the sheet).
+    """
+    import scipy.special as sc  # lazy: ~0.2 s to import
+
+    i_scaled, k_scaled = complex(sc.ive(m, w)), complex(sc.kve(m, w))
+    if i_scaled == 0 or not cmath.isfinite(k_scaled) or k_scaled == 0:
+        return 0j
+    e = -1j * math.pi if upper else 1j * math.pi
+    sign = -1.0 if m % 2 else 1.0
+    return sign * e * i_scaled / k_scaled * cmath.exp(w.real + w)  # I/K = (ive/kve) e^{|Re w| + w}
+
+
+def logderiv_k_continued(m: int, z: complex) -> complex:
+    """Return z K_m'(z)/K_m(z) on both sheets of K_m: :func:`logderiv_k` for Re z >= 0, and for
+    Re z < 0 its analytic continuation across the imaginary axis (from Im z >= 0 across the
+    positive half, otherwise across the negative half; mpmath's principal branch agrees).
+
+    With w = -z and c from :func:`k_continuation`, K_m(z) = (-1)^m K_m(w) (1 + c) and
+
+        z K_m'(z)/K_m(z) = (w K_m'/K_m (w) + c w I_m'/I_m (w)) / (1 + c),
+
+    evaluated as (L_K/c + L_I)/(1/c + 1) when |c| > 1 (L_I alone once 1/c underflows).
+
+    Raises
+    ------
+    ParameterError : invalid m or z (as :func:`logderiv_k` at w).
+    """
+    z = complex(z)
+    if z.real >= 0:
+        return complex(logderiv_k(m, z))
+    w = -z
+    lk, li = complex(logderiv_k(m, w)), complex(logderiv_i(m, w))
+    try:
+        c = k_continuation(m, w, z.imag >= 0)
+    except OverflowError:
+        return li
+    if abs(c) <= 1.0:
+        return (lk + c * li) / (1.0 + c)
+    return (lk / c + li) / (1.0 / c + 1.0)
