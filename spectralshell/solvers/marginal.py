@@ -56,10 +56,11 @@ truncation:
   certify the answer (a complex eigenvalue close to the real axis below it, two real tau
   closer than 1e-3 relative, the node budget), and for other models, as ``"auto"``.
 * blocks larger than 2 x 2 (the cochlea), ``"auto"`` and ``"smallest"`` with a finite
-  tau_max: the truncation N >= COUNT_MIN_N after one with no tau <= tau_max is first tried by the argument
-  principle's zero count alone (:func:`~spectralshell.solvers.contour.none_up_to`, result
-  ``method = "contour"``, ``complete_to`` = tau_max): where it proves a thin strip around
-  [0, tau_max^2] free of eigenvalues, the Krylov / shift-invert work is skipped; else the
+  tau_max: the truncation N >= COUNT_MIN_N after one with no tau <= tau_max is first tried
+  by the argument principle's zero count alone
+  (:func:`~spectralshell.solvers.contour.none_up_to`, result ``method = "contour"``,
+  ``complete_to`` = tau_max): where it proves a thin strip around [0, tau_max^2] free of
+  eigenvalues, the Krylov / shift-invert work is skipped; else the
   truncation is solved as below. Measured on the Fig 5.18 cell that climbs furthest (gerbil,
   116.9 Hz, sigma = 1.16e9: no tau <= 1/2, N = 141, M = 32; serial, one BLAS thread, CPU time,
   2 cores under a load of 5-11): 56.2 s before, 52.3 s with the count, which replaced the four
@@ -98,9 +99,10 @@ others). An empty answer therefore means "no real tau <= tau_max", and with tau_
 it is not given at all (the truncation is raised to find a tau, or a ConvergenceError states the
 amplitude up to which none exists). For the viscous models, whose drifting spectra this test
 cannot use, ``marginal_tau(..., certify_empty=True)`` (what ``floquet`` asks) proves an empty
-answer by the zero count at both truncations or refuses it (issue 23). This catches the strongly damped Mathieu equation
-(nu >~ 20), whose periodic solutions vary by ~exp(pi nu / 2) within a cycle: no double-precision
-Hill truncation resolves them, and before this test the solver answered "no tau" for nu = 30
+answer by the zero count at both truncations or refuses it (issue 23). The spectra test
+catches the strongly damped Mathieu equation (nu >~ 20), whose periodic solutions vary by
+~exp(pi nu / 2) within a cycle: no double-precision Hill truncation resolves them, and
+before this test the solver answered "no tau" for nu = 30
 where a time-stepped monodromy matrix has marginal tau 1923.87 (harmonic) and 2030.16
 (subharmonic; tests/test_hostile_oracle.py). A bound on the neglected Fourier tail
 (2 tau ||D(s_k)^{-1} G|| < 1 beyond N) was tried as a resolution test and dropped: the sphere's
@@ -731,7 +733,8 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         returned only where the argument principle's zero count proves, at both truncations
         of the pair, a thin strip around [0, tau_max^2] free of eigenvalues
         (:func:`_empty_certified`; ``complete_to`` is then tau_max); where it cannot, a
-        ConvergenceError says so (with ``n_temporal`` given, ``complete_to`` is 0 instead). Without it such an empty answer
+        ConvergenceError says so (with ``n_temporal`` given, ``complete_to`` is 0 instead).
+        Without it such an empty answer
         rests on two dense truncations agreeing (:func:`certified_bound`).
 
     Raises
