@@ -53,6 +53,14 @@ def cli_writes(name, reference, tmp_path, capsys) -> str:
     return out
 
 
+def refused_in_one_line(argvs, capsys):
+    """Each CLI call of ``argvs`` exits 2 with a one-line error on stderr."""
+    for argv in argvs:
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "error" in err
+
+
 def amplitude_scorer(name, reference, tmp_path):
     """(label, t, values) -> the QuantityScore of a user's run with the one column
     ``amplitude`` scored against ``reference`` of problem ``name``."""

@@ -16,7 +16,8 @@ from spectralshell.params.physical import PhysicalSphere
 from spectralshell.results.benchmark import write_csv, write_netcdf
 from spectralshell.runner.benchmark import real_harmonic, score_window
 
-from benchmark_cases import amplitude_scorer, check_rate_and_noise, check_self_score
+from benchmark_cases import (amplitude_scorer, check_rate_and_noise, check_self_score,
+                             refused_in_one_line)
 
 
 @pytest.fixture(scope="module")
@@ -271,10 +272,9 @@ def test_cli_write_and_score(tmp_path, capsys):
     assert out["quantities"]["amplitude"]["relative_l2"] == 0.0 and png.stat().st_size > 0
     bad = tmp_path / "bad.csv"
     bad.write_text("t,amplitude\n0,1\n0,2\n")
-    for argv in (["benchmark", "score", "sphere-release", str(bad)],
-                 ["benchmark", "show", "nope"],
-                 ["benchmark", "score", "sphere-release", str(bad), "--png", "x.txt"],
-                 ["benchmark", "write", "sphere-release", "--out", str(tmp_path), "--l", "x"]):
-        assert main(argv) == 2
-        err = capsys.readouterr().err
-        assert err.count("\n") == 1 and "error" in err
+    refused_in_one_line((["benchmark", "score", "sphere-release", str(bad)],
+                         ["benchmark", "show", "nope"],
+                         ["benchmark", "score", "sphere-release", str(bad), "--png", "x.txt"],
+                         ["benchmark", "write", "sphere-release", "--out", str(tmp_path),
+                          "--l", "x"]),
+                        capsys)
