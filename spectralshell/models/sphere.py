@@ -45,12 +45,15 @@ def _p_q(m: int, s: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 #: Fluid-load tables kept per process (:func:`_fluid_table`): a Fig 6.13 worker meets each of
-#: its 200 beat rates x 5 degrees x 2 kinds once per stiffness line, ~2000 keys of ~5-20 kB.
+#: its 200 beat rates x 5 degrees once per stiffness line, ~1000 keys of ~10-40 kB (both kinds).
 FLUID_CACHE = 4096
-#: A table covers the Fourier indices k = -top-1..top of s_k = i (gamma + k), top a multiple of
-#: FLUID_STEP (the truncations of neighbouring cells share it), at most FLUID_TOP.
+#: A table covers the Fourier indices k = -top-1..top of s_k = i (gamma + k), top = FLUID_STEP
+#: times a power of 2 (the truncations of neighbouring cells, and of neighbouring stiffnesses,
+#: share it), at most FLUID_TOP.
 FLUID_STEP = 16
 FLUID_TOP = 512
+#: The offsets gamma of the two kinds' frequencies (harmonic, subharmonic), one table each.
+FLUID_GAMMAS = (0.0, 0.5)
 
 
 def poloidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:
@@ -68,11 +71,14 @@ def _fluid_load(m: int, nu: float, s: np.ndarray) -> np.ndarray:
     of a Hill truncation's frequencies s_k = i (gamma + k), gamma 0 or 1/2 (a run of the
     table's own s, bitwise), else computed afresh."""
     gamma = s[0].imag % 1.0 if s.size else -1.0
-    if gamma in (0.0, 0.5) and not s.real.any():
+    if gamma in FLUID_GAMMAS and not s.real.any():
         first = int(round(s[0].imag - gamma))
-        top = FLUID_STEP * -(-max(-first - 1, first + s.size - 1, 1) // FLUID_STEP)
+        need = max(-first - 1, first + s.size - 1, 1)
+        top = FLUID_STEP
+        while top < need:
+            top *= 2
         if top <= FLUID_TOP:
-            table_s, table = _fluid_table(m, nu, gamma, top)
+            table_s, table = _fluid_table(m, nu, top)[FLUID_GAMMAS.index(gamma)]
             start = first + top + 1
             if table_s[start:start + s.size].tobytes() == s.tobytes():
                 return table[start:start + s.size].copy()
@@ -80,17 +86,23 @@ def _fluid_load(m: int, nu: float, s: np.ndarray) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=FLUID_CACHE)
-def _fluid_table(m: int, nu: float, gamma: float, top: int) -> tuple[np.ndarray, np.ndarray]:
+def _fluid_table(m: int, nu: float, top: int) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
     """(s_k, D(s_k) - q I) for k = -top-1..top, s_k = i (gamma + k) as a Hill truncation forms
-    them (read-only): the part of D that does not depend on kappa, so that the cells of a map
-    that share a beat rate (nu) evaluate the Bessel ratios once. Each value depends only on its
-    own s (elementwise numpy and the compiled continued fraction), so a cut-out run equals the
-    values computed afresh at the truncation's s (tests/test_sphere_fluid_cache.py)."""
-    s = 1j * (gamma + np.arange(-top - 1, top + 1, dtype=float))
-    table = _fluid_values(m, nu, s)
-    s.setflags(write=False)
-    table.setflags(write=False)
-    return s, table
+    them (read-only), for each gamma of FLUID_GAMMAS: the part of D that does not depend on
+    kappa, so that the cells of a map that share a beat rate (nu) evaluate the Bessel ratios
+    once, for both kinds in one call (its cost is mostly per call: ~0.15-0.2 ms for 34 or 260
+    frequencies). Each value depends only on its own s (elementwise numpy and the compiled
+    continued fraction), so a cut-out run equals the values computed afresh at the
+    truncation's s (tests/test_sphere_fluid_cache.py)."""
+    runs = [1j * (gamma + np.arange(-top - 1, top + 1, dtype=float)) for gamma in FLUID_GAMMAS]
+    values = _fluid_values(m, nu, np.concatenate(runs))
+    out = []
+    for j, s in enumerate(runs):
+        table = values[j * s.size:(j + 1) * s.size]
+        s.setflags(write=False)
+        table.setflags(write=False)
+        out.append((s, table))
+    return tuple(out)
 
 
 def _fluid_values(m: int, nu: float, s: np.ndarray) -> np.ndarray:

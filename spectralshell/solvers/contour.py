@@ -125,6 +125,9 @@ MAX_BEND = 1.0
 HINT_STEPS = (1e-7, 1e-5, 1e-3, 1e-2, 0.05)
 #: Real-axis grid over [0, tau_max^2] when no hint brackets a zero and the count finds one.
 SCAN_POINTS = 48
+#: Relative step at which the first Newton solve of the root stops (the second one, inside
+#: the root's dyadic cell, runs to rounding).
+ROOT_RTOL = 1e-13
 
 
 class LogDet:
@@ -265,48 +268,9 @@ def circle(centre: float, radius: float, count: int = 16) -> np.ndarray:
     return nodes
 
 
-def _near(log_g: LogDet, z_max: float, hint: float) -> tuple[float, float] | None:
-    """The lowest sign change of g on points within 5 % of hint^2 (denser towards it), or
-    None."""
-    z0 = hint * hint
-    if not 0.0 < z0 <= z_max:
-        return None
-    offsets = np.array(HINT_STEPS)
-    points = np.clip(np.concatenate([z0 * (1 - offsets[::-1]), [z0], z0 * (1 + offsets)]),
-                     0.0, z_max)
-    return _first_change(log_g, points)
-
-
-def _first_change(log_g: LogDet, points: np.ndarray) -> tuple[float, float] | None:
-    found = log_g(points)
-    if found is None:
-        return None
-    sign = np.sign(np.cos(found[0].imag))
-    change = np.flatnonzero(sign[:-1] * sign[1:] < 0)
-    return (float(points[change[0]]), float(points[change[0] + 1])) if change.size else None
-
-
-def _root(log_g: LogDet, lo: float, hi: float, rtol: float,
-          otherwise: float | None = None) -> float:
-    """The zero of g in the sign change [lo, hi] by Newton's method on the kernel's g'/g,
-    safeguarded by bisection (``otherwise`` if g does not change sign there)."""
-    z = _schur.root(*log_g.blocks, lo, hi, rtol)
-    if z is None:
-        raise ZeroDivisionError("zero pivot")
-    if math.isnan(z):
-        if otherwise is None:
-            raise ZeroDivisionError("no sign change")
-        return otherwise
-    return z
-
-
-def _dyadic_cell(z: float) -> tuple[float, float]:
-    """The cell of width 2^-30 |z| (rounded to a power of 2) on a fixed grid that holds z: the
-    final solve runs on it, so that the answer does not depend on the hint that found z (a
-    continued and an independent solve of one truncation agree bitwise)."""
-    step = math.ldexp(1.0, math.frexp(z)[1] - 30)
-    lo = math.floor(z / step) * step
-    return lo, lo + step
+#: The unit circle's upper half (16 segments around), from which the kernel places the circle
+#: around z* as :func:`circle` does: z* + rho u (the last node z* - rho).
+UNIT_HALF_CIRCLE = circle(0.0, 1.0)
 
 
 def _zeros_below(log_g: LogDet, right: float, z_max: float,
@@ -340,28 +304,25 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
     """(tau_min or None, complete_to) of one bipartite truncation, certified as in the module
     notes: no real tau below tau_min (none at all <= tau_max when None), and every real tau up
     to complete_to is tau_min. None when the certificate cannot be had (use the dense path).
-    Blocks of 2 x 2 only (the root is the compiled kernel's ``_schur.root``); larger ones have
-    the count alone, :func:`none_up_to`."""
+    Blocks of 2 x 2 only; larger ones have the count alone, :func:`none_up_to`.
+
+    The steps run in the compiled kernel (``_schur.smallest``), one call per truncation: the
+    sign change near ``hint`` squared (HINT_STEPS), else the widest strip's count and the
+    real-axis scan (SCAN_POINTS), then the thinner strips; the root by safeguarded Newton to
+    1e-13 and again inside its dyadic cell of width 2^-30 |z| (so that the answer does not
+    depend on the hint); the counts of :func:`rectangle` (STRIPS) below z* - rho / 2 and of
+    :func:`circle` around z*, each as :func:`winding` takes them. Called from Python, these
+    steps cost about as much as the counts themselves (issue 25)."""
     log_g = LogDet(hill)
     if not log_g.compiled:
         raise ValueError("smallest_real_tau needs 2 x 2 blocks (larger ones: none_up_to)")
     z_max = tau_max * tau_max
-    bracket = None if hint is None else _near(log_g, z_max, hint)
-    if bracket is None:
-        right = z_max * (1 + 1e-6)
-        if _zeros_below(log_g, right, z_max, STRIPS[:1]) == 0:
-            return None, tau_max
-        bracket = _first_change(log_g, np.linspace(0.0, z_max, SCAN_POINTS + 1))
-        if bracket is None:  # only complex zeros near the real axis, or a close pair
-            return (None, tau_max) if _zeros_below(log_g, right, z_max, STRIPS[1:]) == 0 else None
-    try:
-        z = _root(log_g, *bracket, rtol=1e-13)
-        z = _root(log_g, *_dyadic_cell(z), rtol=4 * np.finfo(float).eps, otherwise=z)
-    except ZeroDivisionError:
+    z = _schur.smallest(*log_g.blocks, UPPER_RECTANGLE, UNIT_HALF_CIRCLE, HINT_STEPS, STRIPS,
+                        z_max, -1.0 if hint is None else hint * hint, DISK, SCAN_POINTS,
+                        MAX_BEND, MAX_TURN, MAX_NODES, ROOT_RTOL)
+    if z is None:
         return None
+    if math.isnan(z):
+        return None, tau_max
     rho = DISK * z
-    if _zeros_below(log_g, z - rho / 2, z_max) != 0:
-        return None
-    if winding(log_g, circle(z, rho)) != 1:
-        return None
     return math.sqrt(z), math.sqrt(z + rho / 2)
