@@ -28,20 +28,27 @@ import functools
 
 import numpy as np
 
+from .._validate import REAL_MAX, REAL_MIN
 from ..errors import ParameterError
 from ..params.physical import SPHERE_MODE_INPUTS, sphere_mode_scale
 from ..params.registry import Model, register
 from ..params.sphere import SphereParams
-from ..special.spherical import ratio_i, ratio_k
+from ..special.spherical import M_MAX, ratio_i, ratio_k, ratio_pair
 from . import mathieu
 from .base import HillSystem, boundary_layer
 from .sphere_modes import lambda0_squared, modal_system  # noqa: F401 (lambda0_squared: API)
 
 
-def _p_q(m: int, s: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
+def _p_q(m: int, s: np.ndarray, nu: float,
+         checked: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """(P, Q) of the module notes at s != 0; ``checked=False`` where beta is known to lie in
+    the Bessel kernels' domain (:func:`~spectralshell.special.spherical.ratio_pair`)."""
     beta = np.sqrt(s / nu)
     with boundary_layer(nu):
-        return beta * ratio_i(m, beta), beta / ratio_k(m - 1, beta)
+        if checked:
+            return beta * ratio_i(m, beta), beta / ratio_k(m - 1, beta)
+        r_i, r_k = ratio_pair(m, beta)
+        return beta * r_i, beta / r_k
 
 
 #: Fluid-load tables kept per process (:func:`_fluid_table`): a Fig 6.13 worker meets each of
@@ -95,7 +102,10 @@ def _fluid_table(m: int, nu: float, top: int) -> tuple[tuple[np.ndarray, np.ndar
     continued fraction), so a cut-out run equals the values computed afresh at the
     truncation's s (tests/test_sphere_fluid_cache.py)."""
     runs = [1j * (gamma + np.arange(-top - 1, top + 1, dtype=float)) for gamma in FLUID_GAMMAS]
-    values = _fluid_values(m, nu, np.concatenate(runs))
+    # 1/2 <= |s| <= FLUID_TOP + 1 and nu in [REAL_MIN, REAL_MAX] (as validated) keep
+    # beta = sqrt(s / nu) in the Bessel kernels' domain: their per-call checks are skipped
+    known = REAL_MIN <= nu <= REAL_MAX and 1 <= m <= M_MAX
+    values = _fluid_values(m, nu, np.concatenate(runs), checked=not known)
     out = []
     for j, s in enumerate(runs):
         table = values[j * s.size:(j + 1) * s.size]
@@ -105,13 +115,14 @@ def _fluid_table(m: int, nu: float, top: int) -> tuple[tuple[np.ndarray, np.ndar
     return tuple(out)
 
 
-def _fluid_values(m: int, nu: float, s: np.ndarray) -> np.ndarray:
-    """D(s) - q I of the poloidal pair at the complex128 s, computed."""
+def _fluid_values(m: int, nu: float, s: np.ndarray, checked: bool = True) -> np.ndarray:
+    """D(s) - q I of the poloidal pair at the complex128 s, computed (``checked``: see
+    :func:`_p_q`)."""
     out = np.zeros((s.size, 2, 2), dtype=complex)
     live = s != 0
     if live.any():
         sl = s[live]
-        P, Q = _p_q(m, sl, nu)
+        P, Q = _p_q(m, sl, nu, checked)
         s2 = sl * sl
         out[live, 0, 0] = s2 * ((2 * m + 1) / (m * (m + 1)) + m / ((m + 1) * Q) + (m + 1) / (m * P))
         out[live, 0, 1] = s2 * (m / Q - (m + 1) / P)
