@@ -68,8 +68,7 @@ def poloidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.n
     s = np.asarray(s, dtype=complex).ravel()
     q = kappa * (m - 1) * (m + 2)
     out = _fluid_load(m, float(nu), s)
-    out[:, 0, 0] += q
-    out[:, 1, 1] += q
+    out.reshape(-1, 4)[:, ::3] += q  # the entries (0, 0) and (1, 1) of each block
     return out
 
 
@@ -77,9 +76,10 @@ def _fluid_load(m: int, nu: float, s: np.ndarray) -> np.ndarray:
     """D(s) - q I of the poloidal pair (a new array): cut out of a cached table where s is a run
     of a Hill truncation's frequencies s_k = i (gamma + k), gamma 0 or 1/2 (a run of the
     table's own s, bitwise), else computed afresh."""
-    gamma = s[0].imag % 1.0 if s.size else -1.0
-    if gamma in FLUID_GAMMAS and not s.real.any():
-        first = int(round(s[0].imag - gamma))
+    x = s.imag.item(0) if s.size else 0.5  # a Python float: cheaper arithmetic than numpy's
+    gamma = x % 1.0
+    if s.size and gamma in FLUID_GAMMAS and not s.real.any():
+        first = int(round(x - gamma))
         need = max(-first - 1, first + s.size - 1, 1)
         top = FLUID_STEP
         while top < need:
