@@ -37,6 +37,17 @@
  *   safeguarded by bisection (each step keeps the sign change), started at the midpoint and
  *   stopped once a step is at most rtol |z|; NaN if the sign does not change between lo and hi,
  *   None on a zero pivot.
+ * smallest(diag, lower, upper, rectangle, circle, hint_steps, strips, z_max, hint_z, disk,
+ *   scan, max_bend, max_turn, max_nodes, root_rtol) -> float, NaN or None: every step of
+ *   contour.smallest_real_tau for 2 x 2 blocks in one call (its module notes): a sign change
+ *   of g on the real points hint_z (1 -+ hint_steps), else the count in the widest strip's
+ *   rectangle up to z_max (1 + 1e-6) and a scan of scan + 1 points over [0, z_max], else the
+ *   thinner strips; the root (root() to root_rtol, then to 4 eps inside its dyadic cell of width
+ *   2^-30 |z|); the counts below z* - rho / 2 (strips in turn) and around the circle of radius
+ *   rho = disk z*. rectangle: the upper half of [0, 1] x [-1, 1] (contour.UPPER_RECTANGLE),
+ *   placed as left + (right - left) x + i a y; circle: the unit upper half circle, placed as
+ *   z* + rho u (the last node z* - rho). Returns z* = tau_min^2, NaN where no real
+ *   tau^2 <= z_max exists, None where the certificate cannot be had.
  * conditioning(diag, lower, upper) -> (cond, coupled): the largest 1-norm condition number
  *   ||A_k||_1 ||A_k^{-1}||_1 of the blocks and the largest ||A_k^{-1}||_1 times
  *   max_k ||L_k||_1 + max_k ||U_k||_1 (the inverse by the adjugate: ||adj A_k||_1 is the largest

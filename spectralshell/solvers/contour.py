@@ -36,10 +36,14 @@ tau <= tau_max exists; holding some, the grid looks for the sign change, and onl
 finds none are the thinner strips counted (none there: no real tau <= tau_max either).
 The count is the winding number of g along the boundary (:func:`winding`, in the compiled
 kernel ``_schur.c``; g takes conjugate values at conjugate points, so the upper half of each
-contour is read and its phase change doubled), and must lie within 0.05 of an integer. Where
-any of this fails (a
-complex eigenvalue within 1e-6 tau_max^2 of the real axis below tau*, another zero within rho of z*, a zero
-pivot, MAX_NODES evaluations) the function returns None and the caller solves the truncation
+contour is read and its phase change doubled), and must lie within 0.05 of an integer. For
+2 x 2 blocks every step above runs inside one call of the kernel (``_schur.smallest``, with
+the constants of this module passed in), which places the same points with the same
+arithmetic as the Python composition of :func:`winding`, :func:`rectangle`, :func:`circle` and
+``_schur.root`` that it replaced (tests/test_contour.py keeps that composition and checks the
+answers equal bitwise). Where any of this fails (a complex eigenvalue within 1e-6 tau_max^2 of
+the real axis below tau*, another zero within rho of z*, a zero pivot, MAX_NODES evaluations)
+the function returns None and the caller solves the truncation
 densely: the answer is then the dense path's, never an uncertified one. Like the Krylov path's
 (:mod:`spectralshell.solvers.half_product`) the count rests on sampling, here of the phase of
 g, with the node spacing set by the variation of g'/g; it is checked against QZ counts in
@@ -85,6 +89,20 @@ validation/bench_fig613.py on the same machine nearly idle (load < 1 before each
 runs): 67.2 s and 74.8 s wall on 2 workers (64.2 and 72.8 s CPU per worker), against the dense
 path projected from 100 seeded cells at 683 s and 896 s: 10.2x and 12.0x, the sampled cells
 equal to 2.5e-15 with the same has_tau masks; the issue's goal is 60 s.
+
+Then the Python around the counts (issue 25, ``validation/bench_fig613.py --lines --against``
+the main branch: the 12 lines above, serial, one BLAS thread, CPU time, the two codes run
+alternately): smallest_real_tau's steps moved into the kernel (one call per truncation instead
+of ~10), the fluid-load table of both kinds made in one call with its top doubled rather than
+stepped and without the Bessel kernels' per-call checks, and the sweep's per-point parameter
+checks made cheaper (the cgs conversion kept per process, a float fast path in the
+validators). On a 2-core machine loaded by other jobs (load average 4-8; quiet: 0.2, first
+line below): 7.08 s -> 6.37 s after the kernel move alone, and with everything
+6.3-7.0 s against 8.1-9.6 s for main's code in the same runs (22-27 % less CPU), the map on
+these lines bitwise equal to main's (tau_min, has_tau, error_estimate, n_temporal). What
+remains per kind solve (~180 us at N = 14/21, under load): the kernel's log det evaluations
+(~60 %, schur_logdet alone ~37 % of a perf profile), the assembly of D(s) from the table
+(~20 %), marginal_tau's bookkeeping and the sweep's per-point work.
 """
 
 from __future__ import annotations
