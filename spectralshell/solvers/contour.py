@@ -96,13 +96,19 @@ alternately): smallest_real_tau's steps moved into the kernel (one call per trun
 of ~10), the fluid-load table of both kinds made in one call with its top doubled rather than
 stepped and without the Bessel kernels' per-call checks, and the sweep's per-point parameter
 checks made cheaper (the cgs conversion kept per process, a float fast path in the
-validators). On a 2-core machine loaded by other jobs (load average 4-8; quiet: 0.2, first
-line below): 7.08 s -> 6.37 s after the kernel move alone, and with everything
-6.3-7.0 s against 8.1-9.6 s for main's code in the same runs (22-27 % less CPU), the map on
-these lines bitwise equal to main's (tau_min, has_tau, error_estimate, n_temporal). What
-remains per kind solve (~180 us at N = 14/21, under load): the kernel's log det evaluations
-(~60 %, schur_logdet alone ~37 % of a perf profile), the assembly of D(s) from the table
-(~20 %), marginal_tau's bookkeeping and the sweep's per-point work.
+validators). On a 2-core machine loaded by other jobs (load average 4-10), main's code and
+this one in the same runs: 8.1-10.6 s -> 6.3-7.9 s (22-27 % less CPU; main's took 7.1 s at
+load 0.2), the map on these lines bitwise equal to main's (tau_min, has_tau,
+error_estimate, n_temporal). The whole 200 x 200 map on 2 workers, run once each, one after
+the other, at load 6-12: workers' CPU 150.0 s (main) -> 122.5 s (18 % less: the tables,
+a sixth of the gain on the 12 lines, cost little in the whole map, where a worker meets each
+beat rate on ~100 stiffness lines), the two maps bitwise equal; from the quiet measurement
+above (64.2-72.8 s CPU per worker) that projects to 53-60 s CPU per worker, about 56-63 s
+wall: at the goal, not reliably under it. Where the time now goes (perf, 12 lines): the
+kernel's log det evaluations ~40 % (the widest strip's count of the truncations without a
+tau <= tau_max, ~80 % of them, takes 54 % of the evaluations at ~20 nodes each, near the 17
+of its starting path), Python ~40 % (assembly of D(s) from the tables, marginal_tau's
+bookkeeping, the sweep's per-point work), numpy ~13 %.
 """
 
 from __future__ import annotations
