@@ -43,12 +43,15 @@ def invalid(name: str, value: object, allowed: str) -> ParameterError:
 
 def _real(name: str, value: object, allowed: str) -> float:
     """``value`` as a float of magnitude 0 or in [REAL_MIN, REAL_MAX] (no str, no bool)."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise invalid(name, value, allowed)
-    try:
+    if isinstance(value, float):  # float and its subclasses (numpy's float64): no ABC lookup
         v = float(value)
-    except OverflowError:  # an int or a Fraction beyond the float range
-        raise invalid(name, value, allowed) from None
+    elif isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise invalid(name, value, allowed)
+    else:
+        try:
+            v = float(value)
+        except OverflowError:  # an int or a Fraction beyond the float range
+            raise invalid(name, value, allowed) from None
     if not (v == 0.0 or REAL_MIN <= abs(v) <= REAL_MAX):  # also refuses nan and inf
         raise invalid(name, value, allowed)
     return v + 0.0  # -0.0 becomes 0.0
@@ -84,7 +87,7 @@ def require_int_in_range(name: str, value: object, lo: int, hi: int | None = Non
     allowed = f"an integer >= {lo}" if hi is None else f"an integer in [{lo}, {hi}]"
     if isinstance(value, bool):
         raise invalid(name, value, allowed)
-    if isinstance(value, numbers.Integral):
+    if type(value) is int or isinstance(value, numbers.Integral):
         v = int(value)
     elif isinstance(value, numbers.Real) and float(value).is_integer():
         v = int(value)

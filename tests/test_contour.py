@@ -296,3 +296,117 @@ def test_scalar_coupling_form_equals_general_form(kind):
     np.testing.assert_allclose(np.exp(1j * (value_p - value - shift).imag), 1, atol=1e-10)
     np.testing.assert_allclose((value_p - value).real, shift, rtol=1e-10)
     np.testing.assert_allclose(slope_p, slope, rtol=1e-10)
+
+
+def composed_smallest(hill, tau_max, hint=None):
+    """smallest_real_tau as the Python composition it was before the kernel took its steps
+    (issue 25): sign change near the hint, strip counts, real-axis scan, Newton root and its
+    dyadic cell, disk count, each from the module's public pieces (LogDet, winding, rectangle,
+    circle) and ``_schur.root``; the kernel's one call must answer the same, bitwise."""
+    log_g = contour.LogDet(hill)
+    z_max = tau_max * tau_max
+
+    def first_change(points):
+        found = log_g(points)
+        if found is None:
+            return None
+        sign = np.sign(np.cos(found[0].imag))
+        change = np.flatnonzero(sign[:-1] * sign[1:] < 0)
+        return (float(points[change[0]]), float(points[change[0] + 1])) if change.size else None
+
+    def zeros_below(right, strips):
+        count = None
+        for strip in strips:
+            side = strip * z_max
+            count = contour.winding(log_g, contour.rectangle(-side, right, side))
+            if count == 0:
+                break
+        return count
+
+    def root(lo, hi, rtol, otherwise=None):
+        z = _schur.root(*log_g.blocks, lo, hi, rtol)
+        if z is None or (np.isnan(z) and otherwise is None):
+            raise ZeroDivisionError
+        return otherwise if np.isnan(z) else z
+
+    bracket = None
+    if hint is not None and 0.0 < hint * hint <= z_max:
+        z0, offsets = hint * hint, np.array(contour.HINT_STEPS)
+        bracket = first_change(np.clip(np.concatenate([z0 * (1 - offsets[::-1]), [z0],
+                                                       z0 * (1 + offsets)]), 0.0, z_max))
+    if bracket is None:
+        right = z_max * (1 + 1e-6)
+        if zeros_below(right, contour.STRIPS[:1]) == 0:
+            return None, tau_max
+        bracket = first_change(np.linspace(0.0, z_max, contour.SCAN_POINTS + 1))
+        if bracket is None:
+            return (None, tau_max) if zeros_below(right, contour.STRIPS[1:]) == 0 else None
+    try:
+        z = root(*bracket, rtol=contour.ROOT_RTOL)
+        step = np.ldexp(1.0, np.frexp(z)[1] - 30)
+        lo = np.floor(z / step) * step
+        z = root(float(lo), float(lo + step), 4 * np.finfo(float).eps, otherwise=z)
+    except ZeroDivisionError:
+        return None
+    rho = contour.DISK * z
+    if zeros_below(z - rho / 2, contour.STRIPS) != 0:
+        return None
+    if contour.winding(log_g, contour.circle(z, rho)) != 1:
+        return None
+    return np.sqrt(z), np.sqrt(z + rho / 2)
+
+
+def hints_around(tau):
+    """Hints as a sweep passes them: none, the answer itself, a neighbour's nearby value, one
+    far off, one above tau_max (ignored)."""
+    out = [None, 0.3, 0.7]
+    if tau is not None:
+        out += [tau, tau * (1 + 3e-6), tau * (1 - 2e-3), tau * 1.04]
+    return out
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind", cells(16, seed=29) + [
+    (7000.0, 365.7894736842105, 3, "harmonic"), (1000.0, 50.0, 2, "subharmonic")])
+def test_kernel_steps_equal_python_composition(sigma, bpm, m, kind):
+    """The kernel's smallest() (one call per truncation) answers exactly as the Python
+    composition of the same steps, with and without hints, at both truncations of a solve,
+    on Fig 6.13 cells (incl. the close pair above and the lowest beat rate); the answers
+    themselves are checked against QZ by the tests above."""
+    system = atrium(sigma, bpm, m)
+    first = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    for n in (first, first + max(6, first // 2)):
+        hill = pencils.pencil(n, "two-sided")
+        plain = contour.smallest_real_tau(hill, TAU_MAX)
+        for hint in hints_around(None if plain is None else plain[0]):
+            got = contour.smallest_real_tau(hill, TAU_MAX, hint)
+            want = composed_smallest(hill, TAU_MAX, hint)
+            assert got == want, (n, hint)
+
+
+@pytest.mark.parametrize("m, kappa, nu, kind", fibre_cells(6, seed=43))
+def test_kernel_steps_equal_python_composition_fibre(m, kappa, nu, kind):
+    """The same on the fibre (a general 2 x 2 coupling, not a multiple of the identity)."""
+    system = fibre(m=m, kappa=kappa, nu=nu)
+    hill = Pencils(system, kind).pencil(TruncationSchedule.of(system).first, "two-sided")
+    plain = contour.smallest_real_tau(hill, TAU_MAX)
+    for hint in hints_around(None if plain is None else plain[0]):
+        assert contour.smallest_real_tau(hill, TAU_MAX, hint) == composed_smallest(
+            hill, TAU_MAX, hint)
+
+
+@pytest.mark.parametrize("budget", [20, 30, 60])
+def test_kernel_steps_equal_python_composition_when_counts_fail(monkeypatch, budget):
+    """With a node budget so small that some counts stop (the certificate declined, or a
+    thinner strip tried after a failed wider one), the kernel still answers as the
+    composition, and declines (None) where it does."""
+    monkeypatch.setattr(contour, "MAX_NODES", budget)
+    outcomes = set()
+    for sigma, bpm, m, kind in cells(10, seed=31):
+        system = atrium(sigma, bpm, m)
+        hill = Pencils(system, kind).pencil(TruncationSchedule.of(system).first, "two-sided")
+        for hint in (None, 0.2, 0.45):
+            got = contour.smallest_real_tau(hill, TAU_MAX, hint)
+            assert got == composed_smallest(hill, TAU_MAX, hint)
+            outcomes.add("declined" if got is None else "none" if got[0] is None else "tau")
+    assert len(outcomes) >= 2 and (budget > 20 or "declined" in outcomes)

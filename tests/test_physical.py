@@ -72,3 +72,24 @@ def test_unknown_balloon_and_unforced_conversion():
 def test_table_4_1_dimensionless_columns(case, printed):
     got = fibre_forced(**TABLE_4_1[case])
     assert (got["nu"], got["kappa"]) == pytest.approx(printed, rel=1e-12)
+
+
+def test_kept_forced_conversion_equals_fresh_and_still_refuses():
+    """sphere_forced_params keeps its (nu, kappa) per cgs input (a map converts each
+    (sigma, bpm) once per degree): a kept answer equals the formulas (6.4)-(6.5), a refused input
+    is refused again (not kept), and a bool equal to a kept int is still refused."""
+    from spectralshell.params.physical import sphere_forced_params
+
+    given = {"rho": 1, "mu": 0.04, "radius": 2.0, "sigma": 1234.5, "bpm": 77.0}
+    omega = 2 * math.pi * 77.0 / 60
+    for m in (2, 3):
+        out = sphere_forced_params({**given, "m": m})
+        assert out == {"m": m, "nu": pytest.approx(0.04 / (1 * 2.0**2 * omega), rel=1e-15),
+                       "kappa": pytest.approx(1234.5 / (1 * 2.0**3 * omega**2), rel=1e-15)}
+    for _ in range(2):
+        with pytest.raises(ParameterError, match="rho = True"):
+            sphere_forced_params({**given, "rho": True})
+        with pytest.raises(ParameterError, match="sigma"):
+            sphere_forced_params({**given, "sigma": -1.0})
+        with pytest.raises(ParameterError, match="rho"):
+            sphere_forced_params({**given, "rho": [1.0]})

@@ -20,14 +20,31 @@ sigma 20000 dyn/cm, 50 bpm, m = 6 (the map's largest truncations): the smallest 
 tau <= 1/2 with its certificate (``truncation_taus(method='smallest')``) against
 ``scipy.linalg.eigvals(A, B)`` of the same pencil (QZ, every eigenvalue), summed over the six.
 
+With ``--lines`` it measures instead the CPU time of 12 full lines of the 200 x 200 grid
+(sigma indices LINES, 200 beat rates each, m = 2..6, both kinds: the sweep's chunks, solved
+serially in one process with one BLAS thread) and, with ``--against PATH`` (another checkout,
+e.g. the main branch), the same lines by that code in a child process, alternately, ROUNDS
+times each: CPU s of both, and whether the two maps on those lines are bitwise equal (else the
+largest |tau_min| difference and whether the has_tau masks agree). The cost per cell of the
+whole map follows that of these lines (the map's chunks are the same solves); the tables of
+the fluid load are rebuilt per line here more often than in the whole map, where a worker
+meets each beat rate on ~100 stiffness lines.
+
 Run: python validation/bench_fig613.py [--size 200] [--sample 100]
+     python validation/bench_fig613.py --lines [--against /path/to/other/checkout]
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import pickle
 import resource
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 import scipy.linalg as sla
@@ -43,6 +60,8 @@ from spectralshell.solvers.marginal import Pencils, dense_taus, marginal_tau, tr
 TOL, TAU_MAX, DEGREES, KINDS = 1e-8, 0.5, (2, 3, 4, 5, 6), ("harmonic", "subharmonic")
 PHYSICAL = {k: CARDIAC[k] for k in ("rho", "mu", "radius")}
 WORKERS, SEED = 2, 25
+#: The sigma indices of the 200 x 200 grid whose full lines --lines solves, and its rounds.
+LINES, ROUNDS = (0, 1, 2, 3, 100, 101, 102, 103, 196, 197, 198, 199), 2
 
 
 def system_at(sigma: float, bpm: float, m: int):
@@ -154,11 +173,95 @@ def truncation_row() -> None:
                           "both must agree")
 
 
+def solve_lines(out: str) -> None:
+    """Solve LINES of the 200 x 200 map serially (the sweep's own chunks) with the code on
+    sys.path; write {"cpu": s, "arrays": {origin: arrays}} to ``out`` (pickle)."""
+    from spectralshell.params.sweep_grid import sweep_spec
+    from spectralshell.runner.layout import chunks
+    from spectralshell.runner.solve import solve_chunk
+
+    lo, hi = CARDIAC["sigma_range"]
+    spec = sweep_spec({"model": "sphere", "ask": ["tau_min"], "params": dict(PHYSICAL),
+                       "grid": {"sigma": f"{lo}:{hi}:200", "bpm": "50:650:200", "m": "2:6",
+                                "kind": list(KINDS)},
+                       "tau_min": {"tol": TOL, "tau_max": TAU_MAX}}, max_points=10**6)
+    axis = [a.name for a in spec.axes].index("sigma")
+    todo = [c for c in chunks(spec) if c.origin[axis] in LINES]
+    arrays = {}
+    with one_blas_thread():
+        cpu0 = time.process_time()
+        for chunk in todo:
+            arrays[chunk.origin] = solve_chunk(spec, chunk).arrays
+        cpu = time.process_time() - cpu0
+    with open(out, "wb") as f:
+        pickle.dump({"cpu": cpu, "arrays": arrays}, f)
+
+
+def lines_run(code: Path, out: str) -> dict:
+    """:func:`solve_lines` in a child process with ``code`` first on PYTHONPATH."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(code), str(Path(__file__).parent)])}
+    subprocess.run([sys.executable, __file__, "--solve-lines", out], env=env, check=True)
+    with open(out, "rb") as f:
+        return pickle.load(f)
+
+
+def compare(a: dict, b: dict) -> tuple[bool, float, bool]:
+    """(bitwise equal, max |tau_min difference| where both have one, has_tau masks equal)."""
+    bitwise, worst, same = True, 0.0, True
+    for origin, x in a["arrays"].items():
+        y = b["arrays"][origin]
+        bitwise &= all(np.array_equal(x[k], y[k], equal_nan=x[k].dtype.kind == "f") for k in x)
+        same &= bool(np.array_equal(x["has_tau"], y["has_tau"]))
+        both = x["has_tau"] & y["has_tau"]
+        if both.any():
+            worst = max(worst, float(np.abs(x["tau_min"][both] - y["tau_min"][both]).max()))
+    return bitwise, worst, same
+
+
+def lines_row(against: str | None) -> None:
+    here = Path(__file__).resolve().parents[1]
+    codes = [("package", here)] + ([("against", Path(against).resolve())] if against else [])
+    cpu = {name: [] for name, _ in codes}
+    with tempfile.TemporaryDirectory() as tmp:
+        runs = {}
+        for r in range(ROUNDS):
+            for name, code in codes:
+                runs[name] = lines_run(code, os.path.join(tmp, f"{name}{r}.pkl"))
+                cpu[name].append(runs[name]["cpu"])
+    cells = len(LINES) * 200 * len(DEGREES) * len(KINDS)
+    load = os.getloadavg()[0]
+    print(f"Fig 6.13, {len(LINES)} full lines of the 200 x 200 grid (sigma indices {LINES}), "
+          f"{cells} kind solves, serial, one BLAS thread; load average {load:.1f} at the end")
+    for name, code in codes:
+        print(f"  {name} ({code}): CPU s per round {', '.join(f'{c:.2f}' for c in cpu[name])}")
+    if against:
+        bitwise, worst, same = compare(runs["package"], runs["against"])
+        ratio = min(cpu["package"]) / min(cpu["against"])
+        print(f"  CPU package / against {ratio:.3f} (best rounds: {1 - ratio:.1%} less); maps "
+              f"bitwise equal: {bitwise}; max |tau_min difference| {worst:.2e}; has_tau masks "
+              f"equal: {same}")
+        row(task=f"Fig 6.13, {len(LINES)} full lines of the 200 x 200 grid, serial (CPU s)",
+            package_s=min(cpu["package"]), baseline=f"the code at {against} (same lines, CPU s)",
+            baseline_s=min(cpu["against"]), error=worst if same else float("inf"),
+            note=f"best of {ROUNDS} alternating rounds; error = max |tau_min difference| "
+                 "between the two maps on these lines")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--size", type=int, default=200)
     parser.add_argument("--sample", type=int, default=100)
+    parser.add_argument("--lines", action="store_true",
+                        help="CPU time of 12 full lines of the grid instead (module notes)")
+    parser.add_argument("--against", help="with --lines: another checkout to compare with")
+    parser.add_argument("--solve-lines", help=argparse.SUPPRESS)
     args, _ = parser.parse_known_args()
+    if args.solve_lines:
+        solve_lines(args.solve_lines)
+        return
+    if args.lines:
+        lines_row(args.against)
+        return
     with one_blas_thread():
         truncation_row()
     map_row(args.size, args.sample)

@@ -28,29 +28,39 @@ import functools
 
 import numpy as np
 
+from .._validate import REAL_MAX, REAL_MIN
 from ..errors import ParameterError
 from ..params.physical import SPHERE_MODE_INPUTS, sphere_mode_scale
 from ..params.registry import Model, register
 from ..params.sphere import SphereParams
-from ..special.spherical import ratio_i, ratio_k
+from ..special.spherical import M_MAX, ratio_i, ratio_k, ratio_pair
 from . import mathieu
 from .base import HillSystem, boundary_layer
 from .sphere_modes import lambda0_squared, modal_system  # noqa: F401 (lambda0_squared: API)
 
 
-def _p_q(m: int, s: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
+def _p_q(m: int, s: np.ndarray, nu: float,
+         checked: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """(P, Q) of the module notes at s != 0; ``checked=False`` where beta is known to lie in
+    the Bessel kernels' domain (:func:`~spectralshell.special.spherical.ratio_pair`)."""
     beta = np.sqrt(s / nu)
     with boundary_layer(nu):
-        return beta * ratio_i(m, beta), beta / ratio_k(m - 1, beta)
+        if checked:
+            return beta * ratio_i(m, beta), beta / ratio_k(m - 1, beta)
+        r_i, r_k = ratio_pair(m, beta)
+        return beta * r_i, beta / r_k
 
 
 #: Fluid-load tables kept per process (:func:`_fluid_table`): a Fig 6.13 worker meets each of
-#: its 200 beat rates x 5 degrees x 2 kinds once per stiffness line, ~2000 keys of ~5-20 kB.
+#: its 200 beat rates x 5 degrees once per stiffness line, ~1000 keys of ~10-40 kB (both kinds).
 FLUID_CACHE = 4096
-#: A table covers the Fourier indices k = -top-1..top of s_k = i (gamma + k), top a multiple of
-#: FLUID_STEP (the truncations of neighbouring cells share it), at most FLUID_TOP.
+#: A table covers the Fourier indices k = -top-1..top of s_k = i (gamma + k), top = FLUID_STEP
+#: times a power of 2 (the truncations of neighbouring cells, and of neighbouring stiffnesses,
+#: share it), at most FLUID_TOP.
 FLUID_STEP = 16
 FLUID_TOP = 512
+#: The offsets gamma of the two kinds' frequencies (harmonic, subharmonic), one table each.
+FLUID_GAMMAS = (0.0, 0.5)
 
 
 def poloidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:
@@ -58,8 +68,7 @@ def poloidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.n
     s = np.asarray(s, dtype=complex).ravel()
     q = kappa * (m - 1) * (m + 2)
     out = _fluid_load(m, float(nu), s)
-    out[:, 0, 0] += q
-    out[:, 1, 1] += q
+    out.reshape(-1, 4)[:, ::3] += q  # the entries (0, 0) and (1, 1) of each block
     return out
 
 
@@ -67,12 +76,16 @@ def _fluid_load(m: int, nu: float, s: np.ndarray) -> np.ndarray:
     """D(s) - q I of the poloidal pair (a new array): cut out of a cached table where s is a run
     of a Hill truncation's frequencies s_k = i (gamma + k), gamma 0 or 1/2 (a run of the
     table's own s, bitwise), else computed afresh."""
-    gamma = s[0].imag % 1.0 if s.size else -1.0
-    if gamma in (0.0, 0.5) and not s.real.any():
-        first = int(round(s[0].imag - gamma))
-        top = FLUID_STEP * -(-max(-first - 1, first + s.size - 1, 1) // FLUID_STEP)
+    x = s.imag.item(0) if s.size else 0.5  # a Python float: cheaper arithmetic than numpy's
+    gamma = x % 1.0
+    if s.size and gamma in FLUID_GAMMAS and not s.real.any():
+        first = int(round(x - gamma))
+        need = max(-first - 1, first + s.size - 1, 1)
+        top = FLUID_STEP
+        while top < need:
+            top *= 2
         if top <= FLUID_TOP:
-            table_s, table = _fluid_table(m, nu, gamma, top)
+            table_s, table = _fluid_table(m, nu, top)[FLUID_GAMMAS.index(gamma)]
             start = first + top + 1
             if table_s[start:start + s.size].tobytes() == s.tobytes():
                 return table[start:start + s.size].copy()
@@ -80,26 +93,36 @@ def _fluid_load(m: int, nu: float, s: np.ndarray) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=FLUID_CACHE)
-def _fluid_table(m: int, nu: float, gamma: float, top: int) -> tuple[np.ndarray, np.ndarray]:
+def _fluid_table(m: int, nu: float, top: int) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
     """(s_k, D(s_k) - q I) for k = -top-1..top, s_k = i (gamma + k) as a Hill truncation forms
-    them (read-only): the part of D that does not depend on kappa, so that the cells of a map
-    that share a beat rate (nu) evaluate the Bessel ratios once. Each value depends only on its
-    own s (elementwise numpy and the compiled continued fraction), so a cut-out run equals the
-    values computed afresh at the truncation's s (tests/test_sphere_fluid_cache.py)."""
-    s = 1j * (gamma + np.arange(-top - 1, top + 1, dtype=float))
-    table = _fluid_values(m, nu, s)
-    s.setflags(write=False)
-    table.setflags(write=False)
-    return s, table
+    them (read-only), for each gamma of FLUID_GAMMAS: the part of D that does not depend on
+    kappa, so that the cells of a map that share a beat rate (nu) evaluate the Bessel ratios
+    once, for both kinds in one call (its cost is mostly per call: ~0.15-0.2 ms for 34 or 260
+    frequencies). Each value depends only on its own s (elementwise numpy and the compiled
+    continued fraction), so a cut-out run equals the values computed afresh at the
+    truncation's s (tests/test_sphere_fluid_cache.py)."""
+    runs = [1j * (gamma + np.arange(-top - 1, top + 1, dtype=float)) for gamma in FLUID_GAMMAS]
+    # 1/2 <= |s| <= FLUID_TOP + 1 and nu in [REAL_MIN, REAL_MAX] (as validated) keep
+    # beta = sqrt(s / nu) in the Bessel kernels' domain: their per-call checks are skipped
+    known = REAL_MIN <= nu <= REAL_MAX and 1 <= m <= M_MAX
+    values = _fluid_values(m, nu, np.concatenate(runs), checked=not known)
+    out = []
+    for j, s in enumerate(runs):
+        table = values[j * s.size:(j + 1) * s.size]
+        s.setflags(write=False)
+        table.setflags(write=False)
+        out.append((s, table))
+    return tuple(out)
 
 
-def _fluid_values(m: int, nu: float, s: np.ndarray) -> np.ndarray:
-    """D(s) - q I of the poloidal pair at the complex128 s, computed."""
+def _fluid_values(m: int, nu: float, s: np.ndarray, checked: bool = True) -> np.ndarray:
+    """D(s) - q I of the poloidal pair at the complex128 s, computed (``checked``: see
+    :func:`_p_q`)."""
     out = np.zeros((s.size, 2, 2), dtype=complex)
     live = s != 0
     if live.any():
         sl = s[live]
-        P, Q = _p_q(m, sl, nu)
+        P, Q = _p_q(m, sl, nu, checked)
         s2 = sl * sl
         out[live, 0, 0] = s2 * ((2 * m + 1) / (m * (m + 1)) + m / ((m + 1) * Q) + (m + 1) / (m * P))
         out[live, 0, 1] = s2 * (m / Q - (m + 1) / P)

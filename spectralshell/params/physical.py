@@ -19,6 +19,7 @@ omega_0^2 = sigma m(m+1)(m-1)(m+2) / (rho R^3 (2m+1)).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
@@ -134,8 +135,25 @@ def sphere_forced_params(values: dict) -> dict:
     """``values`` with its cgs quantities (rho, mu, radius, sigma and omega or bpm) replaced by
     the dimensionless nu and kappa of (6.4)-(6.5); the other entries pass through."""
     rest = {k: v for k, v in values.items() if k not in PHYSICAL_UNITS}
-    phys = physical_inputs({k: v for k, v in values.items() if k in PHYSICAL_UNITS}, PHYSICAL_UNITS,
-                           required=SPHERE_INPUTS)
+    given = tuple((k, type(v), v) for k, v in values.items() if k in PHYSICAL_UNITS)
+    try:
+        return {**rest, **_forced_from(given)}
+    except TypeError:  # an unhashable value: checked (and refused) without the cache
+        return {**rest, **_forced_uncached(given)}
+
+
+@functools.lru_cache(maxsize=1024)
+def _forced_from(given: tuple) -> dict:
+    """:func:`_forced_uncached`, kept per process: a map's sweep converts the same (sigma, bpm)
+    once per degree m (its chunks run along bpm at one sigma and m). The key holds each value's
+    type (True and 1 are equal keys, but bool is refused); a refusal raises (and is not kept);
+    the dict returned is read only by unpacking."""
+    return _forced_uncached(given)
+
+
+def _forced_uncached(given: tuple) -> dict:
+    """{"nu", "kappa"} of the cgs (name, type, value) triples ``given``, each checked."""
+    phys = physical_inputs({k: v for k, _, v in given}, PHYSICAL_UNITS, required=SPHERE_INPUTS)
     if "bpm" in phys:
         if "omega" in phys:
             raise ParameterError(f"bpm = {phys['bpm']!r} is invalid together with omega = "
@@ -144,7 +162,7 @@ def sphere_forced_params(values: dict) -> dict:
     if "omega" not in phys:
         raise ParameterError("physical omega is missing: the forced sphere needs omega (rad/s) or "
                              "bpm")
-    return {**rest, **PhysicalSphere(**phys).forced()}
+    return PhysicalSphere(**phys).forced()
 
 
 def young_laplace_sigma(pressure: float, radius: float) -> float:

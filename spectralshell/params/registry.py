@@ -22,6 +22,7 @@ This module holds callables but imports no later stage: a model's capabilities a
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -223,6 +224,14 @@ def physical_values(model: str, values: dict[str, Any]) -> tuple[dict[str, Any],
     return spec.physical.convert(dict(values))
 
 
+@functools.cache
+def _required_fields(cls: type) -> tuple[dataclasses.Field, ...]:
+    """The fields of a parameter class without a default, in order (read once per class: a
+    sweep makes the parameters of every point)."""
+    return tuple(f for f in dataclasses.fields(cls)
+                 if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING)
+
+
 def make_params(model: str, values: dict[str, Any]):
     """Validated parameter object of ``model`` from a name -> value mapping.
 
@@ -236,12 +245,12 @@ def make_params(model: str, values: dict[str, Any]):
     if unknown:
         raise ParameterError(f"{unknown[0]} is not a parameter of model {model!r}: "
                              f"expected {', '.join(names)}")
-    required = [f.name for f in dataclasses.fields(cls)
-                if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
-    missing = [f for f in dataclasses.fields(cls) if f.name in required and f.name not in values]
+    required = _required_fields(cls)
+    missing = [f for f in required if f.name not in values]
     if missing:
         raise ParameterError(f"{missing[0].name} is missing: model {model!r} has no default for "
-                             f"it ({param_help(missing[0])}); it needs {', '.join(required)}")
+                             f"it ({param_help(missing[0])}); it needs "
+                             f"{', '.join(f.name for f in required)}")
     return cls(**values)
 
 

@@ -258,7 +258,7 @@ class SweepSpec:
         given = set(dict(self.fixed)) | set(self.dims)
         return self.spatial and not given & {"n_spatial", "spatial_mode"}
 
-    @property
+    @functools.cached_property
     def nonuniform(self) -> bool:
         """The sphere with kappa given as an expression: the result also stores l_max and the
         critical mode's dominant (l, k)."""

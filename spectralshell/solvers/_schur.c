@@ -37,6 +37,17 @@
  *   safeguarded by bisection (each step keeps the sign change), started at the midpoint and
  *   stopped once a step is at most rtol |z|; NaN if the sign does not change between lo and hi,
  *   None on a zero pivot.
+ * smallest(diag, lower, upper, rectangle, circle, hint_steps, strips, z_max, hint_z, disk,
+ *   scan, max_bend, max_turn, max_nodes, root_rtol) -> float, NaN or None: every step of
+ *   contour.smallest_real_tau for 2 x 2 blocks in one call (its module notes): a sign change
+ *   of g on the real points hint_z (1 -+ hint_steps), else the count in the widest strip's
+ *   rectangle up to z_max (1 + 1e-6) and a scan of scan + 1 points over [0, z_max], else the
+ *   thinner strips; the root (root() to root_rtol, then to 4 eps inside its dyadic cell of width
+ *   2^-30 |z|); the counts below z* - rho / 2 (strips in turn) and around the circle of radius
+ *   rho = disk z*. rectangle: the upper half of [0, 1] x [-1, 1] (contour.UPPER_RECTANGLE),
+ *   placed as left + (right - left) x + i a y; circle: the unit upper half circle, placed as
+ *   z* + rho u (the last node z* - rho). Returns z* = tau_min^2, NaN where no real
+ *   tau^2 <= z_max exists, None where the certificate cannot be had.
  * conditioning(diag, lower, upper) -> (cond, coupled): the largest 1-norm condition number
  *   ||A_k||_1 ||A_k^{-1}||_1 of the blocks and the largest ||A_k^{-1}||_1 times
  *   max_k ||L_k||_1 + max_k ||U_k||_1 (the inverse by the adjugate: ||adj A_k||_1 is the largest
@@ -46,6 +57,7 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <complex.h>
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -429,6 +441,208 @@ static PyObject *py_root(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     return PyFloat_FromDouble(status == 2 ? NAN : z);
 }
 
+/* The rules of smallest() (contour.smallest_real_tau's module notes), whose tuning constants
+ * come from Python (one owner: contour.py). */
+typedef struct {
+    const double complex *rect, *unit; /* upper rectangle of [0, 1] x [-1, 1]; unit half circle */
+    Py_ssize_t n_rect, n_unit;
+    double steps[8], strips[8];
+    int n_steps, n_strips;
+    double z_max, disk, root_rtol;
+    long scan, max_nodes;
+} Rules;
+
+/* Zeros inside the contour whose upper half is z[0..n) (contour.winding): 0 with the count in
+ * *count, 1 where it cannot be trusted (a zero pivot, the budget, a count farther than 0.05
+ * from an integer). */
+static int count_zeros(Contour *c, const Rules *r, const double complex *z, Py_ssize_t n,
+                       long *count)
+{
+    double turn = 0.0;
+    c->budget = r->max_nodes;
+    if (contour_turns(c, z, n, &turn))
+        return 1;
+    double total = turn / M_PI, nearest = round(total);
+    if (!(fabs(total - nearest) <= 0.05))
+        return 1;
+    *count = (long)nearest;
+    return 0;
+}
+
+/* contour._zeros_below: the zeros in [-a, right] x [-a, a], a = s z_max for the first strip s
+ * of strips[first..last) that holds none; 0 when one does, 1 otherwise (some zeros, or the
+ * thinnest count failed). The nodes are those of contour.rectangle: left + (right - left) x
+ * + i h y for x + i y of the rule's rectangle. */
+static int none_below(Contour *c, const Rules *r, double right, int first, int last)
+{
+    double complex nodes[64];
+    if (r->n_rect > 64)
+        return 1;
+    for (int j = first; j < last; j++) {
+        double side = r->strips[j] * r->z_max, left = -side, width = right - left;
+        for (Py_ssize_t i = 0; i < r->n_rect; i++)
+            nodes[i] = CMPLX(left + width * creal(r->rect[i]), side * cimag(r->rect[i]));
+        long count;
+        if (!count_zeros(c, r, nodes, r->n_rect, &count) && count == 0)
+            return 0;
+    }
+    return 1;
+}
+
+/* contour._first_change: the lowest sign change of g = det(A - tau B) / det A on the real
+ * points p[0..n) into [*lo, *hi]; 1 where there is none or a pivot vanishes. */
+static int first_change(Contour *c, const double *p, Py_ssize_t n, double *lo, double *hi)
+{
+    double complex f0, f, s;
+    if (schur_logdet(c->diag, c->lower, c->upper, c->K, 0.0, &f0, &s))
+        return 1;
+    double previous = 0.0;
+    Py_ssize_t found = -1;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        if (schur_logdet(c->diag, c->lower, c->upper, c->K, p[j], &f, &s))
+            return 1; /* as the Python path: a failed point anywhere, no bracket */
+        double cosine = cos(cimag(f - f0));
+        double sign = cosine > 0 ? 1.0 : (cosine < 0 ? -1.0 : 0.0);
+        if (found < 0 && j > 0 && previous * sign < 0)
+            found = j;
+        previous = sign;
+    }
+    if (found < 0)
+        return 1;
+    *lo = p[found - 1];
+    *hi = p[found];
+    return 0;
+}
+
+/* contour.smallest_real_tau on a 2 x 2 block pencil: 0 with z = tau_min^2 in *z (NaN: proved
+ * that no real tau^2 <= z_max exists), 1 where the certificate cannot be had. hint_z: the
+ * hint squared (outside (0, z_max]: none). Same steps, points and arithmetic as the former
+ * Python composition of winding, rectangle, circle and root (tests/test_contour.py keeps it as
+ * the reference). */
+static int smallest_root(Contour *c, const Rules *r, double hint_z, double *z)
+{
+    double lo = NAN, hi = NAN, points[2 * 8 + 1];
+    if (0.0 < hint_z && hint_z <= r->z_max) {
+        int n = 0;
+        for (int j = r->n_steps - 1; j >= 0; j--)
+            points[n++] = hint_z * (1.0 - r->steps[j]);
+        points[n++] = hint_z;
+        for (int j = 0; j < r->n_steps; j++)
+            points[n++] = hint_z * (1.0 + r->steps[j]);
+        for (int j = 0; j < n; j++)
+            points[j] = fmin(fmax(points[j], 0.0), r->z_max);
+        if (first_change(c, points, n, &lo, &hi))
+            lo = hi = NAN;
+    }
+    if (lo != lo) {
+        double right = r->z_max * (1 + 1e-6);
+        if (!none_below(c, r, right, 0, 1)) {
+            *z = NAN;
+            return 0;
+        }
+        double scan[1024];
+        if (r->scan + 1 > 1024)
+            return 1;
+        double step = r->z_max / (double)r->scan;
+        for (long j = 0; j < r->scan; j++)
+            scan[j] = (double)j * step + 0.0;
+        scan[r->scan] = r->z_max;
+        if (first_change(c, scan, r->scan + 1, &lo, &hi)) {
+            if (!none_below(c, r, right, 1, r->n_strips)) {
+                *z = NAN;
+                return 0;
+            }
+            return 1;
+        }
+    }
+    double x;
+    c->budget = ROOT_STEPS;
+    if (real_root(c, lo, hi, r->root_rtol, &x))
+        return 1;
+    int e;
+    frexp(x, &e);
+    double cell = ldexp(1.0, e - 30), low = floor(x / cell) * cell, refined;
+    c->budget = ROOT_STEPS;
+    int status = real_root(c, low, low + cell, 4 * DBL_EPSILON, &refined);
+    if (status == 1)
+        return 1;
+    if (status == 0)
+        x = refined;
+    double rho = r->disk * x;
+    if (none_below(c, r, x - rho / 2, 0, r->n_strips))
+        return 1;
+    double complex nodes[64];
+    if (r->n_unit > 64 || r->n_unit < 2)
+        return 1;
+    for (Py_ssize_t i = 0; i + 1 < r->n_unit; i++)
+        nodes[i] = CMPLX(x + rho * creal(r->unit[i]), rho * cimag(r->unit[i]));
+    nodes[r->n_unit - 1] = CMPLX(x - rho, 0.0);
+    long count;
+    if (count_zeros(c, r, nodes, r->n_unit, &count) || count != 1)
+        return 1;
+    *z = x;
+    return 0;
+}
+
+/* Up to `most` floats of a sequence into out; their number, or -1 (exception set). */
+static int float_list(PyObject *seq, double *out, int most, const char *name)
+{
+    PyObject *fast = PySequence_Fast(seq, name);
+    if (fast == NULL)
+        return -1;
+    Py_ssize_t n = PySequence_Fast_GET_SIZE(fast);
+    if (n > most) {
+        Py_DECREF(fast);
+        PyErr_Format(PyExc_ValueError, "%s: at most %d values", name, most);
+        return -1;
+    }
+    for (Py_ssize_t i = 0; i < n; i++)
+        out[i] = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(fast, i));
+    Py_DECREF(fast);
+    return PyErr_Occurred() ? -1 : (int)n;
+}
+
+static PyObject *py_smallest(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    static const char *names[5] = {"diag", "lower", "upper", "rectangle", "circle"};
+    const char *usage = "smallest(diag, lower, upper, rectangle, circle, hint_steps, strips, "
+                        "z_max, hint_z, disk, scan, max_bend, max_turn, max_nodes, root_rtol)";
+    Py_buffer v[5];
+    Contour c;
+    if (contour_args(args, nargs, 15, usage, names, 3, 0, v, &c) < 0)
+        return NULL;
+    for (int i = 3; i < 5; i++)
+        if (complex_buffer(args[i], &v[i], names[i], 1) < 0) {
+            release(v, i);
+            return NULL;
+        }
+    Rules r = {.rect = (const double complex *)v[3].buf, .n_rect = v[3].shape[0],
+               .unit = (const double complex *)v[4].buf, .n_unit = v[4].shape[0]};
+    r.n_steps = float_list(args[5], r.steps, 8, "hint_steps");
+    r.n_strips = r.n_steps < 0 ? -1 : float_list(args[6], r.strips, 8, "strips");
+    r.z_max = PyFloat_AsDouble(args[7]);
+    double hint_z = PyFloat_AsDouble(args[8]);
+    r.disk = PyFloat_AsDouble(args[9]);
+    r.scan = PyLong_AsLong(args[10]);
+    c.max_bend = PyFloat_AsDouble(args[11]);
+    c.max_turn = PyFloat_AsDouble(args[12]);
+    r.max_nodes = PyLong_AsLong(args[13]);
+    r.root_rtol = PyFloat_AsDouble(args[14]);
+    if (PyErr_Occurred() || r.n_strips < 1 || r.scan < 1) {
+        release(v, 5);
+        if (!PyErr_Occurred())
+            PyErr_Format(PyExc_ValueError, "%s: at least one strip and one scan step", usage);
+        return NULL;
+    }
+    double z = 0.0;
+    int status = smallest_root(&c, &r, hint_z, &z); /* the counts release the GIL themselves */
+    release(v, 5);
+    if (status)
+        Py_RETURN_NONE;
+    return PyFloat_FromDouble(z);
+}
+
 static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
@@ -503,6 +717,10 @@ static PyMethodDef methods[] = {
     {"root", (PyCFunction)(void (*)(void))py_root, METH_FASTCALL,
      "root(diag, lower, upper, lo, hi, rtol) -> the real zero z of det(A - tau B) in [lo, hi] "
      "by safeguarded Newton (NaN: no sign change; None: a zero pivot)."},
+    {"smallest", (PyCFunction)(void (*)(void))py_smallest, METH_FASTCALL,
+     "smallest(diag, lower, upper, rectangle, circle, hint_steps, strips, z_max, hint_z, disk, "
+     "scan, max_bend, max_turn, max_nodes, root_rtol) -> z = tau_min^2 of the smallest real "
+     "tau, certified by zero counts (float; NaN: none up to z_max; None: not certified)."},
     {"conditioning", (PyCFunction)(void (*)(void))py_conditioning, METH_FASTCALL,
      "conditioning(diag, lower, upper) -> (largest 1-norm condition of the blocks of A, largest "
      "||A_k^{-1}||_1 times the coupling's 1-norm)."},

@@ -36,10 +36,14 @@ tau <= tau_max exists; holding some, the grid looks for the sign change, and onl
 finds none are the thinner strips counted (none there: no real tau <= tau_max either).
 The count is the winding number of g along the boundary (:func:`winding`, in the compiled
 kernel ``_schur.c``; g takes conjugate values at conjugate points, so the upper half of each
-contour is read and its phase change doubled), and must lie within 0.05 of an integer. Where
-any of this fails (a
-complex eigenvalue within 1e-6 tau_max^2 of the real axis below tau*, another zero within rho of z*, a zero
-pivot, MAX_NODES evaluations) the function returns None and the caller solves the truncation
+contour is read and its phase change doubled), and must lie within 0.05 of an integer. For
+2 x 2 blocks every step above runs inside one call of the kernel (``_schur.smallest``, with
+the constants of this module passed in), which places the same points with the same
+arithmetic as the Python composition of :func:`winding`, :func:`rectangle`, :func:`circle` and
+``_schur.root`` that it replaced (tests/test_contour.py keeps that composition and checks the
+answers equal bitwise). Where any of this fails (a complex eigenvalue within 1e-6 tau_max^2 of
+the real axis below tau*, another zero within rho of z*, a zero pivot, MAX_NODES evaluations)
+the function returns None and the caller solves the truncation
 densely: the answer is then the dense path's, never an uncertified one. Like the Krylov path's
 (:mod:`spectralshell.solvers.half_product`) the count rests on sampling, here of the phase of
 g, with the node spacing set by the variation of g'/g; it is checked against QZ counts in
@@ -85,6 +89,26 @@ validation/bench_fig613.py on the same machine nearly idle (load < 1 before each
 runs): 67.2 s and 74.8 s wall on 2 workers (64.2 and 72.8 s CPU per worker), against the dense
 path projected from 100 seeded cells at 683 s and 896 s: 10.2x and 12.0x, the sampled cells
 equal to 2.5e-15 with the same has_tau masks; the issue's goal is 60 s.
+
+Then the Python around the counts (issue 25, ``validation/bench_fig613.py --lines --against``
+the main branch: the 12 lines above, serial, one BLAS thread, CPU time, the two codes run
+alternately): smallest_real_tau's steps moved into the kernel (one call per truncation instead
+of ~10), the fluid-load table of both kinds made in one call with its top doubled rather than
+stepped and without the Bessel kernels' per-call checks, and the sweep's per-point parameter
+checks made cheaper (the cgs conversion kept per process, a float fast path in the
+validators). On a 2-core machine loaded by other jobs (load average 4-10), main's code and
+this one in the same runs: 8.1-10.6 s -> 6.3-7.9 s (22-27 % less CPU; main's took 7.1 s at
+load 0.2), the map on these lines bitwise equal to main's (tau_min, has_tau,
+error_estimate, n_temporal). The whole 200 x 200 map on 2 workers, run once each, one after
+the other, at load 6-12: workers' CPU 150.0 s (main) -> 122.5 s (18 % less: the tables,
+a sixth of the gain on the 12 lines, cost little in the whole map, where a worker meets each
+beat rate on ~100 stiffness lines), the two maps bitwise equal; from the quiet measurement
+above (64.2-72.8 s CPU per worker) that projects to 53-60 s CPU per worker, about 56-63 s
+wall: at the goal, not reliably under it. Where the time now goes (perf, 12 lines): the
+kernel's log det evaluations ~40 % (the widest strip's count of the truncations without a
+tau <= tau_max, ~80 % of them, takes 54 % of the evaluations at ~20 nodes each, near the 17
+of its starting path), Python ~40 % (assembly of D(s) from the tables, marginal_tau's
+bookkeeping, the sweep's per-point work), numpy ~13 %.
 """
 
 from __future__ import annotations
@@ -125,6 +149,9 @@ MAX_BEND = 1.0
 HINT_STEPS = (1e-7, 1e-5, 1e-3, 1e-2, 0.05)
 #: Real-axis grid over [0, tau_max^2] when no hint brackets a zero and the count finds one.
 SCAN_POINTS = 48
+#: Relative step at which the first Newton solve of the root stops (the second one, inside
+#: the root's dyadic cell, runs to rounding).
+ROOT_RTOL = 1e-13
 
 
 class LogDet:
@@ -265,48 +292,9 @@ def circle(centre: float, radius: float, count: int = 16) -> np.ndarray:
     return nodes
 
 
-def _near(log_g: LogDet, z_max: float, hint: float) -> tuple[float, float] | None:
-    """The lowest sign change of g on points within 5 % of hint^2 (denser towards it), or
-    None."""
-    z0 = hint * hint
-    if not 0.0 < z0 <= z_max:
-        return None
-    offsets = np.array(HINT_STEPS)
-    points = np.clip(np.concatenate([z0 * (1 - offsets[::-1]), [z0], z0 * (1 + offsets)]),
-                     0.0, z_max)
-    return _first_change(log_g, points)
-
-
-def _first_change(log_g: LogDet, points: np.ndarray) -> tuple[float, float] | None:
-    found = log_g(points)
-    if found is None:
-        return None
-    sign = np.sign(np.cos(found[0].imag))
-    change = np.flatnonzero(sign[:-1] * sign[1:] < 0)
-    return (float(points[change[0]]), float(points[change[0] + 1])) if change.size else None
-
-
-def _root(log_g: LogDet, lo: float, hi: float, rtol: float,
-          otherwise: float | None = None) -> float:
-    """The zero of g in the sign change [lo, hi] by Newton's method on the kernel's g'/g,
-    safeguarded by bisection (``otherwise`` if g does not change sign there)."""
-    z = _schur.root(*log_g.blocks, lo, hi, rtol)
-    if z is None:
-        raise ZeroDivisionError("zero pivot")
-    if math.isnan(z):
-        if otherwise is None:
-            raise ZeroDivisionError("no sign change")
-        return otherwise
-    return z
-
-
-def _dyadic_cell(z: float) -> tuple[float, float]:
-    """The cell of width 2^-30 |z| (rounded to a power of 2) on a fixed grid that holds z: the
-    final solve runs on it, so that the answer does not depend on the hint that found z (a
-    continued and an independent solve of one truncation agree bitwise)."""
-    step = math.ldexp(1.0, math.frexp(z)[1] - 30)
-    lo = math.floor(z / step) * step
-    return lo, lo + step
+#: The unit circle's upper half (16 segments around), from which the kernel places the circle
+#: around z* as :func:`circle` does: z* + rho u (the last node z* - rho).
+UNIT_HALF_CIRCLE = circle(0.0, 1.0)
 
 
 def _zeros_below(log_g: LogDet, right: float, z_max: float,
@@ -340,28 +328,25 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
     """(tau_min or None, complete_to) of one bipartite truncation, certified as in the module
     notes: no real tau below tau_min (none at all <= tau_max when None), and every real tau up
     to complete_to is tau_min. None when the certificate cannot be had (use the dense path).
-    Blocks of 2 x 2 only (the root is the compiled kernel's ``_schur.root``); larger ones have
-    the count alone, :func:`none_up_to`."""
+    Blocks of 2 x 2 only; larger ones have the count alone, :func:`none_up_to`.
+
+    The steps run in the compiled kernel (``_schur.smallest``), one call per truncation: the
+    sign change near ``hint`` squared (HINT_STEPS), else the widest strip's count and the
+    real-axis scan (SCAN_POINTS), then the thinner strips; the root by safeguarded Newton to
+    1e-13 and again inside its dyadic cell of width 2^-30 |z| (so that the answer does not
+    depend on the hint); the counts of :func:`rectangle` (STRIPS) below z* - rho / 2 and of
+    :func:`circle` around z*, each as :func:`winding` takes them. Called from Python, these
+    steps cost about as much as the counts themselves (issue 25)."""
     log_g = LogDet(hill)
     if not log_g.compiled:
         raise ValueError("smallest_real_tau needs 2 x 2 blocks (larger ones: none_up_to)")
     z_max = tau_max * tau_max
-    bracket = None if hint is None else _near(log_g, z_max, hint)
-    if bracket is None:
-        right = z_max * (1 + 1e-6)
-        if _zeros_below(log_g, right, z_max, STRIPS[:1]) == 0:
-            return None, tau_max
-        bracket = _first_change(log_g, np.linspace(0.0, z_max, SCAN_POINTS + 1))
-        if bracket is None:  # only complex zeros near the real axis, or a close pair
-            return (None, tau_max) if _zeros_below(log_g, right, z_max, STRIPS[1:]) == 0 else None
-    try:
-        z = _root(log_g, *bracket, rtol=1e-13)
-        z = _root(log_g, *_dyadic_cell(z), rtol=4 * np.finfo(float).eps, otherwise=z)
-    except ZeroDivisionError:
+    z = _schur.smallest(*log_g.blocks, UPPER_RECTANGLE, UNIT_HALF_CIRCLE, HINT_STEPS, STRIPS,
+                        z_max, -1.0 if hint is None else hint * hint, DISK, SCAN_POINTS,
+                        MAX_BEND, MAX_TURN, MAX_NODES, ROOT_RTOL)
+    if z is None:
         return None
+    if math.isnan(z):
+        return None, tau_max
     rho = DISK * z
-    if _zeros_below(log_g, z - rho / 2, z_max) != 0:
-        return None
-    if winding(log_g, circle(z, rho)) != 1:
-        return None
     return math.sqrt(z), math.sqrt(z + rho / 2)

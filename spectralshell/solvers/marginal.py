@@ -381,6 +381,7 @@ class Pencils:
         self._largest: dict[str, HillMatrices] = {}
         self._inverses: dict[str, BlockInverses | None] = {}  # of the largest, once asked for
         self._conditioned: dict[str, bool] = {}  # well_conditioned(the largest), once asked for
+        self._cut: dict[tuple[int, str], HillMatrices] = {}  # smaller ones cut out of it
         self.reserve = 0
 
     def pencil(self, n_temporal: int, form: str) -> HillMatrices:
@@ -388,7 +389,12 @@ class Pencils:
         big = self._largest.get(form)
         if big is None or big.n_temporal < n_temporal:
             big = self._assemble(max(n_temporal, self.reserve), form)
-        return big if big.n_temporal == n_temporal else big.truncated(n_temporal)
+        if big.n_temporal == n_temporal:
+            return big
+        cut = self._cut.get((n_temporal, form))
+        if cut is None:
+            cut = self._cut[n_temporal, form] = big.truncated(n_temporal)
+        return cut
 
     def well_conditioned(self, n_temporal: int, form: str) -> bool:
         """Whether truncation ``n_temporal`` has its block inverses (:func:`well_conditioned`),
@@ -417,6 +423,7 @@ class Pencils:
         those of the blocks it shares with the previous one (when bitwise equal)."""
         previous, known_inv = self._largest.get(form), self._inverses.pop(form, None)
         self._conditioned.pop(form, None)
+        self._cut = {key: cut for key, cut in self._cut.items() if key[1] != form}
         hill = assemble(self.system, self.kind, n_temporal, form)
         self._largest[form] = hill
         if previous is not None and known_inv is not None:
@@ -590,7 +597,9 @@ def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_m
 
 
 def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
-    return tau if tau_max == np.inf else tau[tau <= tau_max]  # tau is never NaN
+    if not tau.size or tau_max == np.inf:
+        return tau
+    return tau[tau <= tau_max]  # tau is never NaN
 
 
 def converged_pair(found: Truncation, previous: Truncation, tol: float,

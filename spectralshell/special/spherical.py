@@ -45,7 +45,7 @@ import numpy as np
 from ..errors import ParameterError
 from . import _lentz
 
-__all__ = ["M_MAX", "ratio_i", "ratio_k", "logderiv_i", "logderiv_k"]
+__all__ = ["M_MAX", "ratio_i", "ratio_k", "ratio_pair", "logderiv_i", "logderiv_k"]
 
 #: Largest degree accepted.  The physics needs m <= 61; the bound keeps the worst-case cost
 #: of the continued fraction (about (m+1)(m+2) terms, reached near Re z = 0 with |z| just
@@ -278,6 +278,19 @@ def ratio_k(m, z):
     """
     mm, zz, shape = _prepare(m, z, allow_zero=False)
     return _finish(_zk_ratio_all(mm, zz) / zz, zz, shape)
+
+
+def ratio_pair(m: int, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(:func:`ratio_i` (m, z), :func:`ratio_k` (m - 1, z)) for a 1-d complex128 ``z`` that the
+    caller knows to lie in the domain (Re z >= 0, 1e-150 <= |z| <= 1e150; e.g. the sphere's
+    beta = sqrt(s / nu) at Fourier frequencies |s| <= 513 and a validated nu) and an integer
+    1 <= m <= M_MAX: the same kernels without the per-call checks of m and z, which cost about
+    a third of a fluid-load table (issue 25); the results are still checked finite. Equal to
+    the two checked calls bitwise (tests/test_sphere_fluid_cache.py)."""
+    degrees = np.full(z.shape, m, dtype=np.int64)
+    shape = z.shape
+    return (_finish(_ratio_i_all(degrees, z), z, shape),
+            _finish(_zk_ratio_all(degrees - 1, z) / z, z, shape))
 
 
 def logderiv_i(m, z):
