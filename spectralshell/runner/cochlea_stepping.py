@@ -1,0 +1,134 @@
+"""Time stepping of the box cochlea, M cosine modes: the growth rate of a pumped basilar membrane.
+
+The cochlea's second, independent discretisation (:mod:`spectralshell.discretise.cochlea_vertical`:
+per cosine mode, vertical Chebyshev collocation of unsteady Stokes flow, the modes coupled by the
+stiffness profile e^{-alpha x}) is stepped with K(t) = kappa e^{-alpha x} (1 + 2 tau sin t) and
+the dominant growth rate of the basal displacement h(0, t) = sum_k h_k(t) is fitted. It checks
+the Floquet exponents of the Hill system (``ss.exponents("cochlea", ...)``), which use the
+closed-form transfer functions Z_k(s) instead; the two share only the coupling matrix C.
+
+Start. The state starts as the sum of the real parts of every resolved oscillatory natural mode
+of the stepping pencil itself (each scaled to a largest membrane amplitude 1): a consistent state
+of the DAE, fluid included, that excites each Floquet family, whereas an impulsive start (fluid at
+rest) also excites the discretised continuum near s = -nu k^2, which decays more slowly than the
+modes.
+
+Fit. The rate fit (:func:`spectralshell.solvers.rate_fit.fit_rate`) keeps the component of
+largest amplitude anywhere in its window, which for decaying components is the one largest at
+the start, not the least damped. So the fitted signal is h(0, t) e^{c t} with c = WEIGHT_FACTOR
+times the largest decay rate of the oscillatory modes (every mode's weighted signal grows, and
+the least damped one dominates late in the window), and c is subtracted from the fitted rate
+(the weight multiplies every Floquet multiplier by e^{c T} exactly).
+
+Time grid, fit window and the 2 dt check run are those of ``simulate``
+(:func:`.simulate.time_grid`: a whole number of steps per forcing period, DT_FACTOR / |s| at
+most, s the least damped natural mode). The error estimate adds the fit's own sub-window spread,
+the change of the fit at step 2 dt and the vertical error, the relative change of the least
+damped oscillatory eigenvalue of the pencil between n_vertical and N_CHECK nodes fewer, times
+|gamma|. Measured against the exponents: see tests/test_cochlea_stepping.py.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from .._validate import require_int_in_range, require_real
+from ..discretise.cochlea_vertical import (N_VERTICAL_MIN, cochlea_vertical_operators,
+                                           stepping_system)
+from ..discretise.sphere_radial import N_RADIAL_MAX
+from ..discretise.sphere_stepping import OSCILLATORY, oscillatory_leader
+from ..errors import ConvergenceError, ParameterError
+from ..models.cochlea import natural_frequencies
+from ..params.cochlea import CochleaParams
+from ..results.records import RateFit
+from ..solvers.eigen import finite_eigenvalues
+from ..solvers.rate_fit import fit_rate
+from .simulate import fit_window, stepped_runs, time_grid
+
+N_VERTICAL = 48         # default vertical resolution (natural modes to ~1e-8 at M <= 8, nu = 1e-3)
+VERTICAL_SCALE = 1.0    # L of the map y = L (1/xi - 1): the decay length of the first mode
+N_CHECK = 8             # the vertical error compares with this many nodes fewer
+PERIODS = 60.0          # default run length in forcing periods
+WEIGHT_FACTOR = 1.5     # c = WEIGHT_FACTOR max |Re s| of the oscillatory modes (module docstring)
+FLOOR = 0.1             # oscillatory modes have |s| > FLOOR w_1 (w_1 the lowest inviscid frequency)
+
+
+def _oscillatory(values: np.ndarray, floor: float) -> np.ndarray:
+    """Indices of the eigenvalues with Im s > OSCILLATORY |s| and |s| > floor (the nearly real
+    discretised continuum near s = 0 left out, as :func:`.sphere_stepping.oscillatory_leader`)."""
+    return np.flatnonzero((values.imag > OSCILLATORY * np.abs(values)) & (np.abs(values) > floor))
+
+
+def cochlea_rate(*, kappa: float, nu: float, alpha: float, n_spatial: int, tau: float,
+                 periods: float = PERIODS, scheme: str = "SBDF3", dt: float | None = None,
+                 n_vertical: int = N_VERTICAL, vertical_scale: float = VERTICAL_SCALE) -> RateFit:
+    """Growth rate (and frequency) of the time-stepped cochlea of M cosine modes (module docstring).
+
+    Parameters
+    ----------
+    kappa, nu, alpha, n_spatial : as ``ss.exponents("cochlea", ...)``; nu > 0 (the vertical
+        stepper has viscous fluid) and a fixed number M of cosine modes.
+    tau : pumping amplitude of K(t) = kappa e^{-alpha x} (1 + 2 tau sin t).
+    periods : run length in forcing periods 2 pi (>= 10).
+    scheme, dt : IMEX scheme and step (None: the simulate default).
+    n_vertical : vertical unknowns per field and mode (>= 6 + N_CHECK).
+    vertical_scale : L of the vertical map y = L (1/xi - 1).
+
+    Returns
+    -------
+    RateFit of h(0, t): growth_rate approximates Re gamma of the leading Floquet exponent,
+    frequency its locked frequency (1/2 subharmonic, 0 or 1 harmonic when forced).
+
+    Raises
+    ------
+    ParameterError : a parameter out of range (nu = 0 and n_spatial = None included).
+    ConvergenceError : no oscillatory mode resolved.
+    """
+    p = CochleaParams(kappa=kappa, nu=nu, alpha=alpha, n_spatial=n_spatial)
+    if p.nu == 0.0:
+        raise ParameterError("nu = 0 is invalid: must be > 0 for the cochlea's vertical time "
+                             "stepper (the inviscid cochlea is a matrix Mathieu equation)")
+    if p.n_spatial is None:
+        raise ParameterError("n_spatial = None is invalid: the time stepper needs a fixed number "
+                             "of cosine modes M >= 1")
+    tau = require_real("tau", tau)
+    if not require_real("periods", periods) >= 10:
+        raise ParameterError(f"periods = {periods!r} is invalid: must be >= 10")
+    n_vertical = require_int_in_range("n_vertical", n_vertical, N_VERTICAL_MIN + N_CHECK,
+                                      N_RADIAL_MAX)
+    floor = FLOOR * float(natural_frequencies(p.kappa, p.alpha, np.arange(1, p.n_spatial + 1))[0])
+    fine_ops, coarse_ops = (
+        cochlea_vertical_operators(n_spatial=p.n_spatial, nu=p.nu, alpha=p.alpha,
+                                   n_vertical=n_vertical - k, vertical_scale=vertical_scale)
+        for k in (0, N_CHECK))
+    values, vectors = finite_eigenvalues(*fine_ops.pencil(p.kappa), vectors=True)
+    leaders = [oscillatory_leader(values, floor),
+               oscillatory_leader(finite_eigenvalues(*coarse_ops.pencil(p.kappa)), floor)]
+    if None in leaders:
+        raise ConvergenceError(f"no resolved oscillatory mode at zeta = nu/sqrt(kappa) = "
+                               f"{p.nu / math.sqrt(p.kappa):.3g}: raise n_vertical")
+    leading = leaders[0]
+    osc = _oscillatory(values, floor)
+    membrane = vectors[fine_ops.blocks["membrane"]][:, osc]
+    peaks = membrane[np.argmax(np.abs(membrane), axis=0), np.arange(osc.size)]
+    y0 = (vectors[:, osc] / peaks).real.sum(axis=1)
+    weight = WEIGHT_FACTOR * float(np.max(-values[osc].real))
+    system = stepping_system(fine_ops, kappa=p.kappa, tau=tau)
+    step, every, steps, t_end = time_grid(dt=dt, rate=abs(leading), tau=system.tau,
+                                          t_end=periods * 2 * math.pi)
+    (fine,), (coarse,) = stepped_runs([system], [y0], scheme, step, steps, every, progress=False)
+    forced = system.tau != 0.0
+    window = fit_window(t_end, leading, forced)
+    period = 2 * math.pi if forced else None
+    f, c = (fit_rate(run.times, run.values.sum(axis=1) * np.exp(weight * run.times),
+                     period=period, window=window) for run in (fine, coarse))
+    time_error = max(abs(f.growth_rate - c.growth_rate), abs(f.frequency - c.frequency))
+    rate = f.growth_rate - weight
+    space_error = abs(leaders[0] - leaders[1]) / abs(leading) * abs(complex(rate, f.frequency))
+    spacing = period if forced else float(fine.times[1] - fine.times[0])
+    return dataclasses.replace(f, growth_rate=rate,
+                               multiplier=f.multiplier * math.exp(-weight * spacing),
+                               error_estimate=f.error_estimate + time_error + space_error)
