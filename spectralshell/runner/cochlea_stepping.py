@@ -49,7 +49,7 @@ from ..solvers.eigen import finite_eigenvalues
 from ..solvers.rate_fit import fit_rate
 from .simulate import fit_window, stepped_runs, time_grid
 
-N_VERTICAL = 48         # default vertical resolution (natural modes to ~1e-8 at M <= 8, nu = 1e-3)
+N_VERTICAL = 48         # default vertical resolution (natural modes to 7e-9 at M = 4, 6, nu = 1e-3)
 VERTICAL_SCALE = 1.0    # L of the map y = L (1/xi - 1): the decay length of the first mode
 N_CHECK = 8             # the vertical error compares with this many nodes fewer
 PERIODS = 60.0          # default run length in forcing periods
