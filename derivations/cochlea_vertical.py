@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Checks of the vertical formulation of the cochlea in spectralshell/discretise/cochlea_vertical.py.
+"""Checks of the vertical formulation of the cochlea (spectralshell/discretise/cochlea_vertical.py).
 
 The module discretises the linearised box cochlea of ``derivations/cochlea_linear_result.md``
 (thesis chapter 5) in y, per cosine mode, as ``fibre_radial.py`` does for the fibre in r. This
@@ -158,7 +158,8 @@ def part_c():
         load = R[2, 0] * coef[0] + R[2, 1] * coef[1]
         Z = closed_Z(kk, ss, vv)
         worst = max(worst, abs(load - Z) / abs(Z))
-    check("load row -2 nu omega'(0)/k = [[p]] = Z_k(s) h on the exact fields (3 cases)", worst < 1e-25,
+    check("load row -2 nu omega'(0)/k = [[p]] = Z_k(s) h on the exact fields (3 cases)",
+          worst < 1e-25,
           f"max rel. difference {mp.nstr(worst, 3)}")
 
     Mm, kap, vv, al = 3, mp.mpf("0.5"), mp.mpf("1e-3"), mp.mpf(1)

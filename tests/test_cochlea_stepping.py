@@ -89,7 +89,8 @@ def test_growth_rate_above_tau_min_equals_the_floquet_exponent():
 def test_growth_rate_equals_the_floquet_exponent_more_cases(n_spatial, side):
     """Below tau_min the leading exponent (M = 4: -0.009512, M = 6: -0.010655, both continued
     from the slowest natural mode, while a subharmonic family decays nearby, -0.01173 at M = 6);
-    above it M = 6 grows at 0.009352 (measured 1e-9 .. 1.1e-7, about 10-20 s each)."""
+    above it M = 6 grows at 0.009352 (measured 1.4e-9 .. 1.1e-7; 8 s (M = 4) to 46 s wall
+    (M = 6) on the loaded 2-core machine)."""
     check_rate(n_spatial, tau_min(n_spatial) + side * DTAU, side)
 
 

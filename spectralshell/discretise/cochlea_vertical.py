@@ -1,4 +1,4 @@
-"""Vertical Chebyshev operators of the box cochlea's M cosine modes: s M v = (L_fluid + K L_stiffness) v.
+"""Vertical Chebyshev operators of the cochlea's cosine modes: s M v = (L_fluid + K L_stiffness) v.
 
 A second, independent discretisation of the linearised cochlea of
 ``derivations/cochlea_linear_result.md`` (thesis chapter 5): per cosine mode cos(k x) the unsteady
@@ -61,14 +61,15 @@ from ..errors import ParameterError
 from ..models.cochlea import coupling_matrix
 from ..params.cochlea import MODE_RANGE
 from .chebyshev import exterior_derivatives
+from .membrane_pencil import MembranePencil
 from .sphere_radial import N_RADIAL_MAX, require_exterior_scale
 
 N_VERTICAL_MIN = 6
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
-class CochleaVerticalOperators:
-    """Vertical operators of the cochlea's cosine modes k = 1..M, s M v = (L_fluid + K L_stiffness) v.
+class CochleaVerticalOperators(MembranePencil):
+    """Vertical operators of the cochlea's cosine modes 1..M: s M v = (L_fluid + K L_stiffness) v.
 
     The state v is the concatenation, for k = 1..M, of the blocks ``f<k>`` and ``omega<k>`` (f
     and omega = L_k f at the nodes ``xi``), then ``membrane`` (h_1..h_M). The rows follow the
@@ -83,6 +84,9 @@ class CochleaVerticalOperators:
     M, L_fluid : (size, size) real matrices (M is zero on the algebraic rows).
     L_stiffness : the membrane term C h at unit stiffness in the stress rows.
     blocks : read-only mapping name -> slice of v.
+
+    ``size``, ``pencil(kappa)`` (stiffness kappa e^{-alpha x}) and ``displacement(v)``
+    (h_1, ..., h_M) come from :class:`.membrane_pencil.MembranePencil`.
     """
 
     n_spatial: int
@@ -95,20 +99,6 @@ class CochleaVerticalOperators:
     L_fluid: np.ndarray
     L_stiffness: np.ndarray
     blocks: Mapping[str, slice]
-
-    @property
-    def size(self) -> int:
-        """Length of the state vector v."""
-        return self.M.shape[0]
-
-    def pencil(self, kappa: float) -> tuple[np.ndarray, np.ndarray]:
-        """(L, M) of the natural-mode problem s M v = L v at constant stiffness K = kappa e^{-alpha x}."""
-        kappa = require_positive("kappa", kappa)
-        return self.L_fluid + kappa * self.L_stiffness, self.M
-
-    def displacement(self, v: np.ndarray) -> np.ndarray:
-        """Membrane displacement (h_1, ..., h_M) of a state vector (or of its columns)."""
-        return np.asarray(v)[self.blocks["membrane"]]
 
 
 def cochlea_vertical_operators(*, n_spatial: int, nu: float, alpha: float, n_vertical: int,
@@ -189,7 +179,7 @@ class CochleaStepping:
 
 def stepping_system(operators: CochleaVerticalOperators, *, kappa: float,
                     tau: float) -> CochleaStepping:
-    """The time-stepping form of ``operators`` at stiffness K(t) = kappa e^{-alpha x} (1 + 2 tau sin t).
+    """The time-stepping form of ``operators`` at K(t) = kappa e^{-alpha x} (1 + 2 tau sin t).
 
     Raises
     ------
