@@ -34,8 +34,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -122,7 +122,7 @@ def cochlea_rate(*, kappa: float, nu: float, alpha: float, n_spatial: int, tau: 
     left = left_vectors[:, [int(np.argmin(np.abs(left_values - values[i]))) for i in osc]]
     rows = left.T @ fine_ops.M                          # u_j^T M: q_j(v) = Re(rows_j v)
     rows /= np.abs(np.diag(rows @ shapes))[:, None]     # q_j = 1 on mode j's shape
-    system = _Modal(stepping_system(fine_ops, kappa=p.kappa, tau=tau), rows)
+    system = _Modal.of(stepping_system(fine_ops, kappa=p.kappa, tau=tau), rows)
     step, every, steps, t_end = time_grid(dt=dt, rate=abs(leading), tau=tau,
                                           t_end=periods * 2 * math.pi)
     (fine,), (coarse,) = stepped_runs([system], [shapes.real.sum(axis=1)], scheme, step, steps,
@@ -144,16 +144,21 @@ def _peaks(membrane: np.ndarray) -> np.ndarray:
     return membrane[np.argmax(np.abs(membrane), axis=0), np.arange(membrane.shape[1])]
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, kw_only=True, eq=False)
 class _Modal:
-    """A :class:`.cochlea_vertical.CochleaStepping` observed through its modal coordinates:
-    ``displacement`` (what :func:`.simulate.stepped_runs` records) returns Re(rows v)."""
+    """The system M dv/dt = L v + f(t) N v of a :class:`.cochlea_vertical.CochleaStepping`
+    observed through its modal coordinates: ``displacement`` (what
+    :func:`.simulate.stepped_runs` records) returns Re(rows v)."""
 
-    system: CochleaStepping
+    M: np.ndarray
+    L: np.ndarray
+    N: np.ndarray | None
+    forcing: Callable[[float], float] | None
     rows: np.ndarray
 
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self.system, name)
+    @classmethod
+    def of(cls, system: CochleaStepping, rows: np.ndarray) -> _Modal:
+        return cls(M=system.M, L=system.L, N=system.N, forcing=system.forcing, rows=rows)
 
     def displacement(self, v: np.ndarray) -> np.ndarray:
         return (self.rows @ v).real
