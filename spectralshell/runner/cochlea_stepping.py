@@ -21,15 +21,20 @@ coordinates q_j(t) = Re(u_j^T M v(t)), u_j the left eigenvector of natural mode 
 (u_j^T M v_i = 0 for i != j at tau = 0): each q_j is dominated by the Floquet family continued
 from mode j, every q_j is fitted and the largest growth rate is the result (with its frequency).
 
-Time grid, fit window and the 2 dt check run are those of ``simulate``
+Window. The start excites the most damped modes as much as the least damped ones, and their many
+Floquet components exceed what the fit resolves (M = 8 below tau_min: a bias of 1.2e-5 with the
+window of ``simulate``, which starts after two periods); so the window starts when the most
+damped oscillatory mode has decayed by e^-TRANSIENT_EFOLDS (at MAX_SKIP of the run at the
+latest) and ends as in ``simulate``.
+
+Time grid, the window's end and the 2 dt check run are those of ``simulate``
 (:func:`.simulate.time_grid`: a whole number of steps per forcing period, DT_FACTOR / |s| at
 most, s the least damped natural mode). The error estimate adds the fit's own sub-window spread,
 the change of the fit at step 2 dt and the vertical error, the largest relative change of an
 oscillatory eigenvalue of the pencil between n_vertical and N_CHECK nodes fewer, times |gamma|.
 Measured against the exponents at kappa = 0.5, nu = 1e-3, alpha = 1, tau = tau_min -+ 0.02:
-1.4e-9 and 6e-8 (M = 4), 4.8e-8 and 1.1e-7 (M = 6), 1.2e-5 and 3.9e-7 (M = 8: below tau_min
-the fit of the locked leading family is biased by components the DMD does not separate; the
-stated error, 1.3e-5, covers it) (tests/test_cochlea_stepping.py).
+1.7e-9 and 5.8e-8 (M = 4), 2.7e-9 and 9.6e-8 (M = 6), 1.1e-7 and 1.3e-7 (M = 8), with stated
+errors 2e-8 .. 8e-7 (tests/test_cochlea_stepping.py).
 """
 
 from __future__ import annotations
@@ -59,6 +64,8 @@ VERTICAL_SCALE = 1.0    # L of the map y = L (1/xi - 1): the decay length of the
 N_CHECK = 8             # the vertical error compares with this many nodes fewer
 PERIODS = 60.0          # default run length in forcing periods
 FLOOR = 0.1             # oscillatory modes have |s| > FLOOR w_1 (w_1 the lowest inviscid frequency)
+TRANSIENT_EFOLDS = 10.0  # the fit starts when the most damped mode has decayed by e^-10 ...
+MAX_SKIP = 0.4          # ... or at this fraction of the run, whichever is first
 
 
 def _oscillatory(values: np.ndarray, floor: float) -> np.ndarray:
@@ -130,7 +137,9 @@ def cochlea_rate(*, kappa: float, nu: float, alpha: float, n_spatial: int, tau: 
     (fine,), (coarse,) = stepped_runs([system], [shapes.real.sum(axis=1)], scheme, step, steps,
                                       every, progress=False)
     forced = tau != 0.0
-    window = fit_window(t_end, leading, forced)
+    t_a, t_b = fit_window(t_end, leading, forced)
+    fastest = float(np.max(-values[osc].real))
+    window = (max(t_a, min(TRANSIENT_EFOLDS / fastest, MAX_SKIP * t_end)), t_b)
     period = 2 * math.pi if forced else None
     fits = [[fit_rate(run.times, run.values[:, j], period=period, window=window) for j in
              range(osc.size)] for run in (fine, coarse)]
