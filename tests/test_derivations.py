@@ -11,7 +11,7 @@ DERIVATIONS = Path(__file__).resolve().parents[1] / "derivations"
 
 @pytest.mark.parametrize("script", ["mathieu_mapping.py", "sphere_linear.py", "fibre_linear.py",
                                     "cochlea_linear.py", "cochlea_wkb.py", "fibre_modes.py",
-                                    "fibre_radial.py"])
+                                    "fibre_radial.py", "cochlea_vertical.py"])
 def test_derivation_script_passes(script):
     done = subprocess.run([sys.executable, str(DERIVATIONS / script)], capture_output=True, text=True,
                           timeout=300)

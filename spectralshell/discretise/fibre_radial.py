@@ -61,13 +61,14 @@ from .._validate import require_choice, require_int_in_range, require_positive, 
 from ..errors import ParameterError
 from ..params.fibre import FORCINGS, M_RANGE
 from .chebyshev import ball_derivatives, exterior_derivatives
+from .membrane_pencil import MembranePencil
 from .sphere_radial import N_RADIAL_MAX, require_exterior_scale
 
 MEMBRANE = ("r", "theta")
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
-class FibreRadialOperators:
+class FibreRadialOperators(MembranePencil):
     """Radial operators of wavenumber m of the fibre, s M v = (L_fluid + K L_stiffness) v.
 
     The state v is the concatenation of the blocks ``f_inner``, ``f_outer`` (f at ``r_inner``
@@ -86,6 +87,9 @@ class FibreRadialOperators:
     L_pressure, L_tangential : the membrane term E X at unit stiffness in the normal and in the
         tangential stress row (L_stiffness = their sum).
     blocks : read-only mapping name -> slice of v.
+
+    ``size``, ``pencil(kappa)`` (K = kappa) and ``displacement(v)`` (X^r, X^theta) come from
+    :class:`.membrane_pencil.MembranePencil`.
     """
 
     m: int
@@ -102,11 +106,6 @@ class FibreRadialOperators:
     blocks: Mapping[str, slice]
 
     @property
-    def size(self) -> int:
-        """Length of the state vector v."""
-        return self.M.shape[0]
-
-    @property
     def L_stiffness(self) -> np.ndarray:
         """The membrane term E X at unit stiffness, in both stress rows."""
         return self.L_pressure + self.L_tangential
@@ -117,15 +116,6 @@ class FibreRadialOperators:
         forcing = require_choice("forcing", forcing, FORCINGS)
         return {"both": self.L_stiffness, "pressure": self.L_pressure,
                 "tangential": self.L_tangential}[forcing]
-
-    def pencil(self, kappa: float) -> tuple[np.ndarray, np.ndarray]:
-        """(L, M) of the natural-mode problem s M v = L v at constant stiffness K = kappa."""
-        kappa = require_positive("kappa", kappa)
-        return self.L_fluid + kappa * self.L_stiffness, self.M
-
-    def displacement(self, v: np.ndarray) -> np.ndarray:
-        """Membrane displacement (X^r, X^theta) of a state vector (or of its columns)."""
-        return np.asarray(v)[self.blocks["membrane"]]
 
 
 def fibre_radial_operators(*, m: int, nu: float, n_inner: int, n_outer: int,

@@ -1,0 +1,175 @@
+"""Time stepping of the box cochlea, M cosine modes: the growth rate of a pumped basilar membrane.
+
+The cochlea's second, independent discretisation (:mod:`spectralshell.discretise.cochlea_vertical`:
+per cosine mode, vertical Chebyshev collocation of unsteady Stokes flow, the modes coupled by the
+stiffness profile e^{-alpha x}) is stepped with K(t) = kappa e^{-alpha x} (1 + 2 tau sin t) and
+the dominant growth rate of the modal coordinates (below) is fitted. It checks
+the Floquet exponents of the Hill system (``ss.exponents("cochlea", ...)``), which use the
+closed-form transfer functions Z_k(s) instead; the two share only the coupling matrix C.
+
+Start. The state starts as the sum of the real parts of every resolved oscillatory natural mode
+of the stepping pencil itself (each scaled to a largest membrane amplitude 1): a consistent state
+of the DAE, fluid included, that excites each Floquet family, whereas an impulsive start (fluid at
+rest) also excites the discretised continuum near s = -nu k^2, which decays more slowly than the
+modes.
+
+Fit. The rate fit (:func:`spectralshell.solvers.rate_fit.fit_rate`) keeps the component of
+largest amplitude anywhere in its window, which for decaying components is the one largest at
+the start, not the least damped (at M = 6 below tau_min the leading family -0.01066 carries
+1/13 of the amplitude of the next, -0.01173, in h(0, t) = sum_k h_k). So the run observes the modal
+coordinates q_j(t) = Re(u_j^T M v(t)), u_j the left eigenvector of natural mode j of the pencil
+(u_j^T M v_i = 0 for i != j at tau = 0): each q_j is dominated by the Floquet family continued
+from mode j, every q_j is fitted and the largest growth rate is the result (with its frequency).
+
+Window. The start excites the most damped modes as much as the least damped ones, and their many
+Floquet components exceed what the fit resolves (M = 8 below tau_min: a bias of 1.2e-5 with the
+window of ``simulate``, which starts after two periods); so the window starts when the most
+damped oscillatory mode has decayed by e^-TRANSIENT_EFOLDS (at MAX_SKIP of the run at the
+latest) and ends as in ``simulate``.
+
+Time grid, the window's end and the 2 dt check run are those of ``simulate``
+(:func:`.simulate.time_grid`: a whole number of steps per forcing period, DT_FACTOR / |s| at
+most, s the least damped natural mode). The error estimate adds the fit's own sub-window spread,
+the change of the fit at step 2 dt and the vertical error, the largest relative change of an
+oscillatory eigenvalue of the pencil between n_vertical and N_CHECK nodes fewer, times |gamma|.
+Measured against the exponents at kappa = 0.5, nu = 1e-3, alpha = 1, tau = tau_min -+ 0.02:
+1.7e-9 and 5.8e-8 (M = 4), 2.7e-9 and 9.6e-8 (M = 6), 1.1e-7 and 1.3e-7 (M = 8), with stated
+errors 2e-8 .. 8e-7 (tests/test_cochlea_stepping.py).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validate import require_int_in_range, require_real
+from ..discretise.cochlea_vertical import (N_VERTICAL_MIN, CochleaStepping,
+                                           cochlea_vertical_operators, stepping_system)
+from ..discretise.sphere_radial import N_RADIAL_MAX
+from ..discretise.sphere_stepping import OSCILLATORY, oscillatory_leader
+from ..errors import ConvergenceError, ParameterError
+from ..models.cochlea import natural_frequencies
+from ..params.cochlea import CochleaParams
+from ..results.records import RateFit
+from ..solvers.eigen import finite_eigenvalues
+from ..solvers.rate_fit import fit_rate
+from .simulate import fit_window, stepped_runs, time_grid
+
+N_VERTICAL = 48         # default vertical resolution (natural modes to 7e-9 at M = 4, 6, nu = 1e-3)
+VERTICAL_SCALE = 1.0    # L of the map y = L (1/xi - 1): the decay length of the first mode
+N_CHECK = 8             # the vertical error compares with this many nodes fewer
+PERIODS = 60.0          # default run length in forcing periods
+FLOOR = 0.1             # oscillatory modes have |s| > FLOOR w_1 (w_1 the lowest inviscid frequency)
+TRANSIENT_EFOLDS = 10.0  # the fit starts when the most damped mode has decayed by e^-10 ...
+MAX_SKIP = 0.4          # ... or at this fraction of the run, whichever is first
+
+
+def _oscillatory(values: np.ndarray, floor: float) -> np.ndarray:
+    """Indices of the eigenvalues with Im s > OSCILLATORY |s| and |s| > floor (the nearly real
+    discretised continuum near s = 0 left out, as :func:`.sphere_stepping.oscillatory_leader`)."""
+    return np.flatnonzero((values.imag > OSCILLATORY * np.abs(values)) & (np.abs(values) > floor))
+
+
+def cochlea_rate(*, kappa: float, nu: float, alpha: float, n_spatial: int, tau: float,
+                 periods: float = PERIODS, scheme: str = "SBDF3", dt: float | None = None,
+                 n_vertical: int = N_VERTICAL, vertical_scale: float = VERTICAL_SCALE) -> RateFit:
+    """Growth rate (and frequency) of the time-stepped cochlea of M cosine modes (module docstring).
+
+    Parameters
+    ----------
+    kappa, nu, alpha, n_spatial : as ``ss.exponents("cochlea", ...)``; nu > 0 (the vertical
+        stepper has viscous fluid) and a fixed number M of cosine modes.
+    tau : pumping amplitude of K(t) = kappa e^{-alpha x} (1 + 2 tau sin t).
+    periods : run length in forcing periods 2 pi (>= 10).
+    scheme, dt : IMEX scheme and step (None: the simulate default).
+    n_vertical : vertical unknowns per field and mode (>= 6 + N_CHECK).
+    vertical_scale : L of the vertical map y = L (1/xi - 1).
+
+    Returns
+    -------
+    RateFit of the modal coordinate q_j that grows fastest: growth_rate approximates Re gamma
+    of the leading Floquet exponent, frequency its locked frequency (1/2 subharmonic, 0 or 1
+    harmonic when forced).
+
+    Raises
+    ------
+    ParameterError : a parameter out of range (nu = 0 and n_spatial = None included).
+    ConvergenceError : no oscillatory mode resolved.
+    """
+    p = CochleaParams(kappa=kappa, nu=nu, alpha=alpha, n_spatial=n_spatial)
+    if p.nu == 0.0:
+        raise ParameterError("nu = 0 is invalid: must be > 0 for the cochlea's vertical time "
+                             "stepper (the inviscid cochlea is a matrix Mathieu equation)")
+    if p.n_spatial is None:
+        raise ParameterError("n_spatial = None is invalid: the time stepper needs a fixed number "
+                             "of cosine modes M >= 1")
+    tau = require_real("tau", tau)
+    if not require_real("periods", periods) >= 10:
+        raise ParameterError(f"periods = {periods!r} is invalid: must be >= 10")
+    n_vertical = require_int_in_range("n_vertical", n_vertical, N_VERTICAL_MIN + N_CHECK,
+                                      N_RADIAL_MAX)
+    floor = FLOOR * float(natural_frequencies(p.kappa, p.alpha, np.arange(1, p.n_spatial + 1))[0])
+    fine_ops, coarse_ops = (
+        cochlea_vertical_operators(n_spatial=p.n_spatial, nu=p.nu, alpha=p.alpha,
+                                   n_vertical=n_vertical - k, vertical_scale=vertical_scale)
+        for k in (0, N_CHECK))
+    values, vectors = finite_eigenvalues(*fine_ops.pencil(p.kappa), vectors=True)
+    coarse_values = finite_eigenvalues(*coarse_ops.pencil(p.kappa))
+    leading = oscillatory_leader(values, floor)
+    if leading is None:
+        raise ConvergenceError(f"no resolved oscillatory mode at zeta = nu/sqrt(kappa) = "
+                               f"{p.nu / math.sqrt(p.kappa):.3g}: raise n_vertical")
+    osc = _oscillatory(values, floor)
+    vertical = max(np.min(np.abs(coarse_values - values[i])) / abs(values[i]) for i in osc)
+    shapes = vectors[:, osc] / _peaks(vectors[fine_ops.blocks["membrane"]][:, osc])
+    left_values, left_vectors = finite_eigenvalues(*(A.T for A in fine_ops.pencil(p.kappa)),
+                                                   vectors=True)
+    left = left_vectors[:, [int(np.argmin(np.abs(left_values - values[i]))) for i in osc]]
+    rows = left.T @ fine_ops.M                          # u_j^T M: q_j(v) = Re(rows_j v)
+    rows /= np.abs(np.diag(rows @ shapes))[:, None]     # q_j = 1 on mode j's shape
+    system = _Modal.of(stepping_system(fine_ops, kappa=p.kappa, tau=tau), rows)
+    step, every, steps, t_end = time_grid(dt=dt, rate=abs(leading), tau=tau,
+                                          t_end=periods * 2 * math.pi)
+    (fine,), (coarse,) = stepped_runs([system], [shapes.real.sum(axis=1)], scheme, step, steps,
+                                      every, progress=False)
+    forced = tau != 0.0
+    t_a, t_b = fit_window(t_end, leading, forced)
+    fastest = float(np.max(-values[osc].real))
+    window = (max(t_a, min(TRANSIENT_EFOLDS / fastest, MAX_SKIP * t_end)), t_b)
+    period = 2 * math.pi if forced else None
+    fits = [[fit_rate(run.times, run.values[:, j], period=period, window=window) for j in
+             range(osc.size)] for run in (fine, coarse)]
+    j = int(np.argmax([fit.growth_rate for fit in fits[0]]))
+    f, c = fits[0][j], fits[1][j]
+    time_error = max(abs(f.growth_rate - c.growth_rate), abs(f.frequency - c.frequency))
+    space_error = vertical * abs(complex(f.growth_rate, f.frequency))
+    return dataclasses.replace(f, error_estimate=f.error_estimate + time_error + space_error)
+
+
+def _peaks(membrane: np.ndarray) -> np.ndarray:
+    """The entry of largest modulus of each column."""
+    return membrane[np.argmax(np.abs(membrane), axis=0), np.arange(membrane.shape[1])]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _Modal:
+    """The system M dv/dt = L v + f(t) N v of a :class:`.cochlea_vertical.CochleaStepping`
+    observed through its modal coordinates: ``displacement`` (what
+    :func:`.simulate.stepped_runs` records) returns Re(rows v)."""
+
+    M: np.ndarray
+    L: np.ndarray
+    N: np.ndarray | None
+    forcing: Callable[[float], float] | None
+    rows: np.ndarray
+
+    @classmethod
+    def of(cls, system: CochleaStepping, rows: np.ndarray) -> _Modal:
+        return cls(M=system.M, L=system.L, N=system.N, forcing=system.forcing, rows=rows)
+
+    def displacement(self, v: np.ndarray) -> np.ndarray:
+        return (self.rows @ v).real
