@@ -73,7 +73,9 @@ truncation:
   kinds converge below COUNT_MIN_N are unchanged (3 of the seeded sample: 7.6 / 3.3 / 10.3 s
   before, 8.1 / 3.1 / 9.1 s after, within the load's noise).
 * ``method = "auto"`` (default): Krylov for truncations with (N + 1) b >= KRYLOV_MIN_ORDER
-  (= 600; (N + 1) b is the order of W), dense below. Measured in
+  (= 600; (N + 1) b is the order of W), dense below; for blocks larger than 2 x 2 from
+  BLOCK_KRYLOV_MIN_ORDER (= 250) until a truncation of the solve falls back to dense
+  (:func:`krylov_min_order`). Measured in
   validation/bench_hill_large.py (one BLAS thread): where Arnoldi succeeds it is about as fast
   as dense eig of W at order ~200 (sphere, N = 80) and 5-10x faster at ~400-600 (M = 20, 30
   coupled oscillators); but the sphere at low beat rate (Fig 6.13, order up to ~350, with
@@ -169,6 +171,15 @@ KRYLOV_MIN_ORDER = 600
 #: Measured with closed contours; the half contours now used take about half the nodes, which
 #: may lower this threshold (not measured again).
 COUNT_MIN_N = 60
+#: KRYLOV_MIN_ORDER for models with blocks larger than 2 x 2 (the cochlea), until a truncation
+#: of the solve has fallen back from Arnoldi to dense (:func:`krylov_min_order`). Measured on
+#: Fig 5.18 cells (one truncation, tau_max = 1/2, one BLAS thread, CPU time): at orders
+#: 256-512 (M = 16, N = 15..34; M = 32, N = 9, 15) Arnoldi took 1/3-1/25 of the dense time
+#: where it answers (human, 8353 Hz, sigma = 5.7e8), the cover 1/2-1/6 at orders >= 384
+#: (human, 262 Hz, sigma = 7.4e7), and 1.2-1.9 times it where both fail and dense answers
+#: (human, 63.6 Hz, sigma = 1.85e9: real tau crowding towards 1/2); at order 160 either way
+#: about the same.
+BLOCK_KRYLOV_MIN_ORDER = 250
 #: The smallest-|tau| Arnoldi run of a truncation gives up past this fraction of the estimated
 #: cost of its dense solve (:func:`~spectralshell.solvers.shift_invert.dense_work`).
 ARNOLDI_WORK_FRACTION = 1.0
@@ -426,12 +437,24 @@ class Pencils:
         return hill
 
 
+def krylov_min_order(system: HillSystem, fell_back: bool = False) -> int:
+    """The smallest :func:`half_order` that ``method = "auto"`` solves by Arnoldi:
+    KRYLOV_MIN_ORDER, lowered to BLOCK_KRYLOV_MIN_ORDER for blocks larger than 2 x 2 unless a
+    truncation of the same solve has fallen back to dense (``fell_back``: there the Krylov work
+    was lost, and the next, larger truncation is likely to lose it too)."""
+    if system.block_size > 2 and not fell_back:
+        return min(BLOCK_KRYLOV_MIN_ORDER, KRYLOV_MIN_ORDER)
+    return KRYLOV_MIN_ORDER
+
+
 def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
                     tau_max: float = np.inf, method: str = "auto",
                     pencils: Pencils | None = None, hint: float | None = None,
-                    plan: tuple[Shift, ...] = (), count_first: bool = False) -> Truncation:
+                    plan: tuple[Shift, ...] = (), count_first: bool = False,
+                    fell_back: bool = False) -> Truncation:
     """Real tau >= 0 of one truncation by ``method`` (module notes): 'dense' lists all of them;
-    'krylov' (and 'auto' when ``half_order`` >= KRYLOV_MIN_ORDER) at least every real
+    'krylov' (and 'auto' when ``half_order`` >= :func:`krylov_min_order`, given ``fell_back``)
+    at least every real
     tau <= min(tau_min, tau_max), on the real form, falling back to 'dense' when it cannot; QZ
     when A is ill conditioned; 'smallest' only the smallest real tau <= a finite tau_max of a
     model with 2 x 2 blocks, certified by the argument principle (result ``method =
@@ -463,7 +486,8 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
             return Truncation(tau=np.array([] if found[0] is None else [found[0]]),
                               method="contour", complete_to=found[1])
     krylov = method == "krylov" or (method in ("auto", "smallest") and
-                                    half_order(system, n_temporal) >= KRYLOV_MIN_ORDER)
+                                    half_order(system, n_temporal)
+                                    >= krylov_min_order(system, fell_back))
     if krylov:
         hill, inv = pencils.get(n_temporal, "real")
         bounded = bool(np.isfinite(tau_max))
@@ -746,11 +770,15 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         raise ParameterError(f"tau_max = {tau_max} is invalid with every=True: must be finite "
                              "(every tau up to it is converged)")
     pencils = Pencils(system, kind)
-    start = {"hint": hint, "plan": (), "count_first": False}  # from one truncation to the next
+    start = {"hint": hint, "plan": (), "count_first": False,  # from one truncation to the next
+             "fell_back": False}
 
     def solve(n: int) -> Truncation:
         found = truncation_taus(system, kind, n, tau_max=tau_max, method=method,
                                 pencils=pencils, **start)
+        if (method in ("auto", "smallest") and found.method in ("structured", "qz")
+                and half_order(system, n) >= krylov_min_order(system, start["fell_back"])):
+            start["fell_back"] = True  # Arnoldi was tried and lost (krylov_min_order)
         capped = _capped(found.tau, tau_max)
         if found.shifts or capped.size:  # its shifts, else its tau_min, else the hint as it was
             start.update(plan=found.shifts,
