@@ -168,8 +168,10 @@ KRYLOV_MIN_ORDER = 600
 #: (:func:`truncation_taus`): a count (~250 nodes of ~45 K M^3 flops, K ~ 2N blocks) undercuts
 #: the dense eig of W (~3 (K M)^3) only from K ~ 60; on a Fig 5.18 cell whose empty kind
 #: converged at N = 33 (human, 59.9 Hz) the count made the cell 1.7x slower (CPU time).
-#: Measured with closed contours; the half contours now used take about half the nodes, which
-#: may lower this threshold (not measured again).
+#: Measured with closed contours; measured again with the half contours (issue 25; human,
+#: 63.6 Hz, sigma = 1.85e9, one BLAS thread, CPU time under load): from N = 20 the count proves
+#: the subharmonic empty at N = 51 (M = 32 and 64) in 3.2 and 9.0 s, where the shift-invert
+#: cover took 1.2 and 3.4 s, so the threshold stands.
 COUNT_MIN_N = 60
 #: KRYLOV_MIN_ORDER for models with blocks larger than 2 x 2 (the cochlea), until a truncation
 #: of the solve has fallen back from Arnoldi to dense (:func:`krylov_min_order`). Measured on
