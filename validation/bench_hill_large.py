@@ -209,17 +209,6 @@ def cover_table() -> None:
 ISSUE_POINT = {"omega": 600.0}
 
 
-def best_cpu_time(fn, repeat: int = 3) -> float:
-    """Best CPU time (time.process_time) of ``repeat`` calls: less sensitive to the shared
-    machine's load than wall time."""
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.process_time()
-        fn()
-        best = min(best, time.process_time() - t0)
-    return best
-
-
 def low_frequency_point() -> None:
     """Issue 25's cochlea point at M = 80, N = 10 (subharmonic, tau_max 1/2): one truncation
     by the package against dense eig of W of the same pencil (the goal: >= 10x), and the four
@@ -240,7 +229,8 @@ def low_frequency_point() -> None:
 
     t_pkg, pkg = best_time(lambda: four("auto"), repeat=3)
     t_d, dense = best_time(lambda: four("dense"), repeat=3)
-    c_pkg, c_d = (best_cpu_time(lambda: four(m)) for m in ("auto", "dense"))
+    c_pkg, c_d = (best_time(lambda: four(m), clock=time.process_time)[0]
+                  for m in ("auto", "dense"))
     err = max(abs(a - b) for a, b in zip(pkg, dense))
     print(f"  the point's four truncations (M, N) = {cases}: auto {t_pkg:.2f} s, dense W "
           f"{t_d:.2f} s ({t_d / t_pkg:.1f}x; CPU time {c_pkg:.2f} s against {c_d:.2f} s, "

@@ -193,8 +193,26 @@ def _inverses(diag: np.ndarray) -> BlockInverses:
 
 
 def _norm1(blocks: np.ndarray | None) -> float:
-    """Largest 1-norm of a stack of blocks (0 for None)."""
-    return 0.0 if blocks is None or not len(blocks) else float(np.abs(blocks).sum(axis=1).max())
+    """Largest 1-norm of a stack of blocks (0 for None); a broadcast stack (stride 0, one block
+    repeated, as the real form's forcing) is read once."""
+    if blocks is None or not len(blocks):
+        return 0.0
+    if blocks.strides[0] == 0:
+        blocks = blocks[:1]
+    return float(np.abs(blocks).sum(axis=1).max())
+
+
+def _diag_norms(diag: np.ndarray, inverses: BlockInverses) -> np.ndarray:
+    """1-norm of each A_k; for the realified blocks [[P, -Q], [Q, P]] (``complex_rows``) from
+    their left half, whose column sums |P| + |Q| the right half repeats."""
+    out = np.empty(len(diag))
+    rows, complex_rows = inverses.rows, inverses.complex_rows
+    if rows.size:
+        out[rows] = np.abs(diag[rows]).sum(axis=1).max(axis=-1)
+    if complex_rows.size:
+        half = diag.shape[1] // 2
+        out[complex_rows] = np.abs(diag[complex_rows, :, :half]).sum(axis=1).max(axis=-1)
+    return out
 
 
 def _joined(parts: list[tuple[np.ndarray, BlockInverses]], size: int) -> BlockInverses:
@@ -233,7 +251,7 @@ def block_inverses(hill: HillMatrices,
     except np.linalg.LinAlgError:
         return None
     inv_norm = inv.norms()
-    cond = np.abs(hill.diag).sum(axis=1).max(axis=-1) * inv_norm
+    cond = _diag_norms(hill.diag, inv) * inv_norm
     coupling = _norm1(hill.lower) + _norm1(hill.upper) + _norm1(hill.self_coupling)
     if not cond.max() <= COND_LIMIT or inv_norm.max() * coupling > COND_LIMIT:  # NaN, inf: None
         return None
