@@ -336,3 +336,34 @@ def test_an_unsettled_larger_tau_bounds_the_claim_and_every_settles_it():
     assert every.complete_to >= 1.0
     with pytest.raises(ValueError, match="tau_max"):
         marginal_tau(system, "subharmonic", every=True)
+
+
+@pytest.mark.parametrize("case", ["cochlea omega=600", "oscillators M=12"])
+@pytest.mark.parametrize("n", [8, 10])
+def test_subharmonic_arnoldi_on_the_complex_two_sided_w_matches_qz(case, n, monkeypatch):
+    """Subharmonic kind of a block model: Arnoldi on the complex W of the two-sided form
+    (krylov_form) lists the real tau of dense QZ of the real-form pencil up to its radius (to
+    1e-9 relative; tau_min to 1e-12, and QZ has no real tau below it), and the truncation path
+    runs it on that form (here, within its work budget or by dense after it) with the same
+    tau_min."""
+    from spectralshell.models import cochlea
+    from spectralshell.params.physical import cochlea_params
+    if case.startswith("cochlea"):
+        p = cochlea_params({"omega": 600.0})
+        system = cochlea.hill_system(kappa=p["kappa"], nu=p["nu"], alpha=p["alpha"],
+                                     n_spatial=16)
+    else:
+        system = cochlea_like(12)
+    assert marginal.krylov_form("subharmonic", system.block_size) == "two-sided"
+    qz = dense_taus(assemble(system, "subharmonic", n, "real"))
+    qz = np.sort(qz[qz >= 0])
+    fast = smallest_taus(assemble(system, "subharmonic", n, "two-sided"))
+    assert fast is not None and fast.tau.size
+    agree_below_radius(fast, qz)
+    assert abs(fast.tau[0] - qz[0]) < 1e-12
+    forms = []
+    real = marginal.smallest_taus
+    monkeypatch.setattr(marginal, "smallest_taus",
+                        lambda hill, **kw: forms.append(hill.form) or real(hill, **kw))
+    found = truncation_taus(system, "subharmonic", n, tau_max=0.5, method="krylov")
+    assert forms == ["two-sided"] and abs(found.tau[0] - qz[0]) < 1e-12
