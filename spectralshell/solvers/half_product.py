@@ -30,7 +30,8 @@ caller may pass the two-sided form instead, which is bipartite: ARPACK then runs
 W (k = K_START eigenvalues mu^2, not the 2 K_START of T, which holds each +-mu), and a real mu^2
 is one with |Im mu^2| <= REAL_RTOL |mu^2|, the dense subharmonic path's rule. Measured (issue 25,
 cochlea at omega = 600 rad/s, N = 8, 10, one BLAS thread, CPU time): 1.7-2.3x faster than T at
-M = 40, 80 and 2.5-4.6x at M = 256, the same tau and radius. ARPACK's implicitly restarted Arnoldi method
+M = 40, 80 and 2.5-4.6x at M = 256, the same tau and radius.
+ARPACK's implicitly restarted Arnoldi method
 (``scipy.sparse.linalg.eigs``, ``which='LM'``, ``tol=0``: residuals at machine precision) returns
 the k eigenvalues lambda_1, ..., lambda_k of largest modulus (lambda = mu^2 or mu).
 Completeness: every eigenvalue of modulus above |lambda_k|, i.e. every tau with |tau| < r

@@ -467,9 +467,9 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
                     fell_back: bool = False) -> Truncation:
     """Real tau >= 0 of one truncation by ``method`` (module notes): 'dense' lists all of them;
     'krylov' (and 'auto' when ``half_order`` >= :func:`krylov_min_order`, given ``fell_back``)
-    at least every real
-    tau <= min(tau_min, tau_max), on the real form, falling back to 'dense' when it cannot; QZ
-    when A is ill conditioned; 'smallest' only the smallest real tau <= a finite tau_max of a
+    at least every real tau <= min(tau_min, tau_max), on the form of :func:`krylov_form`,
+    falling back to 'dense' when it cannot; QZ when A is ill conditioned; 'smallest' only the
+    smallest real tau <= a finite tau_max of a
     model with 2 x 2 blocks, certified by the argument principle (result ``method =
     "contour"``), else (and where the certificate fails) as 'auto'. ``pencils``: a cache
     shared by the truncations of one solve.
