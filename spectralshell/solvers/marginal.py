@@ -77,7 +77,17 @@ truncation:
 * ``method = "auto"`` (default): Krylov for truncations with (N + 1) b >= KRYLOV_MIN_ORDER
   (= 600; (N + 1) b is the order of W), dense below; for blocks larger than 2 x 2 from
   BLOCK_KRYLOV_MIN_ORDER (= 250) until a truncation of the solve falls back to dense
-  (:func:`krylov_min_order`). Measured in
+  (:func:`krylov_min_order`). With that, the subharmonic Arnoldi on the two-sided W
+  (:func:`krylov_form`) and the coarser M's tau_min as the hint
+  (:mod:`spectralshell.solvers.spatial_refinement`), measured on 20 cells of the seeded Fig 5.18
+  sample (validation/bench_sweep.py, every 5th; each cell alone, the previous package and this
+  one alternately, one BLAS thread, CPU time, 2 cores under a load of 7-15): 64.1 s before,
+  59.2 s after in all; the cells that end at M <= 64 without a shift-invert cover 2-4x faster
+  (0.5 -> 0.15 s), those that need M = 256, 512 1.0-1.3x (their cost is the block inverses of
+  A and products with them, memory-bound at M >= 256), the crowded low-frequency cell (human,
+  63.6 Hz, sigma = 1.85e9: real tau crowding towards 1/2, shift-invert covers of 10-20 disks)
+  28.9 s before, 30.1 s after; the same tau_min (to 2.4e-15), error estimates (to 5e-15),
+  truncation pairs and M pairs. Measured in
   validation/bench_hill_large.py (one BLAS thread): where Arnoldi succeeds it is about as fast
   as dense eig of W at order ~200 (sphere, N = 80) and 5-10x faster at ~400-600 (M = 20, 30
   coupled oscillators); but the sphere at low beat rate (Fig 6.13, order up to ~350, with
