@@ -214,7 +214,8 @@ def test_krylov_matches_dense_on_long_scalar_and_sphere_truncations(kind, name, 
 def test_auto_switch_uses_krylov_for_big_blocks_with_the_dense_answer(kind, monkeypatch):
     """marginal_tau: 'auto' picks Arnoldi when (N + 1) b >= KRYLOV_MIN_ORDER (lowered here so
     that the dense reference stays cheap) and reports the same tau_min, truncations and error
-    estimate as the dense reference; below the threshold it stays dense."""
+    estimate as the dense reference; below the threshold (both thresholds at 600) it stays
+    dense."""
     system = cochlea_like(20)
     dense = marginal_tau(system, kind, tol=1e-10, method="dense")
     # the dense list is complete up to the first real tau of either truncation that the other
@@ -226,6 +227,7 @@ def test_auto_switch_uses_krylov_for_big_blocks_with_the_dense_answer(kind, monk
              if np.abs(b - t).min() > 1e-10 * max(1.0, t)]
     assert alone and dense.complete_to == min(alone) < dense.tau[-1]
     assert set(dense.tau) == {t for t in big if np.abs(small - t).min() <= 1e-10 * max(1.0, t)}
+    monkeypatch.setattr(marginal, "BLOCK_KRYLOV_MIN_ORDER", 600)
     assert marginal_tau(system, kind, tol=1e-10).method == "structured"  # (N + 1) b < 600
     monkeypatch.setattr(marginal, "KRYLOV_MIN_ORDER", 200)
     auto = marginal_tau(system, kind, tol=1e-10)
@@ -235,6 +237,34 @@ def test_auto_switch_uses_krylov_for_big_blocks_with_the_dense_answer(kind, monk
     assert abs(auto.error_estimate - dense.error_estimate) < 1e-12
     listed = dense.tau[dense.tau <= auto.complete_to * (1 - 1e-9)]
     np.testing.assert_allclose(auto.tau[:listed.size], listed, rtol=1e-9)
+
+
+#: A Fig 5.18 cell (human cochlea, 63.6 Hz, sigma = 1.85e9) where real tau crowd towards 1/2:
+#: Arnoldi and the shift-invert cover give up on its small truncations and dense eig answers.
+CROWDED = {"kappa": 10373.189950738564, "nu": 4.031237198723707e-05, "alpha": 1.559718442300574}
+
+
+def test_block_model_falls_back_once_then_stays_dense(monkeypatch):
+    """Blocks larger than 2 x 2 go to Arnoldi from half order BLOCK_KRYLOV_MIN_ORDER; once a
+    truncation of the solve has fallen back from it to dense, the later ones below
+    KRYLOV_MIN_ORDER go to dense directly (no Arnoldi run), and the answer -- tau_min, the
+    truncation pair, the error estimate and complete_to -- is the dense path's."""
+    from spectralshell.models import cochlea
+    system = cochlea.hill_system(**CROWDED, n_spatial=16)
+    runs = []
+    real = marginal.smallest_taus
+    monkeypatch.setattr(marginal, "smallest_taus",
+                        lambda hill, **kw: runs.append(hill.n_temporal) or real(hill, **kw))
+    auto = marginal_tau(system, "harmonic", n_temporal=34, tau_max=0.5)  # N = 34, then 26
+    dense = marginal_tau(system, "harmonic", n_temporal=34, tau_max=0.5, method="dense")
+    orders = [marginal.half_order(system, n) for n in runs]
+    assert marginal.BLOCK_KRYLOV_MIN_ORDER <= min(orders) < marginal.KRYLOV_MIN_ORDER
+    assert runs == [34]  # N = 26 (half order 432) after the fall-back: dense directly
+    assert auto.method == "structured" and auto.tau_min is not None
+    assert (auto.n_temporal, auto.n_previous) == (dense.n_temporal, dense.n_previous)
+    assert abs(auto.tau_min - dense.tau_min) < 1e-12
+    assert abs(auto.error_estimate - dense.error_estimate) < 1e-12
+    assert auto.complete_to == dense.complete_to
 
 
 def test_tau_max_with_no_tau_below_it(monkeypatch):
@@ -306,3 +336,34 @@ def test_an_unsettled_larger_tau_bounds_the_claim_and_every_settles_it():
     assert every.complete_to >= 1.0
     with pytest.raises(ValueError, match="tau_max"):
         marginal_tau(system, "subharmonic", every=True)
+
+
+@pytest.mark.parametrize("case", ["cochlea omega=600", "oscillators M=12"])
+@pytest.mark.parametrize("n", [8, 10])
+def test_subharmonic_arnoldi_on_the_complex_two_sided_w_matches_qz(case, n, monkeypatch):
+    """Subharmonic kind of a block model: Arnoldi on the complex W of the two-sided form
+    (krylov_form) lists the real tau of dense QZ of the real-form pencil up to its radius (to
+    1e-9 relative; tau_min to 1e-12, and QZ has no real tau below it), and the truncation path
+    runs it on that form (here, within its work budget or by dense after it) with the same
+    tau_min."""
+    from spectralshell.models import cochlea
+    from spectralshell.params.physical import cochlea_params
+    if case.startswith("cochlea"):
+        p = cochlea_params({"omega": 600.0})
+        system = cochlea.hill_system(kappa=p["kappa"], nu=p["nu"], alpha=p["alpha"],
+                                     n_spatial=16)
+    else:
+        system = cochlea_like(12)
+    assert marginal.krylov_form("subharmonic", system.block_size) == "two-sided"
+    qz = dense_taus(assemble(system, "subharmonic", n, "real"))
+    qz = np.sort(qz[qz >= 0])
+    fast = smallest_taus(assemble(system, "subharmonic", n, "two-sided"))
+    assert fast is not None and fast.tau.size
+    agree_below_radius(fast, qz)
+    assert abs(fast.tau[0] - qz[0]) < 1e-12
+    forms = []
+    real = marginal.smallest_taus
+    monkeypatch.setattr(marginal, "smallest_taus",
+                        lambda hill, **kw: forms.append(hill.form) or real(hill, **kw))
+    found = truncation_taus(system, "subharmonic", n, tau_max=0.5, method="krylov")
+    assert forms == ["two-sided"] and abs(found.tau[0] - qz[0]) < 1e-12

@@ -187,3 +187,45 @@ def test_low_frequency_stiff_human_cochlea_needs_only_the_harmonic_kind():
     for n in (sub.n_previous, sub.n_temporal):
         tau = structured_taus(assemble(system, "subharmonic", n, "two-sided"))
         assert not np.any(tau <= cap)
+
+
+
+def test_coarser_m_tau_min_is_the_next_m_hint_and_changes_nothing_but_speed(monkeypatch):
+    """At each finer M a kind's solver hint is its tau_min at the coarser M where it has one
+    (else the caller's, here none): checked on the calls; and the refinement (its truncations
+    at M >= 64 go through Arnoldi or the shift-invert cover) gives the same minimum, pair of M
+    and error estimates with these hints as with none, the minimum agreeing with dense QZ."""
+    seen = []
+    real = sr.marginal_tau
+
+    def spy(system, kind, **kw):
+        found = real(system, kind, **kw)
+        seen.append((system.block_size, kind, kw.get("hint"), found.tau_min))
+        return found
+
+    monkeypatch.setattr(sr, "marginal_tau", spy)
+    factory = _factory(600.0, 1e9)
+    hinted = sr.refine_minimum(factory, KINDS, options=OPTIONS)
+    found = {(m, k): t for m, k, _, t in seen}
+    for m, kind, hint, _ in seen:
+        coarse = found.get((m // 2, kind))
+        if m > 16 and coarse is not None and coarse <= 0.5:
+            assert hint == coarse
+    assert any(h is not None for *_, h, _ in seen)
+    monkeypatch.setattr(sr, "coarser_hints", lambda coarse, hints, default: hints)
+    seen.clear()
+    plain = sr.refine_minimum(factory, KINDS, options=OPTIONS)
+    assert all(h is None for _, _, h, _ in seen)
+    assert hinted.converged and plain.converged
+    assert (hinted.n_spatial, hinted.n_spatial_previous) == (plain.n_spatial,
+                                                             plain.n_spatial_previous)
+    low = sr.minimum(hinted.taus)
+    assert low is not None and abs(low - sr.minimum(plain.taus)) < 1e-11
+    for k in KINDS:
+        a, b = hinted.taus[k], plain.taus[k]
+        assert (a.tau_min is None) == (b.tau_min is None)
+        if a.tau_min is not None:
+            assert abs(a.error_estimate - b.error_estimate) < 1e-11
+    leader = next(k for k in KINDS if hinted.taus[k].tau_min == low)
+    qz = _qz_taus(factory(hinted.n_spatial), leader, OPTIONS["n_temporal"])
+    assert qz[0] == pytest.approx(low, rel=1e-9)

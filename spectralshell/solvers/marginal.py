@@ -28,7 +28,9 @@ truncation:
 
 * ``method = "krylov"``: the eigenvalues of largest modulus of W (harmonic) or T (subharmonic)
   of the real form by Arnoldi iteration, in real arithmetic, so that real tau are exactly real
-  for both kinds (:func:`~spectralshell.solvers.half_product.smallest_taus`): O(N b^3) once,
+  for both kinds (:func:`~spectralshell.solvers.half_product.smallest_taus`); for the
+  subharmonic kind of blocks larger than 2 x 2, of the complex W of the two-sided form instead,
+  real mu^2 classified as on the dense subharmonic path (:func:`krylov_form`): O(N b^3) once,
   O(N b^2) per step. It reports the smallest real tau with a completeness radius
   (``MarginalTau.complete_to``): every real tau up to it is listed. When the Arnoldi space
   would need more than a third of the operator (a short truncation, or many eigenvalues with
@@ -73,7 +75,19 @@ truncation:
   kinds converge below COUNT_MIN_N are unchanged (3 of the seeded sample: 7.6 / 3.3 / 10.3 s
   before, 8.1 / 3.1 / 9.1 s after, within the load's noise).
 * ``method = "auto"`` (default): Krylov for truncations with (N + 1) b >= KRYLOV_MIN_ORDER
-  (= 600; (N + 1) b is the order of W), dense below. Measured in
+  (= 600; (N + 1) b is the order of W), dense below; for blocks larger than 2 x 2 from
+  BLOCK_KRYLOV_MIN_ORDER (= 250) until a truncation of the solve falls back to dense
+  (:func:`krylov_min_order`). With that, the subharmonic Arnoldi on the two-sided W
+  (:func:`krylov_form`) and the coarser M's tau_min as the hint
+  (:mod:`spectralshell.solvers.spatial_refinement`), measured on 20 cells of the seeded Fig 5.18
+  sample (validation/bench_sweep.py, every 5th; each cell alone, the previous package and this
+  one alternately, one BLAS thread, CPU time, 2 cores under a load of 7-15): 64.1 s before,
+  59.2 s after in all; the cells that end at M <= 64 without a shift-invert cover 2-4x faster
+  (0.5 -> 0.15 s), those that need M = 256, 512 1.0-1.3x (their cost is the block inverses of
+  A and products with them, memory-bound at M >= 256), the crowded low-frequency cell (human,
+  63.6 Hz, sigma = 1.85e9: real tau crowding towards 1/2, shift-invert covers of 10-20 disks)
+  28.9 s before, 30.1 s after; the same tau_min (to 2.4e-15), error estimates (to 5e-15),
+  truncation pairs and M pairs. Measured in
   validation/bench_hill_large.py (one BLAS thread): where Arnoldi succeeds it is about as fast
   as dense eig of W at order ~200 (sphere, N = 80) and 5-10x faster at ~400-600 (M = 20, 30
   coupled oscillators); but the sphere at low beat rate (Fig 6.13, order up to ~350, with
@@ -166,9 +180,20 @@ KRYLOV_MIN_ORDER = 600
 #: (:func:`truncation_taus`): a count (~250 nodes of ~45 K M^3 flops, K ~ 2N blocks) undercuts
 #: the dense eig of W (~3 (K M)^3) only from K ~ 60; on a Fig 5.18 cell whose empty kind
 #: converged at N = 33 (human, 59.9 Hz) the count made the cell 1.7x slower (CPU time).
-#: Measured with closed contours; the half contours now used take about half the nodes, which
-#: may lower this threshold (not measured again).
+#: Measured with closed contours; measured again with the half contours (issue 25; human,
+#: 63.6 Hz, sigma = 1.85e9, one BLAS thread, CPU time under load): from N = 20 the count proves
+#: the subharmonic empty at N = 51 (M = 32 and 64) in 3.2 and 9.0 s, where the shift-invert
+#: cover took 1.2 and 3.4 s, so the threshold stands.
 COUNT_MIN_N = 60
+#: KRYLOV_MIN_ORDER for models with blocks larger than 2 x 2 (the cochlea), until a truncation
+#: of the solve has fallen back from Arnoldi to dense (:func:`krylov_min_order`). Measured on
+#: Fig 5.18 cells (one truncation, tau_max = 1/2, one BLAS thread, CPU time): at orders
+#: 256-512 (M = 16, N = 15..34; M = 32, N = 9, 15) Arnoldi took 1/3-1/25 of the dense time
+#: where it answers (human, 8353 Hz, sigma = 5.7e8), the cover 1/2-1/6 at orders >= 384
+#: (human, 262 Hz, sigma = 7.4e7), and 1.2-1.9 times it where both fail and dense answers
+#: (human, 63.6 Hz, sigma = 1.85e9: real tau crowding towards 1/2); at order 160 either way
+#: about the same.
+BLOCK_KRYLOV_MIN_ORDER = 250
 #: The smallest-|tau| Arnoldi run of a truncation gives up past this fraction of the estimated
 #: cost of its dense solve (:func:`~spectralshell.solvers.shift_invert.dense_work`).
 ARNOLDI_WORK_FRACTION = 1.0
@@ -433,14 +458,35 @@ class Pencils:
         return hill
 
 
+def krylov_form(kind: str, block_size: int) -> str:
+    """The form the Arnoldi run of ``method = "krylov"`` works on: the real one (real
+    arithmetic, exactly real tau), except for the subharmonic kind of blocks larger than 2 x 2,
+    whose bipartite two-sided form gives a complex W of half the order of T and half the
+    eigenvalues to find (:func:`~spectralshell.solvers.half_product.smallest_taus`; 1.7-4.6x
+    faster on the cochlea); the shift-invert cover stays on the real form."""
+    return "two-sided" if kind == "subharmonic" and block_size > 2 else "real"
+
+
+def krylov_min_order(system: HillSystem, fell_back: bool = False) -> int:
+    """The smallest :func:`half_order` that ``method = "auto"`` solves by Arnoldi:
+    KRYLOV_MIN_ORDER, lowered to BLOCK_KRYLOV_MIN_ORDER for blocks larger than 2 x 2 unless a
+    truncation of the same solve has fallen back to dense (``fell_back``: there the Krylov work
+    was lost, and the next, larger truncation is likely to lose it too)."""
+    if system.block_size > 2 and not fell_back:
+        return min(BLOCK_KRYLOV_MIN_ORDER, KRYLOV_MIN_ORDER)
+    return KRYLOV_MIN_ORDER
+
+
 def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
                     tau_max: float = np.inf, method: str = "auto",
                     pencils: Pencils | None = None, hint: float | None = None,
-                    plan: tuple[Shift, ...] = (), count_first: bool = False) -> Truncation:
+                    plan: tuple[Shift, ...] = (), count_first: bool = False,
+                    fell_back: bool = False) -> Truncation:
     """Real tau >= 0 of one truncation by ``method`` (module notes): 'dense' lists all of them;
-    'krylov' (and 'auto' when ``half_order`` >= KRYLOV_MIN_ORDER) at least every real
-    tau <= min(tau_min, tau_max), on the real form, falling back to 'dense' when it cannot; QZ
-    when A is ill conditioned; 'smallest' only the smallest real tau <= a finite tau_max of a
+    'krylov' (and 'auto' when ``half_order`` >= :func:`krylov_min_order`, given ``fell_back``)
+    at least every real tau <= min(tau_min, tau_max), on the form of :func:`krylov_form`,
+    falling back to 'dense' when it cannot; QZ when A is ill conditioned; 'smallest' only the
+    smallest real tau <= a finite tau_max of a
     model with 2 x 2 blocks, certified by the argument principle (result ``method =
     "contour"``), else (and where the certificate fails) as 'auto'. ``pencils``: a cache
     shared by the truncations of one solve.
@@ -470,9 +516,10 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
             return Truncation(tau=np.array([] if found[0] is None else [found[0]]),
                               method="contour", complete_to=found[1])
     krylov = method == "krylov" or (method in ("auto", "smallest") and
-                                    half_order(system, n_temporal) >= KRYLOV_MIN_ORDER)
+                                    half_order(system, n_temporal)
+                                    >= krylov_min_order(system, fell_back))
     if krylov:
-        hill, inv = pencils.get(n_temporal, "real")
+        hill, inv = pencils.get(n_temporal, krylov_form(kind, system.block_size))
         bounded = bool(np.isfinite(tau_max))
         found = None if inv is None else smallest_taus(
             hill, tau_max=tau_max, inverses=inv, max_rounds=1 if bounded else None,
@@ -480,7 +527,8 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
         if found is not None and (found.tau.size or found.complete_to >= tau_max):
             return Truncation(tau=found.tau, method="krylov", complete_to=found.complete_to)
         if bounded and inv is not None:
-            cover = interval_taus(hill, tau_max, hint=hint, plan=plan, smallest_only=True,
+            cover = interval_taus(pencils.pencil(n_temporal, "real"), tau_max, hint=hint,
+                                  plan=plan, smallest_only=True,
                                   none_below=0.0 if found is None else found.complete_to)
             if cover is not None:
                 return Truncation(tau=cover.tau, method="shift-invert",
@@ -755,11 +803,15 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         raise ParameterError(f"tau_max = {tau_max} is invalid with every=True: must be finite "
                              "(every tau up to it is converged)")
     pencils = Pencils(system, kind)
-    start = {"hint": hint, "plan": (), "count_first": False}  # from one truncation to the next
+    start = {"hint": hint, "plan": (), "count_first": False,  # from one truncation to the next
+             "fell_back": False}
 
     def solve(n: int) -> Truncation:
         found = truncation_taus(system, kind, n, tau_max=tau_max, method=method,
                                 pencils=pencils, **start)
+        if (method in ("auto", "smallest") and found.method in ("structured", "qz")
+                and half_order(system, n) >= krylov_min_order(system, start["fell_back"])):
+            start["fell_back"] = True  # Arnoldi was tried and lost (krylov_min_order)
         capped = _capped(found.tau, tau_max)
         if found.shifts or capped.size:  # its shifts, else its tau_min, else the hint as it was
             start.update(plan=found.shifts,

@@ -135,12 +135,13 @@ def dense_work(hill: HillMatrices) -> float:
     """Estimated cost of dense eig of the half product W of this truncation (what the caller
     falls back to), in products with S^{-1} B: ~(K s / 2)^3 flops against K (s0^2 + s^2) per
     product, i.e. K^2 s^3 / (DENSE_RATE (s^2 + s0^2)), s0 = BLOCK_OVERHEAD, for a bipartite
-    pencil (real W of order K s / 2); 2.5 times that otherwise (complex W of the two-sided form).
+    real-form pencil (real W of order K s / 2); 2.5 times that otherwise (complex W of the
+    two-sided form).
     Fitted to timings with one BLAS thread for s = 4..256 (validation/bench_hill_large.py), to
     within a factor ~1.5."""
     K, s, _ = hill.diag.shape
     cost = K * K * s**3 / (DENSE_RATE * (s * s + BLOCK_OVERHEAD**2))
-    return cost * (1.0 if hill.bipartite else 2.5)
+    return cost * (1.0 if hill.bipartite and hill.is_real else 2.5)
 
 
 def _inner(blocks: np.ndarray, packed: bool, factor: float = 1.0) -> np.ndarray:

@@ -36,6 +36,11 @@ at ``limit``, the costliest, would decide nothing and change no value beyond tol
 a tau appearing at ``limit`` within tol_spatial of the other values could have passed there).
 Where a value still moves, the last step is taken.
 
+Hint of the coarser M. At each finer M every kind's solver ``hint`` (where the shift-invert
+cover of its big truncations starts, :func:`~spectralshell.solvers.marginal.marginal_tau`) is
+its tau_min at the coarser M, where it has one (:func:`coarser_hints`); only speed depends on
+it.
+
 Continuation. A caller that solves neighbouring points (a sweep line) may pass ``start`` = a
 neighbour's coarser M halved (one step below the neighbour's pair) instead of SPATIAL_START: the
 solves below it are skipped, and the need can still fall one step per point. The result equals
@@ -207,6 +212,16 @@ def _solve(system: HillSystem, kinds: tuple[str, ...], options: dict[str, Any], 
     return taus, caps
 
 
+def coarser_hints(coarse: dict[str, MarginalTau], hints: dict[str, float | None] | None,
+                  default: float | None) -> dict[str, float | None]:
+    """The solver's hint of each kind at the next M: its tau_min at the coarser M, which the
+    refinement expects to move by about ``tol_spatial``, else the caller's (``hints``, or
+    ``default``: a neighbour's tau_min)."""
+    own = {} if hints is None else hints
+    return {k: m.tau_min if m.tau_min is not None else own.get(k, default)
+            for k, m in coarse.items()}
+
+
 def _below(hint: float | None, cap: float) -> float | None:
     return hint if hint is not None and hint <= cap else None
 
@@ -282,7 +297,8 @@ def _refine(factory: Callable[[int], HillSystem], kinds: tuple[str, ...], option
         m_fine = 2 * m_coarse
         fine_system = factory(m_fine)
         order = _leader_first(kinds, coarse) if joint else kinds
-        fine, fine_caps = _solve(fine_system, order, options, joint, hints)
+        fine, fine_caps = _solve(fine_system, order, options, joint,
+                                 coarser_hints(coarse, hints, options.get("hint")))
         fine, fine_caps = {k: fine[k] for k in kinds}, {k: fine_caps[k] for k in kinds}
         caps = {k: min(fine_caps[k], coarse_caps[k]) for k in kinds}
         change = {k: spatial_change(fine[k], coarse[k], caps[k]) for k in kinds}
