@@ -208,6 +208,15 @@ def _report(as_json: bool, data: dict, text: Callable[[], str], written: Sequenc
     return 0
 
 
+def _unproved(count: int, note: str) -> int:
+    """Exit status of a finished map, sweep or diagram: 0, or with ``count`` uncertified points
+    (no tau found, none proved: issue 23) 1 after one line ``note`` on stderr."""
+    if not count:
+        return 0
+    print(f"spectralshell: not proved: {note}", file=sys.stderr)
+    return 1
+
+
 def _progress(args: argparse.Namespace) -> bool:
     """Whether long work reports its progress on stderr (a bar on a terminal, a line every
     few seconds when piped): not with --quiet, nor with --json (a program reads the output)."""
@@ -460,8 +469,8 @@ def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str,
     from .plots import sweep_plot
 
     _atomic_write(png, lambda p: sweep_plot.save(_api().open_sweep(store), p))
-    return _report(as_json, {**summary, "png": str(png)}, lambda: _sweep_text(summary),
-                   [str(png)])
+    _report(as_json, {**summary, "png": str(png)}, lambda: _sweep_text(summary), [str(png)])
+    return _sweep_status(summary, sweep_spec({k: v for k, v in scene.items() if k != "output"}))
 
 
 def cmd_run(args) -> int:
@@ -475,27 +484,43 @@ def _sweep_text(summary: dict) -> str:
     where = f" -> {summary['out']}" if summary["out"] else ""
     repaired = (f", {summary['damaged']} of them replacing damaged chunks of the store"
                 if summary["damaged"] else "")
+    if summary["uncertified"]:
+        repaired += f"; {summary['uncertified']} uncertified (no tau found, none proved)"
     return (f"sweep: {summary['points']} points ({summary['computed']} computed{repaired}, "
             f"{summary['skipped']} already in the store) in {summary['seconds']:.1f} s{where}")
 
 
+def _sweep_status(summary: dict, spec) -> int:
+    """:func:`_unproved` of a finished sweep (its summary and SweepSpec)."""
+    from .results.maps import uncertified_note
+
+    return _unproved(summary["uncertified"], uncertified_note(
+        summary["uncertified"], summary["points"], spec.options.tau_max))
+
+
 def cmd_sweep(args) -> int:
     executor = args.executor or ("dask" if args.scheduler else "processes")
-    scene = sweep_spec(args.scene, **_given(args, "max_points", _integer)) \
-        if args.max_points else args.scene
+    scene = sweep_spec(args.scene, **_given(args, "max_points", _integer))
     summary = _api().sweep_summary(scene, executor=executor, workers=args.workers,
                                 scheduler=args.scheduler, out=args.out,
                                 progress=_progress(args))
-    return _report(args.json, summary, lambda: _sweep_text(summary))
+    _report(args.json, summary, lambda: _sweep_text(summary))
+    return _sweep_status(summary, scene)
 
 
 def cmd_plot(args) -> int:
     _check_output("--png", args.png, FIGURE_SUFFIXES)
     from .plots import sweep_plot
 
+    from .results.maps import uncertified, uncertified_note
+
     ds = _api().open_sweep(args.store)
     _atomic_write(args.png, lambda p: sweep_plot.save(ds, p))
     print(f"wrote {args.png}")
+    count = int(uncertified(ds).sum())
+    if count:  # drawn hatched and named in the legend: the picture is honest
+        _warn([uncertified_note(count, int(ds["tau_min"].size),
+                                float(ds.attrs.get("tau_max", 0.5)))])
     return 0
 
 
@@ -841,7 +866,7 @@ def build_parser() -> argparse.ArgumentParser:
     _max_points_flag(p)
     p.add_argument("--json", action="store_true",
                    help='print exactly one object {"points", "computed", "skipped", "damaged", '
-                        '"out", "seconds"}')
+                        '"uncertified", "out", "seconds"} (exit 1 if uncertified > 0)')
     p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("simulate", help="time-step the sphere (spectral IMEX): mode amplitudes, "

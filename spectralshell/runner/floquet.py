@@ -452,7 +452,10 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
     Returns
     -------
     xarray.Dataset : the sweep's (:func:`spectralshell.sweep`): tau_min, has_tau,
-        error_estimate, n_temporal over (x, y, m, kind), units and provenance in attrs.
+        error_estimate, n_temporal, complete_to over (x, y, m, kind), units and provenance in
+        attrs. A point where no tau was found but the zero count could not prove that none
+        exists is kept, marked (:func:`spectralshell.results.maps.uncertified`), and counted
+        by an :class:`~spectralshell.errors.UncertifiedWarning`.
         :func:`spectralshell.results.maps.minimum_map` reduces it to the smallest tau over m and
         kind with the m/kind attaining it (thesis Fig 6.13 labels 'm H/S'), and
         :func:`spectralshell.plots.tau_map.save` draws it.
@@ -463,7 +466,7 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
     along y (:mod:`spectralshell.runner.solve`): values agree with independent ``floquet``
     solves within ``tol``.
     """
-    from .sweep import run_sweep  # lazy: xarray costs ~0.35 s to import
+    from .sweep import flagged, run_sweep  # lazy: xarray costs ~0.35 s to import
 
     model = check_model(model)
     kinds = expand_kind(kind)
@@ -487,8 +490,8 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
              "tau_min": {"tol": float(tol), "tau_max": float(tau_max)}}
     spec = sweep_spec(scene, max_points=max_points)
     serial = workers == 1 or (workers is None and spec.size < PARALLEL_MIN_POINTS)
-    return run_sweep(spec, executor="serial" if serial else "processes",
-                     workers=None if serial else workers, progress=progress).dataset
+    return flagged(run_sweep(spec, executor="serial" if serial else "processes",
+                             workers=None if serial else workers, progress=progress))
 
 
 def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,

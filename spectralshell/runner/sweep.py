@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import nullcontext
@@ -13,8 +14,9 @@ from typing import Any
 
 import xarray as xr
 
-from ..errors import SweepInterrupted
+from ..errors import SweepInterrupted, UncertifiedWarning
 from ..params.sweep_grid import SweepSpec, sweep_spec
+from ..results.maps import uncertified, uncertified_note
 from .engine import run_tasks
 from .executors import check_executor, open_pool
 from .integrity import read_records
@@ -91,6 +93,8 @@ class SweepRun:
     damaged : points computed now because their chunk in the store was missing, unreadable or
         altered (counted in ``computed``).
 
+    uncertified : points with no tau found whose emptiness the zero count could not prove
+        (:func:`~spectralshell.results.maps.uncertified`; stored, never as "none").
     compute_seconds : summed in-worker compute time of the chunks computed now.
     continued, fallbacks : kind solves accepted from the neighbour's truncation / not.
     """
@@ -102,6 +106,7 @@ class SweepRun:
     out: str | None
     seconds: float
     damaged: int = 0
+    uncertified: int = 0
     compute_seconds: float = 0.0
     chunks: int = 0
     continued: int = 0
@@ -109,9 +114,18 @@ class SweepRun:
     executor: str = ""
 
     def summary(self) -> dict[str, Any]:
-        """The JSON summary ``{"points", "computed", "skipped", "damaged", "out", "seconds"}``."""
+        """The JSON summary ``{"points", "computed", "skipped", "damaged", "uncertified", "out",
+        "seconds"}``."""
         return {"points": self.points, "computed": self.computed, "skipped": self.skipped,
-                "damaged": self.damaged, "out": self.out, "seconds": round(self.seconds, 3)}
+                "damaged": self.damaged, "uncertified": self.uncertified, "out": self.out,
+                "seconds": round(self.seconds, 3)}
+
+    def uncertified_note(self) -> str:
+        """One line on the uncertified points and what to change ('' when there are none)."""
+        if not self.uncertified:
+            return ""
+        return uncertified_note(self.uncertified, self.points,
+                                float(self.dataset.attrs.get("tau_max", 0.5)))
 
 
 def _spec(scene) -> SweepSpec:
@@ -229,7 +243,8 @@ def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | No
     if path is not None and path.suffix == ".nc" and todo:
         write_netcdf(spec, arrays, path)
     return SweepRun(dataset=ds, points=spec.size, computed=n_todo, skipped=spec.size - n_todo,
-                    damaged=damaged, out=None if path is None else str(path),
+                    damaged=damaged, uncertified=int(uncertified(ds).sum()),
+                    out=None if path is None else str(path),
                     seconds=time.perf_counter() - t0,
                     compute_seconds=stats["seconds"], chunks=stats["chunks"],
                     continued=stats["continued"], fallbacks=stats["fallbacks"], executor=used)
@@ -247,9 +262,21 @@ def sweep(scene, *, executor: str = "processes", workers: int | None = None,
     provenance attrs. Every executor gives the same numbers. With ``out`` a .zarr
     store is written chunk by chunk and a rerun computes only the missing points; a .nc file is
     written at the end. See :func:`run_sweep` for the parameters and errors.
+
+    Points with no tau found whose emptiness the zero count could not prove are kept and
+    marked (``complete_to`` below the bound, :func:`~spectralshell.results.maps.uncertified`),
+    and an :class:`~spectralshell.errors.UncertifiedWarning` counts them (:func:`flagged`).
     """
-    return run_sweep(scene, executor=executor, workers=workers, scheduler=scheduler, out=out,
-                     progress=progress).dataset
+    return flagged(run_sweep(scene, executor=executor, workers=workers, scheduler=scheduler,
+                             out=out, progress=progress))
+
+
+def flagged(run: SweepRun) -> xr.Dataset:
+    """The Dataset of ``run``, after an UncertifiedWarning when it holds uncertified points
+    (the API's flag: the work is kept, in the store too; the CLI exits 1 instead)."""
+    if run.uncertified:
+        warnings.warn(run.uncertified_note(), UncertifiedWarning, stacklevel=3)
+    return run.dataset
 
 
 def sweep_summary(scene, *, executor: str = "processes", workers: int | None = None,
