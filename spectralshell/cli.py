@@ -287,9 +287,11 @@ def cmd_tongues(args) -> int:
                       workers=args.workers, progress=_progress(args),
                       **_solver(args), **_tau_max(args), **_given(args, "max_points", _integer),
                       **_params(args, args.model, skip=("kappa",)))
-    _warn(res.warnings)
+    note = res.uncertified_note()  # the exit line below, not a warning too
+    _warn([w for w in res.warnings if w != note])
     written = _write_tongues(res, png=args.png, csv=args.csv, npz=args.npz)
-    return _report(args.json, res.to_dict(), res.summary, written)
+    _report(args.json, res.to_dict(), res.summary, written)
+    return _unproved(len(res.uncertified), note)
 
 
 def cmd_exponents(args) -> int:
@@ -309,8 +311,10 @@ def cmd_stability(args) -> int:
         raise ParameterError("--tau and --m are required, e.g. --tau 0.45 --m 2:6")
     res = _api().stability(args.model, tau=parse_real("tau", args.tau), m=args.m, kind=args.kind,
                         **_solver(args), **_params(args, args.model, skip=("m",), grids=True))
-    _warn(res.warnings)
-    return _report(args.json, res.to_dict(), res.summary)
+    note = res.unproved_note()  # the exit line below, not a warning too
+    _warn([w for w in res.warnings if w != note])
+    _report(args.json, res.to_dict(), res.summary)
+    return _unproved(res.unproved(), note)
 
 
 def cmd_modes(args) -> int:
@@ -439,15 +443,18 @@ def _run(scene, out_dir: str | None, as_json: bool, name: str, progress: bool) -
     _check_output("output", png, ".png")
     _check_output("output", json_path, ".json")
     results = _api().run_scene(the_plan, progress=progress)
-    for r in results.values():
-        _warn(r.warnings)
+    for r in results.values():  # a diagram's uncertified note is the exit line (_unproved)
+        _warn([w for w in r.warnings if w != getattr(r, "uncertified_note", str)()])
     data = {k: r.to_dict() for k, r in results.items()}
     written = []
     if "tongues" in results:
         written += _write_tongues(results["tongues"], png=str(png))
     _atomic_write(json_path, lambda p: p.write_text(json.dumps(data, indent=1)))
     written.append(str(json_path))
-    return _report(as_json, data, lambda: _summary(results), written)
+    _report(as_json, data, lambda: _summary(results), written)
+    diagram = results.get("tongues")
+    return 0 if diagram is None else _unproved(len(diagram.uncertified),
+                                               diagram.uncertified_note())
 
 
 def cmd_demo(args) -> int:

@@ -26,7 +26,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch, Rectangle
 from scipy import ndimage
 
-from ._canvas import colours, save_figure, subplots
+from ._canvas import UNCERTIFIED_COLOUR, UNCERTIFIED_LABEL, colours, save_figure, subplots
 from ..errors import ParameterError
 from ..results.maps import minimum_map, uncertified
 
@@ -35,10 +35,6 @@ from ..results.maps import minimum_map, uncertified
 NONE_COLOUR = "0.82"
 #: Cells whose M refinement did not converge: a darker grey under black hatching.
 UNCONVERGED_COLOUR = "0.55"
-#: Cells and points whose empty answer is not proved: white under red cross-hatching.
-UNCERTIFIED_COLOUR = "tab:red"
-#: The legend's name of those.
-UNCERTIFIED_LABEL = "unproved: no τ found, none proved"
 
 SYMBOLS = {"kappa": "κ", "nu": "ν", "sigma": "σ", "omega": "ω", "mu": "μ", "rho": "ρ",
            "radius": "R", "bpm": "beat rate", "frequency": "f", "length": "L",
