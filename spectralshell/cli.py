@@ -462,7 +462,7 @@ def cmd_demo(args) -> int:
 
 
 def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str,
-               progress: bool) -> int:
+               progress: bool, max_seconds: dict | None = None) -> int:
     """A scene with a [grid]: the sweep runner writes NAME.zarr (resumable) and NAME.png."""
     output = scene.get("output", {})
     out = Path(out_dir or (output.get("dir") if isinstance(output, dict) else None)
@@ -472,7 +472,7 @@ def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str,
     store, png = out / f"{name}.zarr", out / f"{name}.png"
     _check_output("output", png, ".png")
     summary = _api().sweep_summary({k: v for k, v in scene.items() if k != "output"},
-                                out=str(store), progress=progress)
+                                out=str(store), progress=progress, **(max_seconds or {}))
     from .plots import sweep_plot
 
     _atomic_write(png, lambda p: sweep_plot.save(_api().open_sweep(store), p))
@@ -483,7 +483,11 @@ def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str,
 def cmd_run(args) -> int:
     scene = load_scene(args.scene)
     if is_sweep_scene(scene):
-        return _run_sweep(scene, args.out, args.json, Path(args.scene).stem, _progress(args))
+        return _run_sweep(scene, args.out, args.json, Path(args.scene).stem, _progress(args),
+                          _given(args, "max_seconds", parse_real))
+    if args.max_seconds is not None:
+        raise ParameterError(f"--max-seconds {args.max_seconds} is invalid here: it limits the "
+                             "estimated cost of a sweep scene (one with a [grid])")
     return _run(scene, args.out, args.json, Path(args.scene).stem, _progress(args))
 
 
@@ -510,7 +514,8 @@ def cmd_sweep(args) -> int:
     scene = sweep_spec(args.scene, **_given(args, "max_points", _integer))
     summary = _api().sweep_summary(scene, executor=executor, workers=args.workers,
                                 scheduler=args.scheduler, out=args.out,
-                                progress=_progress(args))
+                                progress=_progress(args),
+                                **_given(args, "max_seconds", parse_real))
     _report(args.json, summary, lambda: _sweep_text(summary))
     return _sweep_status(summary, scene)
 
@@ -858,6 +863,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("run", help="run a scene TOML file (a scene with a [grid] runs as a resumable sweep)")
     p.add_argument("scene")
     p.add_argument("--out", default=None, help="output directory (default: the scene's)")
+    _max_seconds_flag(p)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_run)
 
@@ -871,6 +877,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", default=None, metavar="ADDRESS|local",
                    help="Dask scheduler tcp://HOST:PORT, or 'local' for a LocalCluster")
     _max_points_flag(p)
+    _max_seconds_flag(p)
     p.add_argument("--json", action="store_true",
                    help='print exactly one object {"points", "computed", "skipped", "damaged", '
                         '"uncertified", "out", "seconds"} (exit 1 if uncertified > 0)')
