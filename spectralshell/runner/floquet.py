@@ -440,7 +440,7 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
             m: int | str | Sequence[int] | None = None, kind: str = "both",
             tau_max: float = 0.5, tol: float = 1e-8, physical: Mapping[str, float] | None = None,
             workers: int | None = None, progress: bool = False, max_points: int | None = None,
-            **params: Any) -> xr.Dataset:
+            max_seconds: float | None = None, **params: Any) -> xr.Dataset:
     """Marginal tau_min <= tau_max on an x-y grid, for each degree ``m`` and kind: a sweep
     (:func:`spectralshell.runner.sweep.run_sweep`) run in memory.
 
@@ -460,6 +460,8 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
     tol : absolute tolerance on each tau_min (1e-8 is ample for a picture).
     workers : processes (None: all cores for large grids; 1: serial). progress : a bar.
     max_points : raise the limit on x * y * degrees * kinds points.
+    max_seconds : a model with spatial modes (the cochlea): raise the limit on the estimated
+        work of the map, priced before any work (:func:`spectralshell.runner.sweep.priced_sweep`).
 
     Returns
     -------
@@ -503,7 +505,8 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
     spec = sweep_spec(scene, max_points=max_points)
     serial = workers == 1 or (workers is None and spec.size < PARALLEL_MIN_POINTS)
     return flagged(run_sweep(spec, executor="serial" if serial else "processes",
-                             workers=None if serial else workers, progress=progress))
+                             workers=None if serial else workers, progress=progress,
+                             max_seconds=max_seconds))
 
 
 def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,
@@ -678,22 +681,22 @@ def _complete_below(model: str, res: FloquetResult, kinds: tuple[str, ...], tau:
     """
     lists = {k: getattr(res, k) for k in kinds}
     short = tuple(k for k in kinds if lists[k].complete_to < tau)
-    system = _system(model, res.params)[1]
     if short and options["n_temporal"] is not None:
         k = short[0]
         raise ConvergenceError(
             f"{k}: the marginal tau below tau={tau:g} are proved complete only up to "
             f"{lists[k].complete_to:.4g} at the fixed n_temporal={options['n_temporal']}, so "
             "the stability verdict is not proved; leave n_temporal= unset, or give a smaller tau")
+    system = functools.cache(lambda: _system(model, res.params)[1])
     if short:
-        lists.update(solve_kinds(system, short, {**options, "tau_max": tau, "every": True,
-                                                 **CERTIFIED}))
+        lists.update(solve_kinds(system(), short, {**options, "tau_max": tau, "every": True,
+                                                   **CERTIFIED}))
     crossings = {k: int(np.count_nonzero(lists[k].tau < tau)) for k in kinds}
     many = [k for k in kinds if crossings[k] >= 2]
-    if many and system.block_size > 1:
+    if many and system().block_size > 1:
         return lists, (f"{crossings[many[0]]} {many[0]} marginal tau lie below tau={tau:g}: the "
                        "parity rule decides one degree of freedom only, not "
-                       f"{system.block_size} coupled components; the Floquet exponents at "
+                       f"{system().block_size} coupled components; the Floquet exponents at "
                        "this tau (exponents) decide it")
     return lists, None
 
