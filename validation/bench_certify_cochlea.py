@@ -13,6 +13,19 @@ lambda_c = 3.7 /cm, Table 5.1 fluid) where a kind is empty below a cap:
 for M = 32, 64, 128, 256 at the point's N. One BLAS thread. CPU time (``time.process_time``)
 is reported as well as wall time: the machine is shared.
 
+Measured (2 cores under a load of 6-7, one BLAS thread): 17 nodes where the strip lies far
+below the spectrum (cap 0.0707): M = 128 1.7 s CPU, M = 256 10.1 s (dense eig of W: 3.8 s and
+26 s); 93-95 nodes where a zero lies near it (cap 0.24, which the dense path shows is not
+empty: 0.2108 at M = 128): 9.6 s at M = 128. Per node 3.0e-9 (M = 128) and 2.2e-9 (M = 256) s
+per (N + 1) M^3: solvers/cost.py's COUNT_SECONDS.
+
+On a whole sweep (the gerbil cochlea, frequency 2, 5, 20 kHz x sigma 1.5e8, 5e8, tau <= 1/2,
+over_kinds = 'minimum', M refined to 128-256, serial): 188 s CPU before the certificate, 248 s
+with it (+32 %: the capped kinds' empty answers counted at each M), the same values and M.
+The viscous sphere's map (Fig 6.13 setting, 12 x 12 x m 2..6 x 2 kinds, 1234 of 1440 points
+empty): 1.20 s CPU before, 1.21 s with it, the same values (its contour path proves its empty
+points itself).
+
 Run: python validation/bench_certify_cochlea.py [--json-rows] [--max-m 256]
 """
 
