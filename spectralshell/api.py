@@ -56,7 +56,7 @@ def __getattr__(name: str) -> Any:
 
 def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: int | None = None,
           scheduler: str | None = None, out: str | Path | None = None,
-          progress: bool = False) -> xr.Dataset:
+          progress: bool = False, max_seconds: float | None = None) -> xr.Dataset:
     """Parameter sweep of a scene with a [grid] -> labelled ``xarray.Dataset``.
 
     Parameters
@@ -68,19 +68,28 @@ def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: 
         'local' for a LocalCluster, or 'tcp://HOST:PORT').
     out : ``*.zarr`` written chunk by chunk (a rerun resumes, a different scene is refused) or
         ``*.nc`` written at the end; None keeps the result in memory.
+    max_seconds : raise the limit on the estimated work of a sweep of a model with spatial
+        modes (the cochlea; default 600 s or $SPECTRALSHELL_MAX_SECONDS): its points are priced
+        before any work and the sweep refused above it
+        (:func:`spectralshell.runner.sweep.priced_sweep`).
 
     Notes
     -----
     Variables tau_min (NaN where has_tau is false: no instability), has_tau, error_estimate,
-    n_temporal, computed over the grid axes (units in attrs); for models with spatial modes
-    (cochlea) also n_spatial and spatial_converged (False: the refinement in n_spatial stopped
-    at its limit; the values are those at the limit); provenance in attrs. Every executor gives
+    n_temporal, complete_to, computed over the grid axes (units in attrs); for models with
+    spatial modes (cochlea) also n_spatial and spatial_converged (False: the refinement in
+    n_spatial stopped at its limit; the values are those at the limit); provenance in attrs. Every executor gives
     the same numbers. See :mod:`spectralshell.runner`.
+
+    ``complete_to`` says how far each point's answer is proved: a point with no tau found
+    whose emptiness the zero count could not prove is kept, marked
+    (:func:`spectralshell.results.maps.uncertified`), never as "none", and an
+    :class:`~spectralshell.errors.UncertifiedWarning` counts such points.
     """
     from .runner.sweep import sweep as run  # lazy: xarray costs ~0.35 s to import
 
     return run(scene, executor=executor, workers=workers, scheduler=scheduler, out=out,
-               progress=progress)
+               progress=progress, max_seconds=max_seconds)
 
 
 def sweep_summary(scene: str | Path | Mapping, **kwargs: Any) -> dict[str, Any]:

@@ -208,6 +208,15 @@ def _report(as_json: bool, data: dict, text: Callable[[], str], written: Sequenc
     return 0
 
 
+def _unproved(count: int, note: str) -> int:
+    """Exit status of a finished map, sweep or diagram: 0, or with ``count`` uncertified points
+    (no tau found, none proved: issue 23) 1 after one line ``note`` on stderr."""
+    if not count:
+        return 0
+    print(f"spectralshell: not proved: {note}", file=sys.stderr)
+    return 1
+
+
 def _progress(args: argparse.Namespace) -> bool:
     """Whether long work reports its progress on stderr (a bar on a terminal, a line every
     few seconds when piped): not with --quiet, nor with --json (a program reads the output)."""
@@ -278,9 +287,11 @@ def cmd_tongues(args) -> int:
                       workers=args.workers, progress=_progress(args),
                       **_solver(args), **_tau_max(args), **_given(args, "max_points", _integer),
                       **_params(args, args.model, skip=("kappa",)))
-    _warn(res.warnings)
+    note = res.uncertified_note()  # the exit line below, not a warning too
+    _warn([w for w in res.warnings if w != note])
     written = _write_tongues(res, png=args.png, csv=args.csv, npz=args.npz)
-    return _report(args.json, res.to_dict(), res.summary, written)
+    _report(args.json, res.to_dict(), res.summary, written)
+    return _unproved(len(res.uncertified), note)
 
 
 def cmd_exponents(args) -> int:
@@ -300,8 +311,10 @@ def cmd_stability(args) -> int:
         raise ParameterError("--tau and --m are required, e.g. --tau 0.45 --m 2:6")
     res = _api().stability(args.model, tau=parse_real("tau", args.tau), m=args.m, kind=args.kind,
                         **_solver(args), **_params(args, args.model, skip=("m",), grids=True))
-    _warn(res.warnings)
-    return _report(args.json, res.to_dict(), res.summary)
+    note = res.unproved_note()  # the exit line below, not a warning too
+    _warn([w for w in res.warnings if w != note])
+    _report(args.json, res.to_dict(), res.summary)
+    return _unproved(res.unproved(), note)
 
 
 def cmd_modes(args) -> int:
@@ -430,15 +443,18 @@ def _run(scene, out_dir: str | None, as_json: bool, name: str, progress: bool) -
     _check_output("output", png, ".png")
     _check_output("output", json_path, ".json")
     results = _api().run_scene(the_plan, progress=progress)
-    for r in results.values():
-        _warn(r.warnings)
+    for r in results.values():  # a diagram's uncertified note is the exit line (_unproved)
+        _warn([w for w in r.warnings if w != getattr(r, "uncertified_note", str)()])
     data = {k: r.to_dict() for k, r in results.items()}
     written = []
     if "tongues" in results:
         written += _write_tongues(results["tongues"], png=str(png))
     _atomic_write(json_path, lambda p: p.write_text(json.dumps(data, indent=1)))
     written.append(str(json_path))
-    return _report(as_json, data, lambda: _summary(results), written)
+    _report(as_json, data, lambda: _summary(results), written)
+    diagram = results.get("tongues")
+    return 0 if diagram is None else _unproved(len(diagram.uncertified),
+                                               diagram.uncertified_note())
 
 
 def cmd_demo(args) -> int:
@@ -446,7 +462,7 @@ def cmd_demo(args) -> int:
 
 
 def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str,
-               progress: bool) -> int:
+               progress: bool, max_seconds: dict | None = None) -> int:
     """A scene with a [grid]: the sweep runner writes NAME.zarr (resumable) and NAME.png."""
     output = scene.get("output", {})
     out = Path(out_dir or (output.get("dir") if isinstance(output, dict) else None)
@@ -456,18 +472,22 @@ def _run_sweep(scene: dict, out_dir: str | None, as_json: bool, name: str,
     store, png = out / f"{name}.zarr", out / f"{name}.png"
     _check_output("output", png, ".png")
     summary = _api().sweep_summary({k: v for k, v in scene.items() if k != "output"},
-                                out=str(store), progress=progress)
+                                out=str(store), progress=progress, **(max_seconds or {}))
     from .plots import sweep_plot
 
     _atomic_write(png, lambda p: sweep_plot.save(_api().open_sweep(store), p))
-    return _report(as_json, {**summary, "png": str(png)}, lambda: _sweep_text(summary),
-                   [str(png)])
+    _report(as_json, {**summary, "png": str(png)}, lambda: _sweep_text(summary), [str(png)])
+    return _sweep_status(summary, sweep_spec({k: v for k, v in scene.items() if k != "output"}))
 
 
 def cmd_run(args) -> int:
     scene = load_scene(args.scene)
     if is_sweep_scene(scene):
-        return _run_sweep(scene, args.out, args.json, Path(args.scene).stem, _progress(args))
+        return _run_sweep(scene, args.out, args.json, Path(args.scene).stem, _progress(args),
+                          _given(args, "max_seconds", parse_real))
+    if args.max_seconds is not None:
+        raise ParameterError(f"--max-seconds {args.max_seconds} is invalid here: it limits the "
+                             "estimated cost of a sweep scene (one with a [grid])")
     return _run(scene, args.out, args.json, Path(args.scene).stem, _progress(args))
 
 
@@ -475,27 +495,44 @@ def _sweep_text(summary: dict) -> str:
     where = f" -> {summary['out']}" if summary["out"] else ""
     repaired = (f", {summary['damaged']} of them replacing damaged chunks of the store"
                 if summary["damaged"] else "")
+    if summary["uncertified"]:
+        repaired += f"; {summary['uncertified']} uncertified (no tau found, none proved)"
     return (f"sweep: {summary['points']} points ({summary['computed']} computed{repaired}, "
             f"{summary['skipped']} already in the store) in {summary['seconds']:.1f} s{where}")
 
 
+def _sweep_status(summary: dict, spec) -> int:
+    """:func:`_unproved` of a finished sweep (its summary and SweepSpec)."""
+    from .results.maps import uncertified_note
+
+    return _unproved(summary["uncertified"], uncertified_note(
+        summary["uncertified"], summary["points"], spec.options.tau_max))
+
+
 def cmd_sweep(args) -> int:
     executor = args.executor or ("dask" if args.scheduler else "processes")
-    scene = sweep_spec(args.scene, **_given(args, "max_points", _integer)) \
-        if args.max_points else args.scene
+    scene = sweep_spec(args.scene, **_given(args, "max_points", _integer))
     summary = _api().sweep_summary(scene, executor=executor, workers=args.workers,
                                 scheduler=args.scheduler, out=args.out,
-                                progress=_progress(args))
-    return _report(args.json, summary, lambda: _sweep_text(summary))
+                                progress=_progress(args),
+                                **_given(args, "max_seconds", parse_real))
+    _report(args.json, summary, lambda: _sweep_text(summary))
+    return _sweep_status(summary, scene)
 
 
 def cmd_plot(args) -> int:
     _check_output("--png", args.png, FIGURE_SUFFIXES)
     from .plots import sweep_plot
 
+    from .results.maps import uncertified, uncertified_note
+
     ds = _api().open_sweep(args.store)
     _atomic_write(args.png, lambda p: sweep_plot.save(ds, p))
     print(f"wrote {args.png}")
+    count = int(uncertified(ds).sum())
+    if count:  # drawn hatched and named in the legend: the picture is honest
+        _warn([uncertified_note(count, int(ds["tau_min"].size),
+                                float(ds.attrs.get("tau_max", 0.5)))])
     return 0
 
 
@@ -826,6 +863,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("run", help="run a scene TOML file (a scene with a [grid] runs as a resumable sweep)")
     p.add_argument("scene")
     p.add_argument("--out", default=None, help="output directory (default: the scene's)")
+    _max_seconds_flag(p)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_run)
 
@@ -839,9 +877,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", default=None, metavar="ADDRESS|local",
                    help="Dask scheduler tcp://HOST:PORT, or 'local' for a LocalCluster")
     _max_points_flag(p)
+    _max_seconds_flag(p)
     p.add_argument("--json", action="store_true",
                    help='print exactly one object {"points", "computed", "skipped", "damaged", '
-                        '"out", "seconds"}')
+                        '"uncertified", "out", "seconds"} (exit 1 if uncertified > 0)')
     p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("simulate", help="time-step the sphere (spectral IMEX): mode amplitudes, "

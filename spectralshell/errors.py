@@ -31,6 +31,12 @@ class StoreBusy(ParameterError):
     since when)."""
 
 
+class UncertifiedWarning(UserWarning):
+    """A map or sweep holds points where no marginal tau was found but the zero count could
+    not prove that none exists (issue 23): they are marked (``complete_to`` below the point's
+    bound), not "none"; the message counts them and says what to change."""
+
+
 class SweepInterrupted(KeyboardInterrupt):
     """Ctrl-C during a sweep: ``kept`` grid points (of ``points``) are in the store ``out``
     (None: the sweep was in memory only, nothing is kept); rerunning the same sweep with the

@@ -75,7 +75,8 @@ def test_a_uniform_scene_keeps_its_variables():
                          "grid": {"kappa": "0.01:0.2:3", "m": [2]}})
     assert not ranged.nonuniform and ranged.shape == (3, 1, 2)
     from spectralshell.runner.solve import variables
-    assert set(variables(spec)) == {"tau_min", "has_tau", "error_estimate", "n_temporal"}
+    assert set(variables(spec)) == {"tau_min", "has_tau", "error_estimate", "n_temporal",
+                                    "complete_to"}
 
 
 def test_tau_map_over_nu_and_l_max_equals_floquet():

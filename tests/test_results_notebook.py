@@ -175,7 +175,8 @@ def test_stability_dataset_is_per_degree(built):
             tau = ds["tau_below"].sel(m=mode["m"], kind=kind).values
             np.testing.assert_array_equal(tau[:len(below)], below)
     frame = res.to_dataframe()
-    assert frame.shape == (len(res.modes), 3 + ds.sizes["kind"])  # defined, unstable, kind
+    assert frame.shape == (len(res.modes), 4 + ds.sizes["kind"])  # defined, unstable, proved,
+    # kind
     assert "tau_min_subharmonic" in frame and frame["defined"].all()
 
 

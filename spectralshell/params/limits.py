@@ -90,8 +90,9 @@ SECONDS = Limit("seconds (estimated)", 600.0, "SPECTRALSHELL_MAX_SECONDS", "max_
 #: Bytes a solved point takes as result objects (tongues and tau-map rows: each kind's
 #: MarginalTau with its tau array); measured with tracemalloc: ~1 KB for Mathieu, both kinds.
 RESULT_BYTES = 2048
-#: Bytes a sweep grid point takes: its stored variables (at most 43 bytes: tau_min,
-#: error_estimate, n_temporal, n_spatial, has_tau, spatial_converged, computed) and the Dataset.
+#: Bytes a sweep grid point takes: its stored variables (at most 51 bytes: tau_min,
+#: error_estimate, complete_to, n_temporal, n_spatial, has_tau, spatial_converged, computed)
+#: and the Dataset.
 SWEEP_BYTES = 64
 #: Another way out of a points limit, named in its message.
 SPLIT = "split the grid into sweeps with a store (sweep with out=PATH.zarr)"

@@ -129,6 +129,8 @@ VARIABLE_LONG_NAMES = {"tau_min": "smallest marginal forcing amplitude tau <= ta
                        "has_tau": "a marginal tau <= tau_max exists",
                        "error_estimate": "Floquet error estimate of tau_min",
                        "n_temporal": "final temporal truncation N",
+                       "complete_to": "no real tau below this was missed (an empty point is "
+                                      "proved only up to it; 0: uncertified)",
                        "n_spatial": "number of spatial modes M of the values",
                        "l_max": "degree truncation l_max of the values",
                        "critical_l": "degree l of the critical mode's largest share",
@@ -191,8 +193,11 @@ class SolverOptions:
     over_kinds: str = "each"
 
     def marginal_kwargs(self) -> dict[str, Any]:
-        """Keyword arguments of ``marginal_tau``."""
-        return {"tol": self.tol, "n_temporal": self.n_temporal, "tau_max": self.tau_max}
+        """Keyword arguments of ``marginal_tau``: an empty answer of a viscous model is proved
+        by the zero count or returned with complete_to = 0, which the sweep stores as an
+        uncertified point (``certify_empty='mark'``; issue 23)."""
+        return {"tol": self.tol, "n_temporal": self.n_temporal, "tau_max": self.tau_max,
+                "certify_empty": "mark"}
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -15,6 +15,12 @@ from matplotlib.figure import Figure
 __all__ = ["axes_or_new", "colours", "figure", "subplots", "save_figure"]
 
 
+#: Points with no tau found whose emptiness is not proved (issue 23): red crosses on curves and
+#: diagrams, red cross-hatching on maps, under this legend name.
+UNCERTIFIED_COLOUR = "tab:red"
+UNCERTIFIED_LABEL = "unproved: no τ found, none proved"
+
+
 def figure(*, figsize: tuple[float, float]) -> Figure:
     """A new figure of ``figsize`` inches, outside pyplot."""
     return Figure(figsize=figsize)

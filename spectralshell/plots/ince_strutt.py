@@ -11,7 +11,7 @@ import numpy as np
 from matplotlib.patches import PathPatch
 from matplotlib.path import Path
 
-from ._canvas import save_figure, subplots
+from ._canvas import UNCERTIFIED_COLOUR, UNCERTIFIED_LABEL, save_figure, subplots
 from ..results.floquet import FloquetResult, TonguesResult
 from ..results.records import Boundary
 
@@ -99,7 +99,8 @@ def draw(ax, result: TonguesResult, *, tau_max: float = 1.0, title: str | None =
     """Draw one diagram on ``ax``: each traced boundary as a curve, the unstable region of
     each kind shaded (:func:`draw_boundaries`), the finger tips, the tau = 1/2 line, and (with
     ``legend``) a legend below the axes. A result traced without boundaries shows its marginal
-    points instead.
+    points instead. Its ``uncertified`` kappa (no tau found, none proved) get red crosses at
+    the top, named in the legend.
 
     The abscissa is ``x_scale * kappa`` (e.g. sigma = rho R^3 omega^2 kappa, in dyn/cm)."""
     for kind in result.kinds:
@@ -111,6 +112,10 @@ def draw(ax, result: TonguesResult, *, tau_max: float = 1.0, title: str | None =
     if tips:
         ax.plot([x_scale * t.kappa for t in tips], [t.tau for t in tips], "k*", markersize=9,
                 label="finger tips", zorder=4)
+    if result.uncertified:  # no tau found there, none proved: not the blank of "none"
+        ax.plot([x_scale * k for k, _ in result.uncertified],
+                [0.97 * tau_max] * len(result.uncertified), "x", color=UNCERTIFIED_COLOUR,
+                ms=7, mew=1.5, label=UNCERTIFIED_LABEL, zorder=5)
     ax.axhline(0.5, color="0.4", linestyle="--", linewidth=1,
                label="τ = 1/2 (stiffness reaches 0)")
     ax.set_xlim(x_scale * result.kappa.min(), x_scale * result.kappa.max())

@@ -8,7 +8,10 @@ whatever ``tau_min`` holds there: tau_max or NaN), or not yet computed, are draw
 light grey (:data:`NONE_COLOUR`, named in the legend), apart from every colour of the scale. Where a sweep refined the number of spatial modes per point (the cochlea), cells
 whose refinement did not converge by its limit (M = 512 per kind, 1024 for the minimum over
 kinds) for some category (``spatial_converged`` false) are drawn grey and hatched, whatever their
-value, and the title counts them.
+value, and the title counts them. Points where no tau was found but the zero count could not
+prove that none exists (:func:`~spectralshell.results.maps.uncertified`; issue 23) are never
+drawn as "none": cells are cross-hatched in red (:data:`UNCERTIFIED_COLOUR`), curves get a red
+cross at the top of the axes, both named in the legend and counted in the title.
 """
 
 from __future__ import annotations
@@ -23,9 +26,9 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch, Rectangle
 from scipy import ndimage
 
-from ._canvas import colours, save_figure, subplots
+from ._canvas import UNCERTIFIED_COLOUR, UNCERTIFIED_LABEL, colours, save_figure, subplots
 from ..errors import ParameterError
-from ..results.maps import minimum_map
+from ..results.maps import minimum_map, uncertified
 
 #: Cells without instability ("none": no tau <= tau_max): a neutral light grey, which neither
 #: colour map used here (Blues_r up to a light blue, viridis up to yellow) contains.
@@ -64,6 +67,8 @@ def picture_axes(ds: xr.Dataset) -> tuple[list[str], list[str]]:
 def _title(ds: xr.Dataset, fixed: dict) -> str:
     done = ds["computed"].values
     extra = "" if done.all() else f" — incomplete: {int(done.sum())} of {done.size} points"
+    unproved = int(uncertified(ds).sum())
+    extra += f" — {unproved} points unproved (no τ found, none proved)" if unproved else ""
     shown = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
                       for k, v in fixed.items())
     return f"{ds.attrs.get('model', 'sweep')}: {shown}{extra}".strip()
@@ -113,11 +118,16 @@ def _line(ax, ds: xr.Dataset, axis: str, cats: list[str]) -> None:
         label = _curve_label(ds, cats, index) or None
         ax.plot(x[order], y[order], styles.get(kind, "-"), color=colour, label=label, lw=1.4)
     tau_max = float(ds.attrs.get("tau_max", np.nanmax(tau)))
+    bad = uncertified(ds).any([d for d in cats]).transpose(axis).values if cats else \
+        uncertified(ds).values
+    if bad.any():
+        ax.plot(x[bad], np.full(int(bad.sum()), 0.97 * tau_max), "x",
+                color=UNCERTIFIED_COLOUR, label=UNCERTIFIED_LABEL, ms=7, mew=1.5)
     ax.set_ylim(0.0, tau_max)
     ax.set_xlabel(axis_label(ds[axis]))
     ax.set_ylabel(f"τ_min, smallest marginal τ ≤ {tau_max:g}")
     _scale(ax, ds, axis, "x")
-    if cats:
+    if cats or bad.any():
         ax.legend(fontsize=7, ncol=2)
     ax.set_title(_title(ds, _fixed(ds, [axis] + [d for d in cats if ds.sizes[d] > 1])),
                  fontsize=9)
@@ -162,10 +172,11 @@ def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
              boxes: Sequence[tuple[tuple[float, float], tuple[float, float], str, str]] = ()):
     """Minimum tau_min over the categories (:func:`~spectralshell.results.maps.minimum_map`)
     on the (x, y) cells of ``ax``: light grey (:data:`NONE_COLOUR`) where none <= tau_max (by
-    ``has_tau``), grey hatched where the M refinement did not converge; the colour scale runs to
+    ``has_tau``), grey hatched where the M refinement did not converge, red cross-hatched where
+    an empty answer is not proved (``uncertified``); the colour scale runs to
     ``headroom`` x tau_max (above 1 it stops short of a colour map's white end). ``boxes`` are
     ((x0, x1), (y0, y1), label, colour) rectangles. A legend below the axes names "none", the
-    hatching and the boxes. Returns (mesh, number of hatched cells)."""
+    hatchings and the boxes. Returns (mesh, number of hatched cells)."""
     ds = ds.sortby([xname, yname])
     mm = minimum_map(ds, xname, yname)
     found = mm["has_tau"].values
@@ -176,8 +187,15 @@ def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
                   cmap=ListedColormap([NONE_COLOUR]), shading="flat")
     mesh = ax.pcolormesh(xe, ye, np.ma.masked_where(~found, values), cmap=cmap, vmin=0.0,
                          vmax=headroom * tau_max, shading="flat")
+    unproved = mm["uncertified"].values
     handles = [Patch(facecolor=NONE_COLOUR, edgecolor="0.5", linewidth=0.5,
-                     label=f"none: no τ ≤ {tau_max:g}")] if not found.all() else []
+                     label=f"none: no τ ≤ {tau_max:g}")] if (~found & ~unproved).any() else []
+    if unproved.any():  # over their colour: neither the value nor "none" is proved there
+        ax.pcolor(xe, ye, np.ma.masked_where(~unproved, np.ones(found.shape)),
+                  cmap=ListedColormap(["white"]), hatch="xxx", edgecolor=UNCERTIFIED_COLOUR,
+                  linewidth=0.0)
+        handles.append(Patch(facecolor="white", hatch="xxx", edgecolor=UNCERTIFIED_COLOUR,
+                             label=UNCERTIFIED_LABEL))
     bad = unconverged(ds, xname, yname)
     if bad.any():
         ax.pcolor(xe, ye, np.ma.masked_where(~bad, np.ones(found.shape)),
@@ -192,7 +210,8 @@ def draw_map(ax, ds: xr.Dataset, xname: str, yname: str, *, min_cells: int = 6,
     if labels:
         names, code = np.unique(mm["label"].values, return_inverse=True)
         _band_labels(ax, ds[xname].values, ds[yname].values,
-                     np.where(found & ~bad, code.reshape(found.shape), -1), list(names),
+                     np.where(found & ~bad & ~unproved, code.reshape(found.shape), -1),
+                     list(names),
                      min_cells)
     if handles:  # below the axes: inside, the legend would cover cells of the map
         ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.11),

@@ -11,7 +11,7 @@ import numpy as np
 
 from ._canvas import save_figure, subplots
 from ..errors import ParameterError
-from ..results.maps import unstable_at
+from ..results.maps import uncertified, unstable_at
 from .sweep_plot import axis_label, cell_edges, colour_label, draw_map, picture_axes
 
 if TYPE_CHECKING:
@@ -53,13 +53,15 @@ def save(ds: xr.Dataset, path: str | Path, *,
 
 #: Colours of the unstable-pairs panel (:func:`draw_unstable_pairs`), by which kinds are unstable.
 PAIR_COLOURS = {"stable": "0.93", "harmonic": "tab:blue", "subharmonic": "tab:red",
-                "both": "tab:purple"}
+                "both": "tab:purple", "unproved": "black"}
 
 
 def draw_unstable_pairs(ax, ds: xr.Dataset, x: str, at: dict[str, float], tau: float) -> None:
     """Which (x, m) of a tau-map sweep ``ds`` are unstable at forcing amplitude ``tau``, at the
     grid values ``at`` of its other real axes: a cell per (x, m) coloured by the kinds whose
-    tau_min <= tau (harmonic, subharmonic, both, or stable), x horizontal, m vertical."""
+    tau_min <= tau (harmonic, subharmonic, both, or stable), x horizontal, m vertical; black
+    ("unproved") where neither is unstable but an empty answer below tau is not proved
+    (:func:`~spectralshell.results.maps.uncertified`)."""
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
@@ -67,16 +69,20 @@ def draw_unstable_pairs(ax, ds: xr.Dataset, x: str, at: dict[str, float], tau: f
     harmonic = unstable.sel(kind="harmonic").values
     subharmonic = unstable.sel(kind="subharmonic").values
     code = np.where(harmonic & subharmonic, 3, np.where(subharmonic, 2, harmonic.astype(int)))
-    names = ("stable", "harmonic", "subharmonic", "both")
-    ax.pcolormesh(cell_edges(ds[x]), cell_edges(ds["m"]), code, vmin=-0.5, vmax=3.5,
+    unproved = uncertified(ds).sel(at).any("kind").transpose("m", x).values
+    code = np.where((code == 0) & unproved, 4, code)
+    names = ("stable", "harmonic", "subharmonic", "both", "unproved")
+    ax.pcolormesh(cell_edges(ds[x]), cell_edges(ds["m"]), code, vmin=-0.5, vmax=4.5,
                   cmap=ListedColormap([PAIR_COLOURS[n] for n in names]))
     ax.set_yticks(ds["m"].values)
     ax.set_xlabel(axis_label(ds[x]))
     ax.set_ylabel("m, azimuthal wavenumber")
     where = ", ".join(f"{k} = {v:.4g}" for k, v in at.items())
     ax.set_title(f"unstable (m, {x}) at τ = {tau:g} ({where})", fontsize=9)
-    ax.legend(handles=[Patch(color=PAIR_COLOURS[n], label=n) for n in names],
-              loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4, fontsize=7, frameon=False)
+    shown = [n for n in names if n != "unproved" or unproved.any()]
+    ax.legend(handles=[Patch(color=PAIR_COLOURS[n], label=n) for n in shown],
+              loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=len(shown), fontsize=7,
+              frameon=False)
 
 
 def save_with_pairs(ds: xr.Dataset, path: str | Path, *, x: str, at: dict[str, float],

@@ -445,14 +445,20 @@ def fig_5_18_scene(panel: str, size: int | None = None) -> dict:
 
 
 def _minimum_over_kinds(ds) -> dict:
-    """Per (frequency, sigma) cell: tau_min over kinds (None: no tau <= tau_max) and the kind."""
+    """Per (frequency, sigma) cell: tau_min over kinds (None: no tau found <= tau_max), the
+    kind, and whether the cell is uncertified (an empty answer the zero count could not prove:
+    :func:`spectralshell.results.maps.uncertified`; then None is no "none")."""
+    from ..results.maps import uncertified
+
     tau = ds["tau_min"].where(ds["has_tau"]).transpose("frequency", "sigma", "kind").values
     found = np.isfinite(tau).any(axis=-1)
     best = np.where(found, np.nanargmin(np.where(np.isfinite(tau), tau, np.inf), axis=-1), -1)
     kinds = list(ds["kind"].values)
     value = np.where(found, np.nanmin(np.where(np.isfinite(tau), tau, np.inf), axis=-1), np.nan)
     return {"tau_min": [[None if not np.isfinite(v) else float(v) for v in row] for row in value],
-            "kind": [[kinds[i] if i >= 0 else None for i in row] for row in best]}
+            "kind": [[kinds[i] if i >= 0 else None for i in row] for row in best],
+            "uncertified": uncertified(ds).any("kind").transpose("frequency", "sigma")
+            .values.tolist()}
 
 
 def _cochlea_tau_maps(out: Path, *, progress: bool, workers: int | None,
@@ -463,6 +469,7 @@ def _cochlea_tau_maps(out: Path, *, progress: bool, workers: int | None,
 
     from ..plots import cochlea as cochlea_plots
     from ..plots.sweep_plot import unconverged
+    from .._validate import REAL_MAX
     from ..runner import run_sweep
     from ..runner.layout import chunks, region
     from ..params.sweep_grid import sweep_spec
@@ -479,7 +486,10 @@ def _cochlea_tau_maps(out: Path, *, progress: bool, workers: int | None,
 
         store = out / f"fig-5.18-{name}.zarr"
         t0 = time.perf_counter()
-        run = run_sweep(spec, workers=workers, out=store, progress=progress, on_chunk=record)
+        # the figure's own grid: its cost is measured (point_seconds below), and the dense
+        # price of its low-frequency corner (N = 400 at M = 32, ~4 h a point) overstates it
+        run = run_sweep(spec, workers=workers, out=store, progress=progress, on_chunk=record,
+                        max_seconds=REAL_MAX)
         ds = run.dataset
         panels.append((title, ds))
         m = ds["n_spatial"].values

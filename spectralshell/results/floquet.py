@@ -17,6 +17,7 @@ from ..params.stiffness import amplitude_warnings
 from .base import Plottable, Result, format_params
 from .notebook import (Variable, coordinate, dataset, named, or_nan, padded, result_attrs, table,
                        variable)
+from .maps import uncertified_note
 from .records import Boundary, Exponents, MarginalTau, Tip
 
 if TYPE_CHECKING:
@@ -268,7 +269,8 @@ class ExponentsResult(Result):
 class TonguesResult(Result, Plottable):
     """An Ince-Strutt diagram: marginal tau of each kind at every kappa, the finger tips, and
     the boundary curves traced through them (``boundaries``: :class:`Boundary` records, empty
-    when not traced)."""
+    when not traced); ``uncertified``: the (kappa, kind) whose row has no tau <= tau_max but
+    whose emptiness the zero count could not prove (issue 23: not "none")."""
 
     model: str
     params: dict[str, Any]
@@ -279,6 +281,14 @@ class TonguesResult(Result, Plottable):
     provenance: dict[str, Any]
     warnings: tuple[str, ...] = field(default=())
     boundaries: tuple[Boundary, ...] = field(default=())
+    uncertified: tuple[tuple[float, str], ...] = field(default=())
+
+    def uncertified_note(self) -> str:
+        """The warning on the ``uncertified`` points and what to change ('' if none)."""
+        if not self.uncertified:
+            return ""
+        return uncertified_note(len(self.uncertified), self.kappa.size * len(self.kinds),
+                                float(self.provenance["options"]["tau_max"]))
 
     def points(self, kind: str) -> tuple[np.ndarray, np.ndarray]:
         """All (kappa, tau) points of one kind, flattened (for plotting and CSV)."""
@@ -291,11 +301,13 @@ class TonguesResult(Result, Plottable):
                "kappa": [float(k) for k in self.kappa]}
         for kind in self.kinds:
             out[kind] = {key: [marginal_dict(r[kind])[key] for r in self.rows]
-                         for key in ("tau", "tau_min", "n_temporal", "error_estimate")}
+                         for key in ("tau", "tau_min", "n_temporal", "error_estimate",
+                                     "complete_to")}
         out["tips"] = [{k: (float(v) if k != "kind" else v) for k, v in asdict(t).items()}
                        for t in self.tips]
         out["boundaries"] = [{"kind": b.kind, "kappa": b.kappa.tolist(), "tau": b.tau.tolist()}
                              for b in self.boundaries]
+        out["uncertified"] = [{"kappa": k, "kind": kind} for k, kind in self.uncertified]
         out["warnings"] = list(self.warnings)
         out["provenance"] = self.provenance
         return out
@@ -372,7 +384,9 @@ class StabilityResult(Result):
     ``unstable``,
     ``kind`` (the kind whose instability has the lower threshold, None if stable), and the
     marginal tau of each kind below the given tau; a point the model refuses has ``defined``
-    False and its ``reason`` instead (the key is absent where the point is defined).
+    False and its ``reason`` instead (the key is absent where the point is defined); a point
+    whose verdict could not be proved (issue 23) has ``proved`` False and its ``reason``
+    (absent where proved), and ``unstable`` False there means nothing.
     """
 
     model: str
@@ -388,6 +402,19 @@ class StabilityResult(Result):
                 "swept": list(self.swept), "modes": [dict(m) for m in self.modes],
                 "warnings": list(self.warnings), "provenance": self.provenance}
 
+    def unproved(self) -> int:
+        """The number of points whose verdict could not be proved."""
+        return sum(not mode.get("proved", True) for mode in self.modes)
+
+    def unproved_note(self) -> str:
+        """One line on the unproved points and what to change ('' if none)."""
+        count = self.unproved()
+        if not count:
+            return ""
+        first = next(mode for mode in self.modes if not mode.get("proved", True))
+        return (f"{count} of {len(self.modes)} points have no proved verdict at tau = "
+                f"{self.tau:g} (first {self._point(first)}: {first['reason']})")
+
     def _point(self, mode: dict[str, Any]) -> str:
         return ", ".join([f"m = {mode['m']}"] + [f"{n} = {mode[n]:.4g}" for n in self.swept])
 
@@ -397,8 +424,9 @@ class StabilityResult(Result):
         lines = [f"{self.model} at tau = {self.tau:g}: {format_params(self.params)}"]
         width = max((len(self._point(mode)) for mode in self.modes), default=0) + 2
         for mode in self.modes:
-            if not mode.get("defined", True):
-                lines.append(f"  {self._point(mode):<{width}}not defined: {mode['reason']}")
+            if not mode.get("defined", True) or not mode.get("proved", True):
+                what = "not defined" if not mode.get("defined", True) else "not proved"
+                lines.append(f"  {self._point(mode):<{width}}{what}: {mode['reason']}")
                 continue
             below = "; ".join(f"{k[4:]} tau below: {_taus(v)}"
                               for k, v in mode.items() if k.startswith("tau_"))
@@ -416,7 +444,7 @@ class StabilityResult(Result):
                   *(_taus(mode[f"tau_{kind}"]) for kind in kinds)] for mode in self.modes])
 
     def to_xarray(self) -> xr.Dataset:
-        """Over degree ``m`` (and the swept parameters): defined, unstable, unstable_kind
+        """Over degree ``m`` (and the swept parameters): defined, unstable, proved, unstable_kind
         ('' where stable or not defined); over those and kind: tau_min (the smallest marginal
         tau below tau, NaN where none), has_tau, and every marginal tau below tau over 'root'
         (NaN-padded); tau a scalar coordinate."""
@@ -436,6 +464,8 @@ class StabilityResult(Result):
                                     "the model defines this point"),
                 "unstable": variable(axes, per_point([m["unstable"] for m in self.modes]),
                                      "unstable at tau"),
+                "proved": variable(axes, per_point([m.get("proved", True) for m in self.modes]),
+                                   "the verdict is proved (false: unstable means nothing)"),
                 "unstable_kind": variable(axes, per_point([m["kind"] or "" for m in self.modes]),
                                           "kind with the lower threshold ('' if stable)"),
                 "tau_min": variable(dims, lowest, "smallest marginal tau below tau", "1"),
@@ -460,7 +490,10 @@ class StabilityResult(Result):
 
 
 def _state(mode: dict[str, Any]) -> str:
-    """'stable' or 'UNSTABLE (kind)' of one degree of a :class:`StabilityResult`."""
+    """'stable', 'UNSTABLE (kind)' or 'not proved' of one degree of a
+    :class:`StabilityResult`."""
+    if not mode.get("proved", True):
+        return "not proved"
     return f"UNSTABLE ({mode['kind']})" if mode["unstable"] else "stable"
 
 

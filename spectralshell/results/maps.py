@@ -36,6 +36,34 @@ def category_label(ds: xr.Dataset, cats: list[str], index: tuple[int, ...]) -> s
     return "".join(parts)
 
 
+def uncertified(ds: xr.Dataset) -> xr.DataArray:
+    """The points of a sweep ``ds`` (over every dim of tau_min) whose empty answer is not
+    proved: computed, no tau found (``has_tau`` false) and ``complete_to`` below the point's
+    bound -- tau_max, or the smallest tau_min of the other kinds at the point where one has a
+    tau (a minimum needs the other kinds proved empty only below it). The zero count could not
+    exclude a real tau there (issue 23): such a point is no "none", and a larger n_temporal
+    or another tau_max may settle it. All false for a Dataset without ``complete_to``."""
+    import xarray as xr  # lazy: ~0.35 s to import
+
+    empty = ds["computed"] & ~ds["has_tau"]
+    if "complete_to" not in ds:
+        return empty & False
+    bound = xr.full_like(ds["tau_min"], float(ds.attrs.get("tau_max", np.inf)), dtype=float)
+    if "kind" in ds["tau_min"].dims:
+        found = ds["tau_min"].where(ds["has_tau"] & ds["computed"]).min("kind")
+        bound = bound.where(~(found < bound), found)
+    return (empty & (ds["complete_to"] < bound)).transpose(*ds["tau_min"].dims)
+
+
+def uncertified_note(count: int, points: int, tau_max: float) -> str:
+    """One line on ``count`` uncertified points of ``points`` (:func:`uncertified`) and what to
+    change: the API's warning and the CLI's exit-1 line."""
+    return (f"{count} of {points} points found no marginal tau <= {tau_max:g}, but the zero "
+            "count cannot prove that none exists there (kept as uncertified: complete_to below "
+            "the bound, drawn hatched, never as 'none'); rerun with a smaller or larger "
+            "tau_max, or a fixed n_temporal")
+
+
 def minimum_map(ds: xr.Dataset, x: str, y: str) -> xr.Dataset:
     """The smallest tau_min over the categories of the sweep ``ds`` at each (y, x) cell.
 
@@ -43,7 +71,9 @@ def minimum_map(ds: xr.Dataset, x: str, y: str) -> xr.Dataset:
     the sweep's order (lower m, then harmonic). Variables, each (y, x): ``tau_min`` (NaN
     where none), ``has_tau``, ``error_estimate`` (0 where none), ``label``
     (:func:`category_label`, '' where none) and, per category dim d, ``d`` the value attaining
-    the minimum (0 or '' where none). Coordinates x and y and the attrs are the sweep's.
+    the minimum (0 or '' where none), and ``uncertified``: some category's empty answer at
+    the cell is not proved below the cell's value (:func:`uncertified`), so neither is the
+    value (nor "none"). Coordinates x and y and the attrs are the sweep's.
     """
     import xarray as xr  # lazy: ~0.35 s to import
 
@@ -63,7 +93,9 @@ def minimum_map(ds: xr.Dataset, x: str, y: str) -> xr.Dataset:
     data = {"tau_min": ((y, x), np.where(found, value, np.nan)),
             "has_tau": ((y, x), found),
             "error_estimate": ((y, x), np.where(found, error, 0.0)),
-            "label": ((y, x), np.where(found, names[best], ""))}
+            "label": ((y, x), np.where(found, names[best], "")),
+            "uncertified": ((y, x), uncertified(ds).transpose(*order).values
+                            .reshape(*shape, -1).any(axis=-1))}
     for j, d in enumerate(cats):
         values = ds[d].values
         picked = values[np.array([c[j] for c in combos])[best]]

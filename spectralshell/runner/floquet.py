@@ -56,6 +56,9 @@ def solver_options(tol: float, n_temporal: int | None, tau_max: float | None = N
 #: floquet's answers: an empty one (no tau <= tau_max) of a viscous model is proved by the zero
 #: count at both truncations, or refused (marginal_tau's ``certify_empty``; issue 23, section 2).
 CERTIFIED = {"certify_empty": True}
+#: The maps' answers (tongues' rows; sweeps say it in SolverOptions.marginal_kwargs): the same
+#: proof, but a point it cannot prove is kept, marked by complete_to = 0, and counted.
+MARKED = {"certify_empty": "mark"}
 
 
 def _system(model: str, params: Mapping[str, Any]) -> tuple[Any, HillSystem]:
@@ -305,7 +308,10 @@ def tongues(model: str, *, kappa: str | Mapping[str, Any] | Sequence[float] | np
     tips : locate the minimum (kappa, tau) of every finger that shows as a local minimum of
         tau_min on the grid (to ~1e-12 in kappa; see ``solvers.tongues.refine_tip``).
     workers : processes (None: all cores for large grids; 1: serial). progress : show a bar.
-    tau_max : only the marginal tau <= tau_max are computed (as in :func:`floquet`).
+    tau_max : only the marginal tau <= tau_max are computed (as in :func:`floquet`). An empty
+        row of a viscous model is proved by the zero count; one it cannot prove is kept
+        (``complete_to`` 0), listed in the result's ``uncertified`` and warned of: not raised,
+        so that the rest of the diagram stays (the CLI exits 1).
     boundaries : trace each boundary as a curve (``TonguesResult.boundaries``) through the
         grid, the finger tips and kappa added by bisection wherever a branch is steep (tau moves
         by more than 0.02 between neighbouring kappa), turns back or ends, down to 1e-4 of the
@@ -323,16 +329,22 @@ def tongues(model: str, *, kappa: str | Mapping[str, Any] | Sequence[float] | np
     for k in (grid.min(), grid.max()):
         make_params(model, {**params, "kappa": k})
     factory = functools.partial(family_system, model, dict(params), "kappa")
-    rows, found, failures, traced = ince_strutt(factory, grid, kinds, options, tips=tips,
-                                                boundaries=boundaries, workers=workers,
-                                                progress=progress)
+    rows, found, failures, traced = ince_strutt(
+        factory, grid, kinds, options if tau_max is None else {**options, **MARKED}, tips=tips,
+        boundaries=boundaries, workers=workers, progress=progress)
     warnings = threshold_warnings({k: [r[k].tau_min for r in rows] for k in kinds}) + failures
+    unproved = tuple((float(k), kind) for k, r in zip(grid, rows) for kind in kinds
+                     if tau_max is not None and r[kind].tau_min is None
+                     and r[kind].complete_to < tau_max)
     p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
     p.pop("kappa")
-    return TonguesResult(model=model, params=p, kappa=grid, kinds=kinds, rows=tuple(rows),
+    result = TonguesResult(model=model, params=p, kappa=grid, kinds=kinds, rows=tuple(rows),
                          tips=tuple(found), boundaries=traced, warnings=tuple(warnings),
+                         uncertified=unproved,
                          provenance=provenance({"kind": kind, "tips": tips,
                                                 "boundaries": boundaries, **options}))
+    return dataclasses.replace(result, warnings=result.warnings + tuple(
+        [result.uncertified_note()] if unproved else []))
 
 
 #: The boundary solves (every=True) stop at N = 2 x the grid's largest N plus this.
@@ -428,7 +440,7 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
             m: int | str | Sequence[int] | None = None, kind: str = "both",
             tau_max: float = 0.5, tol: float = 1e-8, physical: Mapping[str, float] | None = None,
             workers: int | None = None, progress: bool = False, max_points: int | None = None,
-            **params: Any) -> xr.Dataset:
+            max_seconds: float | None = None, **params: Any) -> xr.Dataset:
     """Marginal tau_min <= tau_max on an x-y grid, for each degree ``m`` and kind: a sweep
     (:func:`spectralshell.runner.sweep.run_sweep`) run in memory.
 
@@ -448,11 +460,16 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
     tol : absolute tolerance on each tau_min (1e-8 is ample for a picture).
     workers : processes (None: all cores for large grids; 1: serial). progress : a bar.
     max_points : raise the limit on x * y * degrees * kinds points.
+    max_seconds : a model with spatial modes (the cochlea): raise the limit on the estimated
+        work of the map, priced before any work (:func:`spectralshell.runner.sweep.priced_sweep`).
 
     Returns
     -------
     xarray.Dataset : the sweep's (:func:`spectralshell.sweep`): tau_min, has_tau,
-        error_estimate, n_temporal over (x, y, m, kind), units and provenance in attrs.
+        error_estimate, n_temporal, complete_to over (x, y, m, kind), units and provenance in
+        attrs. A point where no tau was found but the zero count could not prove that none
+        exists is kept, marked (:func:`spectralshell.results.maps.uncertified`), and counted
+        by an :class:`~spectralshell.errors.UncertifiedWarning`.
         :func:`spectralshell.results.maps.minimum_map` reduces it to the smallest tau over m and
         kind with the m/kind attaining it (thesis Fig 6.13 labels 'm H/S'), and
         :func:`spectralshell.plots.tau_map.save` draws it.
@@ -463,7 +480,7 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
     along y (:mod:`spectralshell.runner.solve`): values agree with independent ``floquet``
     solves within ``tol``.
     """
-    from .sweep import run_sweep  # lazy: xarray costs ~0.35 s to import
+    from .sweep import flagged, run_sweep  # lazy: xarray costs ~0.35 s to import
 
     model = check_model(model)
     kinds = expand_kind(kind)
@@ -487,8 +504,9 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
              "tau_min": {"tol": float(tol), "tau_max": float(tau_max)}}
     spec = sweep_spec(scene, max_points=max_points)
     serial = workers == 1 or (workers is None and spec.size < PARALLEL_MIN_POINTS)
-    return run_sweep(spec, executor="serial" if serial else "processes",
-                     workers=None if serial else workers, progress=progress).dataset
+    return flagged(run_sweep(spec, executor="serial" if serial else "processes",
+                             workers=None if serial else workers, progress=progress,
+                             max_seconds=max_seconds))
 
 
 def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,
@@ -578,6 +596,14 @@ def stability(model: str, *, tau: float, m: int | str | Sequence[int], kind: str
     at ``tau`` when an odd number of its marginal amplitudes lie below ``tau``. Where both kinds are
     unstable, ``kind`` names the one with the lower threshold. The rule is checked against the Floquet
     exponents in the tests.
+
+    A verdict is given only where it is proved (issue 23): each kind's list of marginal tau is
+    certified complete below ``tau`` (:func:`_complete_below`), an empty one by the zero count,
+    and for a model with coupled components (block size > 1) at most one tau of each kind lies
+    below ``tau``. Where the solve fails, a single point raises ConvergenceError; of several
+    points, the point is kept with ``proved`` False and the ``reason`` (never as "stable"), as
+    is a point the parity rule does not decide; the result's ``warnings`` count them and the
+    CLI exits 1.
     """
     model = check_model(model)
     tau = require_real("tau", tau)
@@ -594,8 +620,9 @@ def stability(model: str, *, tau: float, m: int | str | Sequence[int], kind: str
             if tau > 0:
                 res = floquet(model, kind=kind, tau_max=tau, **options, **params, **at)
                 solved = res.params
+                lists, undecided = _complete_below(model, res, expand_kind(kind), tau, options)
             else:  # marginal tau are >= 0: none lies below tau <= 0, nothing to solve
-                res = None
+                lists, undecided = None, None
                 solved = dataclasses.asdict(make_params(model, {**params, **at}))
         except ParameterError as exc:
             if len(points) == 1:
@@ -603,21 +630,75 @@ def stability(model: str, *, tau: float, m: int | str | Sequence[int], kind: str
             modes.append({**entry, "defined": False, "reason": str(exc),
                           **{f"tau_{k}": [] for k in expand_kind(kind)}})
             continue
+        except ConvergenceError as exc:  # the verdict cannot be proved: marked, never "stable"
+            if len(points) == 1:
+                raise
+            if solved is None:  # the parameters, as floquet converts them
+                values = physical_values(model, {**params, **at})[0]
+                solved = dataclasses.asdict(make_params(model, values))
+            modes.append({**entry, "proved": False, "reason": str(exc).splitlines()[0],
+                          **{f"tau_{k}": [] for k in expand_kind(kind)}})
+            continue
         thresholds = {}
         for k in expand_kind(kind):
-            below = [] if res is None else [float(t) for t in getattr(res, k).tau if t < tau]
+            below = [] if lists is None else [float(t) for t in lists[k].tau if t < tau]
             entry[f"tau_{k}"] = below
             if len(below) % 2 == 1:
                 thresholds[k] = below[0]
-        if thresholds:
+        if undecided is not None:
+            entry.update(proved=False, reason=undecided)
+        elif thresholds:
             entry["unstable"], entry["kind"] = True, min(thresholds, key=thresholds.get)
         modes.append(entry)
     if solved is None:  # every pair refused: say why for the first
         raise ParameterError(modes[0]["reason"])
     p = {k: v for k, v in solved.items() if k != "m" and k not in swept}
-    return StabilityResult(model=model, tau=tau, params=p, modes=tuple(modes), swept=tuple(swept),
-                           warnings=tuple(amplitude_warnings(tau)),
-                           provenance=provenance({"kind": kind, **options}))
+    result = StabilityResult(model=model, tau=tau, params=p, modes=tuple(modes),
+                             swept=tuple(swept), warnings=tuple(amplitude_warnings(tau)),
+                             provenance=provenance({"kind": kind, **options}))
+    note = result.unproved_note()
+    return dataclasses.replace(result, warnings=result.warnings + ((note,) if note else ()))
+
+
+def _complete_below(model: str, res: FloquetResult, kinds: tuple[str, ...], tau: float,
+                    options: dict[str, Any]) -> tuple[dict[str, Any], str | None]:
+    """(each kind's marginal tau, proved complete below ``tau``; why the parity rule of
+    :func:`stability` does not decide the point, or None where it does).
+
+    ``res`` was solved with tau_max = ``tau``; a kind whose list is proved complete only below
+    some complete_to < tau is solved again with ``every=True`` (N raised until every
+    tau <= tau has converged and the list is certified up to tau; an empty one by the zero
+    count). The parity rule holds for one oscillatory degree of freedom (block size 1: the
+    Mathieu equation, the inviscid reductions); with coupled components, two crossings of one
+    kind may be two modes entering instability (the fibre at m = 3, kappa = 0.3, nu = 0.001,
+    tau = 0.9: two subharmonic tau below, 0.541 and 0.714, and an exponent with
+    Re gamma = 1.12), so there only 0 (stable) or 1 (unstable) crossing decides.
+
+    Raises
+    ------
+    ConvergenceError : that solve does not converge, or N is fixed (n_temporal), so that the
+        list stays unproved up to tau; the message says up to where it is proved.
+    """
+    lists = {k: getattr(res, k) for k in kinds}
+    short = tuple(k for k in kinds if lists[k].complete_to < tau)
+    if short and options["n_temporal"] is not None:
+        k = short[0]
+        raise ConvergenceError(
+            f"{k}: the marginal tau below tau={tau:g} are proved complete only up to "
+            f"{lists[k].complete_to:.4g} at the fixed n_temporal={options['n_temporal']}, so "
+            "the stability verdict is not proved; leave n_temporal= unset, or give a smaller tau")
+    system = functools.cache(lambda: _system(model, res.params)[1])
+    if short:
+        lists.update(solve_kinds(system(), short, {**options, "tau_max": tau, "every": True,
+                                                   **CERTIFIED}))
+    crossings = {k: int(np.count_nonzero(lists[k].tau < tau)) for k in kinds}
+    many = [k for k in kinds if crossings[k] >= 2]
+    if many and system().block_size > 1:
+        return lists, (f"{crossings[many[0]]} {many[0]} marginal tau lie below tau={tau:g}: the "
+                       "parity rule decides one degree of freedom only, not "
+                       f"{system().block_size} coupled components; the Floquet exponents at "
+                       "this tau (exponents) decide it")
+    return lists, None
 
 
 def _point_params(point: Mapping[str, Any]) -> dict[str, Any]:

@@ -13,7 +13,7 @@ from ..errors import ParameterError
 from ..models.registry import hill_system
 from ..params.registry import Model, make_params, physical_values, require_capability
 from ..results.floquet import provenance
-from .floquet import priced_spatial, solver_options
+from .floquet import CERTIFIED, priced_spatial, solver_options
 from .solve import solve_kinds, spatial_system
 
 if TYPE_CHECKING:  # imported where it is built (below)
@@ -53,10 +53,11 @@ def _response_at(spec: Model, p, n_spatial: int, kind: str, options: dict[str, A
         tau, tau_error, freq, start = None, None, 1.0, shape.tone_start
     else:
         system = hill_system(shape.with_modes(n_spatial))
-        m = solve_kinds(system, (kind,), options)[kind]
+        m = solve_kinds(system, (kind,), {**options, **CERTIFIED})[kind]  # "none" is proved
         if m.tau_min is None:
             raise ParameterError(f"kind = {kind!r} has no marginal tau here (tau_max = "
-                                 f"{options.get('tau_max')}): no parametric response to show")
+                                 f"{options.get('tau_max')}, proved up to it): no "
+                                 "parametric response to show")
         mode = marginal_mode(system, kind, m.tau_min, m.n_temporal)
         period = 2 * np.pi if kind == "harmonic" else 4 * np.pi
         field = mode.evaluate(np.linspace(0.0, period, RESPONSE_TIMES, endpoint=False)) @ basis.T

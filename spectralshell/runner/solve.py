@@ -74,8 +74,8 @@ from ..params.registry import make_params
 from ..params.sphere import nonuniform_params
 from ..params.sweep_grid import SolverOptions, SweepSpec
 from ..results.records import MarginalTau
-from ..solvers.marginal import (Truncation, TruncationSchedule, converged_pair, marginal_tau,
-                                truncation_taus)
+from ..solvers.marginal import (Truncation, TruncationSchedule, certified_bound,
+                                converged_pair, marginal_tau, truncation_taus)
 from ..solvers.spatial_refinement import (MINIMUM_LIMIT, SPATIAL_LIMIT, SPATIAL_START,
                                           SpatialTau, refine_minimum, refine_spatial,
                                           solve_fixed, spatial_error)
@@ -88,7 +88,7 @@ from .layout import Chunk, block_index, block_shape, chunk_points
 SWEEP_METHOD = "smallest"
 #: Result variables of the ask 'tau_min' and their dtypes.
 VARIABLES = {"tau_min": np.float64, "has_tau": np.bool_, "error_estimate": np.float64,
-             "n_temporal": np.int32}
+             "n_temporal": np.int32, "complete_to": np.float64}
 #: Further variables of models with spatial modes (SweepSpec.spatial).
 SPATIAL_VARIABLES = {"n_spatial": np.int32, "spatial_converged": np.bool_}
 #: Further variables of the sphere with a non-uniform kappa (SweepSpec.nonuniform): the degree
@@ -105,9 +105,13 @@ class SweepError(SpectralShellError, RuntimeError):
 
 @dataclass(frozen=True)
 class KindSolution:
-    """tau_min of one kind at one point: ``has_tau`` False means no marginal tau <= tau_max,
-    and then tau_min is NaN and error_estimate 0.
+    """tau_min of one kind at one point: ``has_tau`` False means no marginal tau <= tau_max
+    was found, and then tau_min is NaN and error_estimate 0.
 
+    complete_to : no real tau below it was missed (at most tau_max: :func:`solve_chunk` caps
+        it): tau_min is the smallest real tau, and an empty answer is proved only up to it (0:
+        the zero count could not prove it, an uncertified point; see
+        :func:`spectralshell.results.maps.uncertified`).
     n_previous, n_temporal : the truncation pair of the convergence test.
     continued : accepted from the neighbour's truncation pair.
     """
@@ -118,6 +122,7 @@ class KindSolution:
     n_temporal: int
     n_previous: int
     continued: bool = False
+    complete_to: float = math.inf
     n_spatial: int = 0
     n_spatial_previous: int = 0
     spatial_converged: bool = True
@@ -141,10 +146,11 @@ def from_marginal(m: MarginalTau) -> KindSolution:
     """KindSolution of a full ``marginal_tau`` result."""
     if m.tau_min is None:
         return KindSolution(has_tau=False, tau_min=math.nan, error_estimate=0.0,
-                            n_temporal=m.n_temporal, n_previous=m.n_previous)
+                            n_temporal=m.n_temporal, n_previous=m.n_previous,
+                            complete_to=float(m.complete_to))
     return KindSolution(has_tau=True, tau_min=float(m.tau_min),
                         error_estimate=float(m.error_estimate), n_temporal=m.n_temporal,
-                        n_previous=m.n_previous)
+                        n_previous=m.n_previous, complete_to=float(m.complete_to))
 
 
 def solve_kinds(system: HillSystem, kinds: Iterable[str], options: Mapping[str, Any],
@@ -218,7 +224,8 @@ def solve_continued(system: HillSystem, kind: str, options: SolverOptions, start
             change = abs(float(tau[0] - prev[0]))
             error = max(change, found.spread, 8 * np.finfo(float).eps * max(1.0, float(tau[0])))
             return KindSolution(has_tau=True, tau_min=float(tau[0]), error_estimate=error,
-                                n_temporal=seq[i], n_previous=seq[i - 1], continued=True)
+                                n_temporal=seq[i], n_previous=seq[i - 1], continued=True,
+                                complete_to=certified_bound(found, previous))
         if not tau.size and not prev.size:
             return None
         previous, prev = found, tau
@@ -419,6 +426,8 @@ def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
                     tau_hints[kind] = sol.tau_min if sol.has_tau else None
                 continued += sol.continued
                 at = block_index(spec, j, q)
+                sol = dataclasses.replace(sol, complete_to=min(sol.complete_to,
+                                                               spec.options.tau_max))
                 for name in names:
                     arrays[name][at] = getattr(sol, name)
                 # the joint solve's time is booked on the first kind (a cell sums its kinds)

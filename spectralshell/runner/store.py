@@ -8,6 +8,10 @@ Variables (dimensions: the grid axes, 'kind' included):
 * ``has_tau``: a marginal tau <= tau_max exists;
 * ``error_estimate``: the solver's error estimate of tau_min (0 where there is none);
 * ``n_temporal``: the final temporal truncation N;
+* ``complete_to``: no real tau below it was missed (at most tau_max): an empty point
+  (``has_tau`` false) claims "no tau" only up to it; one below its bound (tau_max, or the
+  smallest tau_min of the other kinds there) is uncertified -- the zero count could not prove
+  it (:func:`spectralshell.results.maps.uncertified`);
 * ``computed``: the point has been solved (false only in an interrupted store);
 
 and, for a model with spatial modes (the cochlea):
@@ -31,7 +35,8 @@ rerun), a chunk counts as finished only if its record matches the values read, s
 missing, unreadable or foreign chunk files are found, never served. Only one process writes a
 store at a time (:mod:`.lock`).
 
-Stores written before tau_min was NaN where there is none hold tau_max there; they verify as
+Stores written before ``complete_to`` existed lack it: their chunks read as damaged and a rerun
+recomputes them (their empty points were never proved). Stores written before tau_min was NaN where there is none hold tau_max there; they verify as
 written (the records digest the stored bytes), reading them (:func:`open_sweep`, a rerun) gives
 NaN there (:func:`without_tau_as_nan`), and a rerun rewrites those chunks (values and records)
 and tau_min's note, so that the resumed store holds one convention.
@@ -75,6 +80,9 @@ _VAR_ATTRS = {
     "error_estimate": {"long_name": VARIABLE_LONG_NAMES["error_estimate"], "units": "1",
                        "note": "0 where has_tau is false"},
     "n_temporal": {"long_name": VARIABLE_LONG_NAMES["n_temporal"]},
+    "complete_to": {"long_name": VARIABLE_LONG_NAMES["complete_to"], "units": "1",
+                    "note": "at most tau_max; where has_tau is false and complete_to is below "
+                            "the point's bound the empty answer is uncertified"},
     "n_spatial": {"long_name": VARIABLE_LONG_NAMES["n_spatial"]},
     "spatial_converged": {"long_name": "tau_min converged to tol_spatial in M (false: M = 512 "
                                        "reached first; values at M = 512)"},

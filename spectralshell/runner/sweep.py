@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import functools
+import itertools
 import math
 import time
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import nullcontext
@@ -11,17 +14,21 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import xarray as xr
 
-from ..errors import SweepInterrupted
+from ..errors import SweepInterrupted, UncertifiedWarning
+from ..params.limits import SECONDS
 from ..params.sweep_grid import SweepSpec, sweep_spec
+from ..results.maps import uncertified, uncertified_note
 from .engine import run_tasks
 from .executors import check_executor, open_pool
 from .integrity import read_records
 from .layout import Chunk, block_shape, chunk_key, chunks, region
 from .lock import writer_lock
 from .progress import progress_bar
-from .solve import ChunkResult, SweepError, solve_chunks, solve_points
+from ..solvers.cost import CostEstimate, duration, spatial_cost
+from .solve import ChunkResult, SweepError, solve_chunks, solve_points, spatial_system
 from .store import (StoredSweep, ZarrStore, check_out, empty_arrays, load_existing, to_dataset,
                     write_netcdf)
 
@@ -91,6 +98,8 @@ class SweepRun:
     damaged : points computed now because their chunk in the store was missing, unreadable or
         altered (counted in ``computed``).
 
+    uncertified : points with no tau found whose emptiness the zero count could not prove
+        (:func:`~spectralshell.results.maps.uncertified`; stored, never as "none").
     compute_seconds : summed in-worker compute time of the chunks computed now.
     continued, fallbacks : kind solves accepted from the neighbour's truncation / not.
     """
@@ -102,6 +111,7 @@ class SweepRun:
     out: str | None
     seconds: float
     damaged: int = 0
+    uncertified: int = 0
     compute_seconds: float = 0.0
     chunks: int = 0
     continued: int = 0
@@ -109,9 +119,18 @@ class SweepRun:
     executor: str = ""
 
     def summary(self) -> dict[str, Any]:
-        """The JSON summary ``{"points", "computed", "skipped", "damaged", "out", "seconds"}``."""
+        """The JSON summary ``{"points", "computed", "skipped", "damaged", "uncertified", "out",
+        "seconds"}``."""
         return {"points": self.points, "computed": self.computed, "skipped": self.skipped,
-                "damaged": self.damaged, "out": self.out, "seconds": round(self.seconds, 3)}
+                "damaged": self.damaged, "uncertified": self.uncertified, "out": self.out,
+                "seconds": round(self.seconds, 3)}
+
+    def uncertified_note(self) -> str:
+        """One line on the uncertified points and what to change ('' when there are none)."""
+        if not self.uncertified:
+            return ""
+        return uncertified_note(self.uncertified, self.points,
+                                float(self.dataset.attrs.get("tau_max", 0.5)))
 
 
 def _spec(scene) -> SweepSpec:
@@ -138,9 +157,55 @@ def _interrupted(spec: SweepSpec, path: Path | None,
     return SweepInterrupted(kept, spec.size, None if path is None else str(path))
 
 
+#: Values per real axis at which a sweep with spatial modes is priced (:func:`sweep_cost`; the
+#: ends included): at most PRICE_SAMPLES ** axes points, each two HillSystems (M = 16, 32).
+PRICE_SAMPLES = 5
+
+
+def sweep_cost(spec: SweepSpec, points: int) -> tuple[float, CostEstimate] | None:
+    """(estimated seconds of work, the dearest sampled point's estimate) of ``points`` points
+    of a sweep of a model with spatial modes (the cochlea; None for other sweeps, whose points
+    are cheap, and for a single spatial mode): the mean least price of a point
+    (:func:`~spectralshell.solvers.cost.spatial_cost`, the kinds and the certificate of an
+    empty answer included) over a sub-grid of up to PRICE_SAMPLES values of each axis, ends
+    included, times ``points``. Only the work the refinement in M must do is priced (its
+    first pair; the values at larger M are not known before), the dense price of each
+    truncation: what a point may cost (solvers/cost.py)."""
+    fixed = dict(spec.fixed)
+    if not spec.spatial or "spatial_mode" in fixed or "spatial_mode" in spec.dims:
+        return None
+    axes = [a for a in spec.axes if a.name != "kind"]
+    picks = [[a.values[i] for i in np.unique(np.linspace(0, len(a.values) - 1, min(
+        len(a.values), PRICE_SAMPLES)).round().astype(int))] for a in axes]
+    estimates = []
+    for values in itertools.product(*picks):
+        params = spec.params_at(dict(zip((a.name for a in axes), values)))
+        n_spatial = params.pop("n_spatial", None)
+        estimates.append(spatial_cost(functools.partial(spatial_system, spec.model, params),
+                                      spec.kinds, n_spatial=n_spatial,
+                                      n_temporal=spec.options.n_temporal, upper=False))
+    mean = sum(e.seconds for e in estimates) / len(estimates)
+    return mean * points / len(spec.kinds), max(estimates, key=lambda e: e.seconds)
+
+
+def priced_sweep(spec: SweepSpec, points: int, max_seconds: float | None) -> str:
+    """Refuse (ParameterError, before any work) a sweep whose ``points`` still to compute are
+    estimated above the limit on seconds (:func:`sweep_cost`); else the estimate in words for
+    the progress bar ('' where the sweep is not priced)."""
+    priced = sweep_cost(spec, points)
+    if priced is None:
+        return ""
+    seconds, dearest = priced
+    what = (f"sweep of {points // len(spec.kinds)} {spec.model} points (dearest sampled: "
+            f"{dearest.describe()})")
+    SECONDS.check(what, seconds, max_seconds, "fix the truncations with n_spatial and "
+                  "tau_min.n_temporal")
+    return f"about {duration(seconds)} of work"
+
+
 def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
               scheduler: str | None = None, out: str | Path | None = None,
-              progress: bool = False,
+              progress: bool = False, max_seconds: float | None = None,
               on_chunk: Callable[[int, ChunkResult], None] | None = None) -> SweepRun:
     """Run a sweep scene (path, TOML string, dict or SweepSpec) and return a :class:`SweepRun`.
 
@@ -152,12 +217,18 @@ def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
     out : '*.zarr' (written chunk by chunk; rerunning resumes, and recomputes chunks found
         missing, unreadable or altered) or '*.nc' (written at the end); None keeps the results
         in memory only. One process at a time writes an ``out``.
-    progress : a progress bar (points/s, ETA) on stderr.
+    progress : a progress bar (points/s, ETA) on stderr; for a model with spatial modes its
+        label states the estimated work (:func:`sweep_cost`).
+    max_seconds : raise the limit on the estimated seconds of work of a sweep of a model with
+        spatial modes (default :data:`spectralshell.params.limits.SECONDS`, 600 s, or
+        $SPECTRALSHELL_MAX_SECONDS): the points still to compute are priced before any work
+        (:func:`priced_sweep`) and refused above it.
     on_chunk : test hook, called as ``on_chunk(n_finished, result)`` after each chunk is stored.
 
     Raises
     ------
-    ParameterError : invalid scene, executor arguments or output; a store of another scene.
+    ParameterError : invalid scene, executor arguments or output; a store of another scene;
+        an estimated cost above the limit (before any work).
     StoreBusy : another process is writing ``out``.
     BackendUnavailable : executor 'dask' without the extra.
     ConvergenceError, SweepError : a point failed (named with its parameters) or a worker died;
@@ -170,12 +241,13 @@ def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
     path = check_out(out)
     with nullcontext() if path is None else writer_lock(path):
         return _run(spec, path, executor=executor, workers=workers, scheduler=scheduler,
-                    progress=progress, on_chunk=on_chunk, t0=t0)
+                    progress=progress, on_chunk=on_chunk, t0=t0, max_seconds=max_seconds)
 
 
 def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | None,
          scheduler: str | None, progress: bool,
-         on_chunk: Callable[[int, ChunkResult], None] | None, t0: float) -> SweepRun:
+         on_chunk: Callable[[int, ChunkResult], None] | None, t0: float,
+         max_seconds: float | None = None) -> SweepRun:
     """:func:`run_sweep` once its arguments are checked and ``path`` is locked."""
     stored = load_existing(path, spec) if path is not None else None
     if stored is not None and path.suffix == ".zarr":
@@ -190,7 +262,9 @@ def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | No
     used = "none (nothing to compute)"
     store = None
     if todo:
-        bar = progress_bar(n_todo, "sweep", "pt", progress)
+        estimate = priced_sweep(spec, n_todo, max_seconds)
+        label = f"sweep ({estimate})" if estimate else "sweep"
+        bar = progress_bar(n_todo, label, "pt", progress)
 
         def record(chunk: Chunk, result: ChunkResult) -> None:
             where = region(spec, chunk)
@@ -213,7 +287,7 @@ def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | No
                 if path is not None and path.suffix == ".zarr":
                     store = ZarrStore(path, spec) if path.exists() else ZarrStore.create(path, spec)
                 used = pool.description
-                bar.set_description(f"sweep [{pool.name}]")
+                bar.set_description(f"{label} [{pool.name}]")
                 dispatch(pool, spec, todo, record)
         except KeyboardInterrupt:
             raise _interrupted(spec, path, stored) from None
@@ -229,7 +303,8 @@ def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | No
     if path is not None and path.suffix == ".nc" and todo:
         write_netcdf(spec, arrays, path)
     return SweepRun(dataset=ds, points=spec.size, computed=n_todo, skipped=spec.size - n_todo,
-                    damaged=damaged, out=None if path is None else str(path),
+                    damaged=damaged, uncertified=int(uncertified(ds).sum()),
+                    out=None if path is None else str(path),
                     seconds=time.perf_counter() - t0,
                     compute_seconds=stats["seconds"], chunks=stats["chunks"],
                     continued=stats["continued"], fallbacks=stats["fallbacks"], executor=used)
@@ -237,7 +312,7 @@ def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | No
 
 def sweep(scene, *, executor: str = "processes", workers: int | None = None,
           scheduler: str | None = None, out: str | Path | None = None,
-          progress: bool = False) -> xr.Dataset:
+          progress: bool = False, max_seconds: float | None = None) -> xr.Dataset:
     """Run a parameter sweep and return its labelled ``xarray.Dataset``.
 
     ``scene`` is a path, a TOML string or a dict with model, ask = ["tau_min"], [params] and a
@@ -247,18 +322,30 @@ def sweep(scene, *, executor: str = "processes", workers: int | None = None,
     provenance attrs. Every executor gives the same numbers. With ``out`` a .zarr
     store is written chunk by chunk and a rerun computes only the missing points; a .nc file is
     written at the end. See :func:`run_sweep` for the parameters and errors.
+
+    Points with no tau found whose emptiness the zero count could not prove are kept and
+    marked (``complete_to`` below the bound, :func:`~spectralshell.results.maps.uncertified`),
+    and an :class:`~spectralshell.errors.UncertifiedWarning` counts them (:func:`flagged`).
     """
-    return run_sweep(scene, executor=executor, workers=workers, scheduler=scheduler, out=out,
-                     progress=progress).dataset
+    return flagged(run_sweep(scene, executor=executor, workers=workers, scheduler=scheduler,
+                             out=out, progress=progress, max_seconds=max_seconds))
+
+
+def flagged(run: SweepRun) -> xr.Dataset:
+    """The Dataset of ``run``, after an UncertifiedWarning when it holds uncertified points
+    (the API's flag: the work is kept, in the store too; the CLI exits 1 instead)."""
+    if run.uncertified:
+        warnings.warn(run.uncertified_note(), UncertifiedWarning, stacklevel=3)
+    return run.dataset
 
 
 def sweep_summary(scene, *, executor: str = "processes", workers: int | None = None,
                   scheduler: str | None = None, out: str | Path | None = None,
-                  progress: bool = False) -> dict[str, Any]:
+                  progress: bool = False, max_seconds: float | None = None) -> dict[str, Any]:
     """Run a sweep (as :func:`run_sweep`) and return the CLI's JSON summary
     ``{"points": N, "computed": n, "skipped": k, "damaged": d, "out": "PATH", "seconds": t}``."""
     return run_sweep(scene, executor=executor, workers=workers, scheduler=scheduler, out=out,
-                     progress=progress).summary()
+                     progress=progress, max_seconds=max_seconds).summary()
 
 
 def _point_chunks(points: Sequence, size: int) -> list[tuple[int, list]]:

@@ -20,6 +20,21 @@ The Arnoldi path of large truncations (``method = "auto"``) is often faster (5-1
 with a finite tau_max) but gives up, at the dense cost and more, where many eigenvalues lie
 below the wanted tau (the same M = 16 run), so the dense price is what a solve may cost, not a
 lower bound.
+
+Certificate. An empty answer (no tau <= tau_max) of a viscous model (D(s) not a matrix
+polynomial) is proved by the argument principle's zero count at both truncations of the final
+pair (issue 23; ``marginal_tau(..., certify_empty=...)``, what ``floquet``, ``response`` and the
+sweeps ask); for M x M blocks one node of it is (N + 1) LAPACK LUs of order M. Each kind is
+priced as if it might be empty: :data:`COUNT_NODES` nodes at :data:`COUNT_SECONDS` (N + 1) M^3
+each, per truncation of the pair. Measured (validation/bench_certify_cochlea.py; gerbil cochlea
+of Fig 5.18 at 5 kHz, sigma = 1.5e8, harmonic, N = 15, one BLAS thread, 2 cores under a load of
+6-7, CPU time): a count that proves the strip empty far below the spectrum walks 17 nodes
+(M = 128: 1.7 s; M = 256: 10.1 s, against 3.8 s and 26 s for the dense eig of W of the same
+truncation), one that meets an eigenvalue near the strip 93-95 (M = 128: 9.6 s), and 92-106 on
+the cell of Fig 5.18 that climbs to N = 141 (solvers/marginal.py notes); per node 3.0e-9 (M =
+128) and 2.2e-9 (M = 256) s per (N + 1) M^3, more at small M (6e-9 at M = 32: overheads). The
+price therefore adds at most ~2.5x the dense price of the final truncation at N = 15, and a few
+per cent at N >~ 100.
 """
 
 from __future__ import annotations
@@ -34,6 +49,10 @@ from .spatial_refinement import SPATIAL_LIMIT, SPATIAL_START
 
 #: Seconds per n^3 of a dense truncation of order n (module notes).
 DENSE_SECONDS = 2.5e-9
+#: Seconds per node of the zero count per (N + 1) M^3, and the nodes priced per count (module
+#: notes, "Certificate").
+COUNT_SECONDS = 3.0e-9
+COUNT_NODES = 100
 
 
 @dataclass(frozen=True)
@@ -83,23 +102,38 @@ def truncation_seconds(block_size: int, n_temporal: int) -> float:
     return DENSE_SECONDS * float((n_temporal + 1) * block_size) ** 3
 
 
+def certify_seconds(system: HillSystem, pair: tuple[int, int]) -> float:
+    """Price of proving one kind empty at the truncation ``pair`` (module notes,
+    "Certificate"): COUNT_NODES nodes of COUNT_SECONDS (N + 1) b^3 at each N; 0 for a model
+    whose D(s) is a matrix polynomial (its spectra certify an empty answer) and for 2 x 2
+    blocks (the compiled count, O(N) per node)."""
+    if system.polynomial is not None or system.block_size <= 2:
+        return 0.0
+    return COUNT_NODES * COUNT_SECONDS * system.block_size ** 3 * sum(n + 1 for n in pair)
+
+
 def solve_seconds(system: HillSystem, kinds: int, n_temporal: int | None = None) -> float:
-    """Price of marginal_tau of ``kinds`` kinds on ``system``."""
-    return kinds * sum(truncation_seconds(system.block_size, n)
-                       for n in temporal_schedule(system, n_temporal))
+    """Price of marginal_tau of ``kinds`` kinds on ``system``: the truncations of its schedule,
+    and the certificate of an empty answer at the last two (:func:`certify_seconds`)."""
+    schedule = temporal_schedule(system, n_temporal)
+    return kinds * (sum(truncation_seconds(system.block_size, n) for n in schedule)
+                    + certify_seconds(system, schedule[-2:]))
 
 
 def spatial_cost(factory: Callable[[int], HillSystem], kinds: Iterable[str], *,
-                 n_spatial: int | None = None, n_temporal: int | None = None) -> CostEstimate:
+                 n_spatial: int | None = None, n_temporal: int | None = None,
+                 upper: bool = True) -> CostEstimate:
     """Predicted cost of the marginal tau of ``kinds`` of a model with spatial modes
     (``factory``: M -> its HillSystem), at a fixed ``n_spatial`` (M and M // 2) or refined in M
-    (least: the first pair; most: every M up to SPATIAL_LIMIT)."""
+    (least: the first pair; most: every M up to SPATIAL_LIMIT; ``upper`` False: the least
+    only, without building the larger M, as a sweep prices its points)."""
     count = len(tuple(kinds))
     if n_spatial is not None:
         least = most = tuple(m for m in (n_spatial // 2, n_spatial) if m >= 1)
     else:
         least = (SPATIAL_START, 2 * SPATIAL_START)
-        most = tuple(m for m in (SPATIAL_START << i for i in range(32)) if m <= SPATIAL_LIMIT)
+        most = tuple(m for m in (SPATIAL_START << i for i in range(32))
+                     if m <= SPATIAL_LIMIT) if upper else least
     systems = {m: factory(m) for m in most}
     price = {m: solve_seconds(s, count, n_temporal) for m, s in systems.items()}
     return CostEstimate(seconds=sum(price[m] for m in least), seconds_max=sum(price.values()),

@@ -753,7 +753,7 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                  n_temporal: int | None = None, n_max: int = N_MAX,
                  tau_max: float = np.inf, method: str = "auto",
                  hint: float | None = None, every: bool = False,
-                 certify_empty: bool = False) -> MarginalTau:
+                 certify_empty: bool | str = False) -> MarginalTau:
     """Marginal amplitudes tau of one Floquet kind, converged in the truncation N.
 
     Parameters
@@ -791,7 +791,9 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         of the pair, a thin strip around [0, tau_max^2] free of eigenvalues
         (:func:`_empty_certified`; ``complete_to`` is then tau_max); where it cannot, a
         ConvergenceError says so (with ``n_temporal`` given, ``complete_to`` is 0 instead).
-        Without it such an empty answer
+        ``'mark'``: the same proof, but an empty answer it cannot give is returned with
+        ``complete_to`` = 0 (proved for no tau: the maps' sweeps store it as uncertified)
+        instead of raising. Without it such an empty answer
         rests on two dense truncations agreeing (:func:`certified_bound`).
 
     Raises
@@ -852,9 +854,10 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         bound = certified_bound(found, previous)  # once per pair: O(N^2) for Mathieu
         if _passes(found, previous, tol, tau_max, bound, every):
             bound = proved(found, previous, n, n_prev, bound)
-            if bound is None:
+            if bound is None and certify_empty != "mark":
                 raise _empty_not_certified(kind, n_prev, n, tau_max)
-            return _result(kind, found, previous, n, n_prev, tol, tau_max, bound)
+            return _result(kind, found, previous, n, n_prev, tol, tau_max,
+                           0.0 if bound is None else bound)
         if n >= n_max:
             raise _not_converged(kind, found, previous, n, tol, tau_max, bound, every)
         previous, n_prev = found, n
