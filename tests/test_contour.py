@@ -306,13 +306,17 @@ def composed_smallest(hill, tau_max, hint=None):
     log_g = contour.LogDet(hill)
     z_max = tau_max * tau_max
 
-    def first_change(points):
-        found = log_g(points)
-        if found is None:
-            return None
-        sign = np.sign(np.cos(found[0].imag))
-        change = np.flatnonzero(sign[:-1] * sign[1:] < 0)
-        return (float(points[change[0]]), float(points[change[0] + 1])) if change.size else None
+    def first_change(points):  # the points in turn, up to the lowest sign change
+        previous = 0.0
+        for j, point in enumerate(points):
+            found = log_g(points[j:j + 1])
+            if found is None:
+                return None
+            sign = np.sign(np.cos(found[0][0].imag))
+            if j and previous * sign < 0:
+                return float(points[j - 1]), float(point)
+            previous = sign
+        return None
 
     def zeros_below(right, strips):
         count = None
