@@ -163,8 +163,7 @@ class LogDet:
     def __init__(self, hill: HillMatrices):
         if not hill.bipartite:
             raise ValueError("LogDet needs a bipartite pencil (no self-coupling in B)")
-        self.blocks = tuple(np.ascontiguousarray(x, dtype=complex)
-                            for x in (hill.diag, hill.lower, hill.upper))
+        self.blocks = _kernel_blocks(hill)
         self.compiled = self.blocks[0].shape[1] == 2
         if not self.compiled:  # log det A, which the compiled kernel reads at z = 0 instead
             sign, modulus = np.linalg.slogdet(self.blocks[0])
@@ -204,6 +203,18 @@ class LogDet:
             return _schur.winding(*self.blocks, path, MAX_BEND, MAX_TURN, MAX_NODES)
         with one_blas_thread():  # M x M blocks: BLAS threads only cost (_threads.py)
             return _schur.winding_of(self.point, path, MAX_BEND, MAX_TURN, MAX_BLOCK_NODES)
+
+
+def _kernel_blocks(hill: HillMatrices) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(diag, lower, upper) of ``hill`` as C-contiguous complex128 arrays (the kernel's
+    buffers): themselves when they are already (an assembled pencil and its cut-outs), else
+    copies."""
+    d, lower, upper = hill.diag, hill.lower, hill.upper
+    if (d.dtype.char == lower.dtype.char == upper.dtype.char == "D" and d.flags.c_contiguous
+            and lower.flags.c_contiguous and upper.flags.c_contiguous):
+        return d, lower, upper
+    return (np.ascontiguousarray(d, dtype=complex), np.ascontiguousarray(lower, dtype=complex),
+            np.ascontiguousarray(upper, dtype=complex))
 
 
 def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray,
@@ -348,11 +359,12 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
     depend on the hint); the counts of :func:`rectangle` (STRIPS) below z* - rho / 2 and of
     :func:`circle` around z*, each as :func:`winding` takes them. Called from Python, these
     steps cost about as much as the counts themselves (issue 25)."""
-    log_g = LogDet(hill)
-    if not log_g.compiled:
+    if not hill.bipartite:
+        raise ValueError("smallest_real_tau needs a bipartite pencil (no self-coupling in B)")
+    if hill.diag.shape[1] != 2:
         raise ValueError("smallest_real_tau needs 2 x 2 blocks (larger ones: none_up_to)")
     z_max = tau_max * tau_max
-    z = _schur.smallest(*log_g.blocks, UPPER_RECTANGLE, UNIT_HALF_CIRCLE, HINT_STEPS, STRIPS,
+    z = _schur.smallest(*_kernel_blocks(hill), UPPER_RECTANGLE, UNIT_HALF_CIRCLE, HINT_STEPS, STRIPS,
                         z_max, -1.0 if hint is None else hint * hint, DISK, SCAN_POINTS,
                         MAX_BEND, MAX_TURN, MAX_NODES, ROOT_RTOL)
     if z is None:
