@@ -414,3 +414,35 @@ def test_kernel_steps_equal_python_composition_when_counts_fail(monkeypatch, bud
             assert got == composed_smallest(hill, TAU_MAX, hint)
             outcomes.add("declined" if got is None else "none" if got[0] is None else "tau")
     assert len(outcomes) >= 2 and (budget > 20 or "declined" in outcomes)
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind", cells(12, seed=37) + [
+    (7000.0, 365.7894736842105, 3, "harmonic"), (1000.0, 50.0, 2, "subharmonic")])
+def test_fewer_starting_nodes_same_answers(sigma, bpm, m, kind):
+    """The starting nodes of the counts (UPPER_RECTANGLE: 4 top segments and 1 per side;
+    UNIT_HALF_CIRCLE: 4 segments) are only where the walk begins: the kernel started from the
+    former denser ones (8 and 4 per side; 8 on the half circle) answers the same, bitwise, with
+    and without hints, at both truncations of a solve, on Fig 6.13 cells (the answers are
+    checked against QZ above)."""
+    dense_rectangle, dense_circle = contour._upper_rectangle(8, 4), contour.circle(0.0, 1.0, 16)
+    assert dense_rectangle.size > contour.UPPER_RECTANGLE.size
+    assert dense_circle.size > contour.UNIT_HALF_CIRCLE.size
+    system = atrium(sigma, bpm, m)
+    first = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    for n in (first, first + max(6, first // 2)):
+        hill = pencils.pencil(n, "two-sided")
+        plain = contour.smallest_real_tau(hill, TAU_MAX)
+        for hint in hints_around(None if plain is None else plain[0]):
+            got = _schur.smallest(*contour._kernel_blocks(hill), dense_rectangle, dense_circle,
+                                  contour.HINT_STEPS, contour.STRIPS, TAU_MAX ** 2,
+                                  -1.0 if hint is None else hint * hint, contour.DISK,
+                                  contour.SCAN_POINTS, contour.MAX_BEND, contour.MAX_TURN,
+                                  contour.MAX_NODES, contour.ROOT_RTOL)
+            want = contour.smallest_real_tau(hill, TAU_MAX, hint)
+            if got is None or want is None:
+                assert got is want, (n, hint)
+            elif np.isnan(got):
+                assert want == (None, TAU_MAX), (n, hint)
+            else:
+                assert want == (np.sqrt(got), np.sqrt(got + contour.DISK * got / 2)), (n, hint)
