@@ -446,3 +446,27 @@ def test_fewer_starting_nodes_same_answers(sigma, bpm, m, kind):
                 assert want == (None, TAU_MAX), (n, hint)
             else:
                 assert want == (np.sqrt(got), np.sqrt(got + contour.DISK * got / 2)), (n, hint)
+
+
+def test_conditioning_values_equal_numpy_norms():
+    """The kernel's conditioning (which measures a run of equal coupling blocks once) against
+    numpy's 1-norms of each block and of its inverse, on coupling blocks all equal (the
+    sphere's) and all different (random), and with a singular block (inf)."""
+    rng = np.random.default_rng(23)
+    for trial in range(40):
+        K = int(rng.integers(2, 40))
+        diag = rng.normal(size=(K, 2, 2)) + 1j * rng.normal(size=(K, 2, 2))
+        varied = rng.normal(size=(K - 1, 2, 2)) + 1j * rng.normal(size=(K - 1, 2, 2))
+        equal = np.ascontiguousarray(np.repeat(varied[:1], K - 1, axis=0))
+        for lower, upper in ((equal, -equal), (varied, equal), (equal, varied)):
+            upper = np.ascontiguousarray(upper)
+            inverse = np.linalg.norm(np.linalg.inv(diag), 1, axis=(1, 2))
+            cond = np.max(np.linalg.norm(diag, 1, axis=(1, 2)) * inverse)
+            coupled = inverse.max() * (np.linalg.norm(lower, 1, axis=(1, 2)).max()
+                                       + np.linalg.norm(upper, 1, axis=(1, 2)).max())
+            got = _schur.conditioning(diag, lower, upper)
+            np.testing.assert_allclose(got, (cond, coupled), rtol=1e-12)
+    diag[K // 2] = [[1.0, 2.0], [2.0, 4.0]]  # singular
+    assert _schur.conditioning(diag, equal, equal) == (np.inf, np.inf)
+    diag[K // 2] = 0.0  # its norm times the inverse's is 0 inf: the coupled bound still says
+    assert _schur.conditioning(diag, equal, equal)[1] == np.inf

@@ -683,12 +683,14 @@ static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nar
     return PyLong_FromLong(status);
 }
 
-/* Largest 1-norm (column sum of moduli) of the 2 x 2 blocks m[0..count). */
+/* Largest 1-norm (column sum of moduli) of the 2 x 2 blocks m[0..count); a block equal to the
+ * one before it (the sphere's coupling: every block) is not measured again. */
 static double largest_norm1(const double complex *m, Py_ssize_t count)
 {
     double out = 0.0;
     for (Py_ssize_t k = 0; k < count; k++, m += 4)
-        out = fmax(out, fmax(cabs(m[0]) + cabs(m[2]), cabs(m[1]) + cabs(m[3])));
+        if (k == 0 || memcmp(m, m - 4, 4 * sizeof *m) != 0)
+            out = fmax(out, fmax(cabs(m[0]) + cabs(m[2]), cabs(m[1]) + cabs(m[3])));
     return out;
 }
 
@@ -704,8 +706,8 @@ static PyObject *py_conditioning(PyObject *self, PyObject *const *args, Py_ssize
     for (Py_ssize_t k = 0; k < c.K; k++) {
         const double complex *a = c.diag + 4 * k;
         double det = cabs(a[0] * a[3] - a[1] * a[2]);
-        double rows = fmax(cabs(a[0]) + cabs(a[1]), cabs(a[2]) + cabs(a[3]));
-        double columns = fmax(cabs(a[0]) + cabs(a[2]), cabs(a[1]) + cabs(a[3]));
+        double m0 = cabs(a[0]), m1 = cabs(a[1]), m2 = cabs(a[2]), m3 = cabs(a[3]);
+        double rows = fmax(m0 + m1, m2 + m3), columns = fmax(m0 + m2, m1 + m3);
         double inv_norm = det > 0.0 ? rows / det : INFINITY;
         cond = fmax(cond, columns * inv_norm);
         inverse = fmax(inverse, inv_norm);
