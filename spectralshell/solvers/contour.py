@@ -364,9 +364,9 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
     if hill.diag.shape[1] != 2:
         raise ValueError("smallest_real_tau needs 2 x 2 blocks (larger ones: none_up_to)")
     z_max = tau_max * tau_max
-    z = _schur.smallest(*_kernel_blocks(hill), UPPER_RECTANGLE, UNIT_HALF_CIRCLE, HINT_STEPS, STRIPS,
-                        z_max, -1.0 if hint is None else hint * hint, DISK, SCAN_POINTS,
-                        MAX_BEND, MAX_TURN, MAX_NODES, ROOT_RTOL)
+    z = _schur.smallest(*_kernel_blocks(hill), UPPER_RECTANGLE, UNIT_HALF_CIRCLE, HINT_STEPS,
+                        STRIPS, z_max, -1.0 if hint is None else hint * hint, DISK,
+                        SCAN_POINTS, MAX_BEND, MAX_TURN, MAX_NODES, ROOT_RTOL)
     if z is None:
         return None
     if math.isnan(z):
