@@ -25,10 +25,10 @@ With ``--lines`` it measures instead the CPU time of 12 full lines of the 200 x 
 serially in one process with one BLAS thread) and, with ``--against PATH`` (another checkout,
 e.g. the main branch), the same lines by that code in a child process, alternately, ROUNDS
 times each (``--rounds``): CPU s of both, and whether the two maps on those lines are
-bitwise equal (else the largest |tau_min| difference and whether the has_tau masks agree). The cost per cell of the
-whole map follows that of these lines (the map's chunks are the same solves); the tables of
-the fluid load are rebuilt per line here more often than in the whole map, where a worker
-meets each beat rate on ~100 stiffness lines.
+bitwise equal (else the largest |tau_min| difference and whether the has_tau masks
+agree). The cost per cell of the whole map follows that of these lines (the map's chunks
+are the same solves); the tables of the fluid load are rebuilt per line here more often
+than in the whole map, where a worker meets each beat rate on ~100 stiffness lines.
 
 Run: python validation/bench_fig613.py [--size 200] [--sample 100]
      python validation/bench_fig613.py --lines [--against /path/to/other/checkout] [--rounds 2]
