@@ -19,8 +19,9 @@ The answer and its certificate
 ------------------------------
 A candidate z* is bracketed by a sign change of g on the real axis (within 5 % of the caller's
 ``hint`` squared, a neighbour's tau_min; else, once the count below finds zeros, on a grid over
-[0, tau_max^2]; the points taken in turn from the lowest up to the first change) and refined by Newton's method on the kernel's g'/g, safeguarded by bisection
-(``_schur.root``; first to 1e-13, then again, to rounding, inside a fixed dyadic cell around
+[0, tau_max^2]; the points taken in turn from the lowest up to the first change) and
+refined by Newton's method on the kernel's g'/g, safeguarded by bisection (``_schur.root``;
+first to 1e-13, then again, to rounding, inside a fixed dyadic cell around
 that value, so that the answer does not depend on the hint). The argument principle then
 counts the zeros of g (real or not) inside
 
