@@ -369,13 +369,9 @@ def hints_around(tau):
     return out
 
 
-@pytest.mark.parametrize("sigma, bpm, m, kind", cells(16, seed=29) + [
-    (7000.0, 365.7894736842105, 3, "harmonic"), (1000.0, 50.0, 2, "subharmonic")])
-def test_kernel_steps_equal_python_composition(sigma, bpm, m, kind):
-    """The kernel's smallest() (one call per truncation) answers exactly as the Python
-    composition of the same steps, with and without hints, at both truncations of a solve,
-    on Fig 6.13 cells (incl. the close pair above and the lowest beat rate); the answers
-    themselves are checked against QZ by the tests above."""
+def solve_cases(sigma, bpm, m, kind):
+    """(N, pencil, hint) at both truncations of a solve of one Fig 6.13 cell, with the hints of
+    :func:`hints_around` its own answer."""
     system = atrium(sigma, bpm, m)
     first = TruncationSchedule.of(system).first
     pencils = Pencils(system, kind)
@@ -383,9 +379,19 @@ def test_kernel_steps_equal_python_composition(sigma, bpm, m, kind):
         hill = pencils.pencil(n, "two-sided")
         plain = contour.smallest_real_tau(hill, TAU_MAX)
         for hint in hints_around(None if plain is None else plain[0]):
-            got = contour.smallest_real_tau(hill, TAU_MAX, hint)
-            want = composed_smallest(hill, TAU_MAX, hint)
-            assert got == want, (n, hint)
+            yield n, hill, hint
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind", cells(16, seed=29) + [
+    (7000.0, 365.7894736842105, 3, "harmonic"), (1000.0, 50.0, 2, "subharmonic")])
+def test_kernel_steps_equal_python_composition(sigma, bpm, m, kind):
+    """The kernel's smallest() (one call per truncation) answers exactly as the Python
+    composition of the same steps, with and without hints, at both truncations of a solve,
+    on Fig 6.13 cells (incl. the close pair above and the lowest beat rate); the answers
+    themselves are checked against QZ by the tests above."""
+    for n, hill, hint in solve_cases(sigma, bpm, m, kind):
+        got = contour.smallest_real_tau(hill, TAU_MAX, hint)
+        assert got == composed_smallest(hill, TAU_MAX, hint), (n, hint)
 
 
 @pytest.mark.parametrize("m, kappa, nu, kind", fibre_cells(6, seed=43))
@@ -427,25 +433,19 @@ def test_fewer_starting_nodes_same_answers(sigma, bpm, m, kind):
     dense_rectangle, dense_circle = contour._upper_rectangle(8, 4), contour.circle(0.0, 1.0, 16)
     assert dense_rectangle.size > contour.UPPER_RECTANGLE.size
     assert dense_circle.size > contour.UNIT_HALF_CIRCLE.size
-    system = atrium(sigma, bpm, m)
-    first = TruncationSchedule.of(system).first
-    pencils = Pencils(system, kind)
-    for n in (first, first + max(6, first // 2)):
-        hill = pencils.pencil(n, "two-sided")
-        plain = contour.smallest_real_tau(hill, TAU_MAX)
-        for hint in hints_around(None if plain is None else plain[0]):
-            got = _schur.smallest(*contour._kernel_blocks(hill), dense_rectangle, dense_circle,
-                                  contour.HINT_STEPS, contour.STRIPS, TAU_MAX ** 2,
-                                  -1.0 if hint is None else hint * hint, contour.DISK,
-                                  contour.SCAN_POINTS, contour.MAX_BEND, contour.MAX_TURN,
-                                  contour.MAX_NODES, contour.ROOT_RTOL)
-            want = contour.smallest_real_tau(hill, TAU_MAX, hint)
-            if got is None or want is None:
-                assert got is want, (n, hint)
-            elif np.isnan(got):
-                assert want == (None, TAU_MAX), (n, hint)
-            else:
-                assert want == (np.sqrt(got), np.sqrt(got + contour.DISK * got / 2)), (n, hint)
+    for n, hill, hint in solve_cases(sigma, bpm, m, kind):
+        got = _schur.smallest(*contour._kernel_blocks(hill), dense_rectangle, dense_circle,
+                              contour.HINT_STEPS, contour.STRIPS, TAU_MAX ** 2,
+                              -1.0 if hint is None else hint * hint, contour.DISK,
+                              contour.SCAN_POINTS, contour.MAX_BEND, contour.MAX_TURN,
+                              contour.MAX_NODES, contour.ROOT_RTOL)
+        want = contour.smallest_real_tau(hill, TAU_MAX, hint)
+        if got is None or want is None:
+            assert got is want, (n, hint)
+        elif np.isnan(got):
+            assert want == (None, TAU_MAX), (n, hint)
+        else:
+            assert want == (np.sqrt(got), np.sqrt(got + contour.DISK * got / 2)), (n, hint)
 
 
 def test_conditioning_values_equal_numpy_norms():
