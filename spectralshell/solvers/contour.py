@@ -126,7 +126,13 @@ on a Python complex), ``validation/bench_fig613.py --lines --against /work/main 
 at load 8-10 on 2 cores: CPU s per round 4.75, 5.09, 5.24, 6.15 against main's 6.87, 6.72,
 6.07, 7.07 (best rounds 21.8 % less, medians ~24 %), the maps bitwise equal; earlier 2-round
 runs of intermediate states at load 8-15 gave 8-16 % (the CPU time of one code varies by up to
-30 % between rounds at that load). Not measured here: the whole 200 x 200 map on 2 workers.
+30 % between rounds at that load). The whole 200 x 200 map (validation/bench_fig613.py, 2
+workers, run once at load ~10): workers' CPU 95.3 s (47.7 s per worker) against the 122.5 s
+of the code before (measured at load 6-12) and 150.0 s of the one before that; scaled from the
+quiet measurement above (64.2-72.8 s CPU per worker for the 150 s code) about 41-46 s CPU per
+worker, so ~45-50 s wall on 2 idle cores (a projection: the wall time at load ~10 was 195 s).
+The same run: the sampled cells equal to the dense path's to 2.5e-15 with the same has_tau
+masks; one sphere truncation, N = 40..80, both kinds: 57x QZ (goal 30x).
 """
 
 from __future__ import annotations
