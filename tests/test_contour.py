@@ -306,13 +306,17 @@ def composed_smallest(hill, tau_max, hint=None):
     log_g = contour.LogDet(hill)
     z_max = tau_max * tau_max
 
-    def first_change(points):
-        found = log_g(points)
-        if found is None:
-            return None
-        sign = np.sign(np.cos(found[0].imag))
-        change = np.flatnonzero(sign[:-1] * sign[1:] < 0)
-        return (float(points[change[0]]), float(points[change[0] + 1])) if change.size else None
+    def first_change(points):  # the points in turn, up to the lowest sign change
+        previous = 0.0
+        for j, point in enumerate(points):
+            found = log_g(points[j:j + 1])
+            if found is None:
+                return None
+            sign = np.sign(np.cos(found[0][0].imag))
+            if j and previous * sign < 0:
+                return float(points[j - 1]), float(point)
+            previous = sign
+        return None
 
     def zeros_below(right, strips):
         count = None
@@ -365,13 +369,9 @@ def hints_around(tau):
     return out
 
 
-@pytest.mark.parametrize("sigma, bpm, m, kind", cells(16, seed=29) + [
-    (7000.0, 365.7894736842105, 3, "harmonic"), (1000.0, 50.0, 2, "subharmonic")])
-def test_kernel_steps_equal_python_composition(sigma, bpm, m, kind):
-    """The kernel's smallest() (one call per truncation) answers exactly as the Python
-    composition of the same steps, with and without hints, at both truncations of a solve,
-    on Fig 6.13 cells (incl. the close pair above and the lowest beat rate); the answers
-    themselves are checked against QZ by the tests above."""
+def solve_cases(sigma, bpm, m, kind):
+    """(N, pencil, hint) at both truncations of a solve of one Fig 6.13 cell, with the hints of
+    :func:`hints_around` its own answer."""
     system = atrium(sigma, bpm, m)
     first = TruncationSchedule.of(system).first
     pencils = Pencils(system, kind)
@@ -379,9 +379,19 @@ def test_kernel_steps_equal_python_composition(sigma, bpm, m, kind):
         hill = pencils.pencil(n, "two-sided")
         plain = contour.smallest_real_tau(hill, TAU_MAX)
         for hint in hints_around(None if plain is None else plain[0]):
-            got = contour.smallest_real_tau(hill, TAU_MAX, hint)
-            want = composed_smallest(hill, TAU_MAX, hint)
-            assert got == want, (n, hint)
+            yield n, hill, hint
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind", cells(16, seed=29) + [
+    (7000.0, 365.7894736842105, 3, "harmonic"), (1000.0, 50.0, 2, "subharmonic")])
+def test_kernel_steps_equal_python_composition(sigma, bpm, m, kind):
+    """The kernel's smallest() (one call per truncation) answers exactly as the Python
+    composition of the same steps, with and without hints, at both truncations of a solve,
+    on Fig 6.13 cells (incl. the close pair above and the lowest beat rate); the answers
+    themselves are checked against QZ by the tests above."""
+    for n, hill, hint in solve_cases(sigma, bpm, m, kind):
+        got = contour.smallest_real_tau(hill, TAU_MAX, hint)
+        assert got == composed_smallest(hill, TAU_MAX, hint), (n, hint)
 
 
 @pytest.mark.parametrize("m, kappa, nu, kind", fibre_cells(6, seed=43))
@@ -410,3 +420,53 @@ def test_kernel_steps_equal_python_composition_when_counts_fail(monkeypatch, bud
             assert got == composed_smallest(hill, TAU_MAX, hint)
             outcomes.add("declined" if got is None else "none" if got[0] is None else "tau")
     assert len(outcomes) >= 2 and (budget > 20 or "declined" in outcomes)
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind", cells(12, seed=37) + [
+    (7000.0, 365.7894736842105, 3, "harmonic"), (1000.0, 50.0, 2, "subharmonic")])
+def test_fewer_starting_nodes_same_answers(sigma, bpm, m, kind):
+    """The starting nodes of the counts (UPPER_RECTANGLE: 4 top segments and 1 per side;
+    UNIT_HALF_CIRCLE: 4 segments) are only where the walk begins: the kernel started from the
+    former denser ones (8 and 4 per side; 8 on the half circle) answers the same, bitwise, with
+    and without hints, at both truncations of a solve, on Fig 6.13 cells (the answers are
+    checked against QZ above)."""
+    dense_rectangle, dense_circle = contour._upper_rectangle(8, 4), contour.circle(0.0, 1.0, 16)
+    assert dense_rectangle.size > contour.UPPER_RECTANGLE.size
+    assert dense_circle.size > contour.UNIT_HALF_CIRCLE.size
+    for n, hill, hint in solve_cases(sigma, bpm, m, kind):
+        got = _schur.smallest(*contour._kernel_blocks(hill), dense_rectangle, dense_circle,
+                              contour.HINT_STEPS, contour.STRIPS, TAU_MAX ** 2,
+                              -1.0 if hint is None else hint * hint, contour.DISK,
+                              contour.SCAN_POINTS, contour.MAX_BEND, contour.MAX_TURN,
+                              contour.MAX_NODES, contour.ROOT_RTOL)
+        want = contour.smallest_real_tau(hill, TAU_MAX, hint)
+        if got is None or want is None:
+            assert got is want, (n, hint)
+        elif np.isnan(got):
+            assert want == (None, TAU_MAX), (n, hint)
+        else:
+            assert want == (np.sqrt(got), np.sqrt(got + contour.DISK * got / 2)), (n, hint)
+
+
+def test_conditioning_values_equal_numpy_norms():
+    """The kernel's conditioning (which measures a run of equal coupling blocks once) against
+    numpy's 1-norms of each block and of its inverse, on coupling blocks all equal (the
+    sphere's) and all different (random), and with a singular block (inf)."""
+    rng = np.random.default_rng(23)
+    for trial in range(40):
+        K = int(rng.integers(2, 40))
+        diag = rng.normal(size=(K, 2, 2)) + 1j * rng.normal(size=(K, 2, 2))
+        varied = rng.normal(size=(K - 1, 2, 2)) + 1j * rng.normal(size=(K - 1, 2, 2))
+        equal = np.ascontiguousarray(np.repeat(varied[:1], K - 1, axis=0))
+        for lower, upper in ((equal, -equal), (varied, equal), (equal, varied)):
+            upper = np.ascontiguousarray(upper)
+            inverse = np.linalg.norm(np.linalg.inv(diag), 1, axis=(1, 2))
+            cond = np.max(np.linalg.norm(diag, 1, axis=(1, 2)) * inverse)
+            coupled = inverse.max() * (np.linalg.norm(lower, 1, axis=(1, 2)).max()
+                                       + np.linalg.norm(upper, 1, axis=(1, 2)).max())
+            got = _schur.conditioning(diag, lower, upper)
+            np.testing.assert_allclose(got, (cond, coupled), rtol=1e-12)
+    diag[K // 2] = [[1.0, 2.0], [2.0, 4.0]]  # singular
+    assert _schur.conditioning(diag, equal, equal) == (np.inf, np.inf)
+    diag[K // 2] = 0.0  # its norm times the inverse's is 0 inf: the coupled bound still says
+    assert _schur.conditioning(diag, equal, equal)[1] == np.inf

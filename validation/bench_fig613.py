@@ -24,14 +24,14 @@ With ``--lines`` it measures instead the CPU time of 12 full lines of the 200 x 
 (sigma indices LINES, 200 beat rates each, m = 2..6, both kinds: the sweep's chunks, solved
 serially in one process with one BLAS thread) and, with ``--against PATH`` (another checkout,
 e.g. the main branch), the same lines by that code in a child process, alternately, ROUNDS
-times each: CPU s of both, and whether the two maps on those lines are bitwise equal (else the
-largest |tau_min| difference and whether the has_tau masks agree). The cost per cell of the
-whole map follows that of these lines (the map's chunks are the same solves); the tables of
-the fluid load are rebuilt per line here more often than in the whole map, where a worker
-meets each beat rate on ~100 stiffness lines.
+times each (``--rounds``): CPU s of both, and whether the two maps on those lines are
+bitwise equal (else the largest |tau_min| difference and whether the has_tau masks
+agree). The cost per cell of the whole map follows that of these lines (the map's chunks
+are the same solves); the tables of the fluid load are rebuilt per line here more often
+than in the whole map, where a worker meets each beat rate on ~100 stiffness lines.
 
 Run: python validation/bench_fig613.py [--size 200] [--sample 100]
-     python validation/bench_fig613.py --lines [--against /path/to/other/checkout]
+     python validation/bench_fig613.py --lines [--against /path/to/other/checkout] [--rounds 2]
 """
 
 from __future__ import annotations
@@ -218,13 +218,13 @@ def compare(a: dict, b: dict) -> tuple[bool, float, bool]:
     return bitwise, worst, same
 
 
-def lines_row(against: str | None) -> None:
+def lines_row(against: str | None, rounds: int = ROUNDS) -> None:
     here = Path(__file__).resolve().parents[1]
     codes = [("package", here)] + ([("against", Path(against).resolve())] if against else [])
     cpu = {name: [] for name, _ in codes}
     with tempfile.TemporaryDirectory() as tmp:
         runs = {}
-        for r in range(ROUNDS):
+        for r in range(rounds):
             for name, code in codes:
                 runs[name] = lines_run(code, os.path.join(tmp, f"{name}{r}.pkl"))
                 cpu[name].append(runs[name]["cpu"])
@@ -243,7 +243,7 @@ def lines_row(against: str | None) -> None:
         row(task=f"Fig 6.13, {len(LINES)} full lines of the 200 x 200 grid, serial (CPU s)",
             package_s=min(cpu["package"]), baseline=f"the code at {against} (same lines, CPU s)",
             baseline_s=min(cpu["against"]), error=worst if same else float("inf"),
-            note=f"best of {ROUNDS} alternating rounds; error = max |tau_min difference| "
+            note=f"best of {rounds} alternating rounds; error = max |tau_min difference| "
                  "between the two maps on these lines")
 
 
@@ -254,13 +254,15 @@ def main() -> None:
     parser.add_argument("--lines", action="store_true",
                         help="CPU time of 12 full lines of the grid instead (module notes)")
     parser.add_argument("--against", help="with --lines: another checkout to compare with")
+    parser.add_argument("--rounds", type=int, default=ROUNDS,
+                        help="with --lines: alternating rounds of each code (best one kept)")
     parser.add_argument("--solve-lines", help=argparse.SUPPRESS)
     args, _ = parser.parse_known_args()
     if args.solve_lines:
         solve_lines(args.solve_lines)
         return
     if args.lines:
-        lines_row(args.against)
+        lines_row(args.against, args.rounds)
         return
     with one_blas_thread():
         truncation_row()

@@ -76,9 +76,10 @@ def _fluid_load(m: int, nu: float, s: np.ndarray) -> np.ndarray:
     """D(s) - q I of the poloidal pair (a new array): cut out of a cached table where s is a run
     of a Hill truncation's frequencies s_k = i (gamma + k), gamma 0 or 1/2 (a run of the
     table's own s, bitwise), else computed afresh."""
-    x = s.imag.item(0) if s.size else 0.5  # a Python float: cheaper arithmetic than numpy's
+    s0 = s.item(0) if s.size else 0.5j  # a Python complex: cheaper arithmetic than numpy's
+    x = s0.imag
     gamma = x % 1.0
-    if s.size and gamma in FLUID_GAMMAS and not s.real.any():
+    if s.size and gamma in FLUID_GAMMAS and s0.real == 0.0:  # the bytes check does the rest
         first = int(round(x - gamma))
         need = max(-first - 1, first + s.size - 1, 1)
         top = FLUID_STEP

@@ -373,17 +373,26 @@ static inline int real_sign(double complex log_det, double phase0)
  * change. Each step is Newton's, z - 1 / (d/dz log det), if that stays inside the bracket and,
  * after a Newton step, is at most half as long as it; else a bisection. The bracket keeps the
  * sign change, so it halves at least every other step. Done when a Newton step is at most
- * rtol |z| (its result returned) or the bracket at most rtol |z| wide (its midpoint). */
-static int real_root(Contour *c, double lo, double hi, double rtol, double *z)
+ * rtol |z| (its result returned) or the bracket at most rtol |z| wide (its midpoint).
+ * ``known``: NULL, or log det at 0, lo and hi already evaluated (the first ``n_known`` of
+ * them), which are not evaluated again (the same values: the evaluation is deterministic). */
+static int real_root(Contour *c, double lo, double hi, double rtol, const double complex *known,
+                     int n_known, double *z)
 {
     double complex f, s;
-    if (evaluate(c, 0.0, &f, &s))
+    if (n_known > 0)
+        f = known[0];
+    else if (evaluate(c, 0.0, &f, &s))
         return 1;
     double phase0 = cimag(f);
-    if (evaluate(c, lo, &f, &s))
+    if (n_known > 1)
+        f = known[1];
+    else if (evaluate(c, lo, &f, &s))
         return 1;
     int sign_lo = real_sign(f, phase0);
-    if (evaluate(c, hi, &f, &s))
+    if (n_known > 2)
+        f = known[2];
+    else if (evaluate(c, hi, &f, &s))
         return 1;
     if (real_sign(f, phase0) == sign_lo)
         return 2;
@@ -433,7 +442,7 @@ static PyObject *py_root(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     double z = 0.0;
     int status;
     Py_BEGIN_ALLOW_THREADS
-    status = real_root(&c, lo, hi, rtol, &z);
+    status = real_root(&c, lo, hi, rtol, NULL, 0, &z);
     Py_END_ALLOW_THREADS
     release(v, 3);
     if (status == 1)
@@ -490,28 +499,33 @@ static int none_below(Contour *c, const Rules *r, double right, int first, int l
 }
 
 /* contour._first_change: the lowest sign change of g = det(A - tau B) / det A on the real
- * points p[0..n) into [*lo, *hi]; 1 where there is none or a pivot vanishes. */
-static int first_change(Contour *c, const double *p, Py_ssize_t n, double *lo, double *hi)
+ * points p[0..n) into [*lo, *hi], the points evaluated in turn up to it (those above cannot
+ * move it); known = {log det at 0, at *lo, at *hi} for real_root. 1 where there is none or a
+ * pivot vanishes before it. */
+static int first_change(Contour *c, const double *p, Py_ssize_t n, double *lo, double *hi,
+                        double complex *known)
 {
-    double complex f0, f, s;
+    double complex f0, f, s, before = 0.0;
     if (schur_logdet(c->diag, c->lower, c->upper, c->K, 0.0, &f0, &s))
         return 1;
     double previous = 0.0;
-    Py_ssize_t found = -1;
     for (Py_ssize_t j = 0; j < n; j++) {
         if (schur_logdet(c->diag, c->lower, c->upper, c->K, p[j], &f, &s))
-            return 1; /* as the Python path: a failed point anywhere, no bracket */
+            return 1;
         double cosine = cos(cimag(f - f0));
         double sign = cosine > 0 ? 1.0 : (cosine < 0 ? -1.0 : 0.0);
-        if (found < 0 && j > 0 && previous * sign < 0)
-            found = j;
+        if (j > 0 && previous * sign < 0) {
+            *lo = p[j - 1];
+            *hi = p[j];
+            known[0] = f0;
+            known[1] = before;
+            known[2] = f;
+            return 0;
+        }
         previous = sign;
+        before = f;
     }
-    if (found < 0)
-        return 1;
-    *lo = p[found - 1];
-    *hi = p[found];
-    return 0;
+    return 1;
 }
 
 /* contour.smallest_real_tau on a 2 x 2 block pencil: 0 with z = tau_min^2 in *z (NaN: proved
@@ -522,6 +536,7 @@ static int first_change(Contour *c, const double *p, Py_ssize_t n, double *lo, d
 static int smallest_root(Contour *c, const Rules *r, double hint_z, double *z)
 {
     double lo = NAN, hi = NAN, points[2 * 8 + 1];
+    double complex known[3];
     if (0.0 < hint_z && hint_z <= r->z_max) {
         int n = 0;
         for (int j = r->n_steps - 1; j >= 0; j--)
@@ -531,7 +546,7 @@ static int smallest_root(Contour *c, const Rules *r, double hint_z, double *z)
             points[n++] = hint_z * (1.0 + r->steps[j]);
         for (int j = 0; j < n; j++)
             points[j] = fmin(fmax(points[j], 0.0), r->z_max);
-        if (first_change(c, points, n, &lo, &hi))
+        if (first_change(c, points, n, &lo, &hi, known))
             lo = hi = NAN;
     }
     if (lo != lo) {
@@ -547,7 +562,7 @@ static int smallest_root(Contour *c, const Rules *r, double hint_z, double *z)
         for (long j = 0; j < r->scan; j++)
             scan[j] = (double)j * step + 0.0;
         scan[r->scan] = r->z_max;
-        if (first_change(c, scan, r->scan + 1, &lo, &hi)) {
+        if (first_change(c, scan, r->scan + 1, &lo, &hi, known)) {
             if (!none_below(c, r, right, 1, r->n_strips)) {
                 *z = NAN;
                 return 0;
@@ -557,13 +572,13 @@ static int smallest_root(Contour *c, const Rules *r, double hint_z, double *z)
     }
     double x;
     c->budget = ROOT_STEPS;
-    if (real_root(c, lo, hi, r->root_rtol, &x))
+    if (real_root(c, lo, hi, r->root_rtol, known, 3, &x))
         return 1;
     int e;
     frexp(x, &e);
     double cell = ldexp(1.0, e - 30), low = floor(x / cell) * cell, refined;
     c->budget = ROOT_STEPS;
-    int status = real_root(c, low, low + cell, 4 * DBL_EPSILON, &refined);
+    int status = real_root(c, low, low + cell, 4 * DBL_EPSILON, known, 1, &refined);
     if (status == 1)
         return 1;
     if (status == 0)
@@ -668,12 +683,14 @@ static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nar
     return PyLong_FromLong(status);
 }
 
-/* Largest 1-norm (column sum of moduli) of the 2 x 2 blocks m[0..count). */
+/* Largest 1-norm (column sum of moduli) of the 2 x 2 blocks m[0..count); a block equal to the
+ * one before it (the sphere's coupling: every block) is not measured again. */
 static double largest_norm1(const double complex *m, Py_ssize_t count)
 {
     double out = 0.0;
     for (Py_ssize_t k = 0; k < count; k++, m += 4)
-        out = fmax(out, fmax(cabs(m[0]) + cabs(m[2]), cabs(m[1]) + cabs(m[3])));
+        if (k == 0 || memcmp(m, m - 4, 4 * sizeof *m) != 0)
+            out = fmax(out, fmax(cabs(m[0]) + cabs(m[2]), cabs(m[1]) + cabs(m[3])));
     return out;
 }
 
@@ -689,8 +706,8 @@ static PyObject *py_conditioning(PyObject *self, PyObject *const *args, Py_ssize
     for (Py_ssize_t k = 0; k < c.K; k++) {
         const double complex *a = c.diag + 4 * k;
         double det = cabs(a[0] * a[3] - a[1] * a[2]);
-        double rows = fmax(cabs(a[0]) + cabs(a[1]), cabs(a[2]) + cabs(a[3]));
-        double columns = fmax(cabs(a[0]) + cabs(a[2]), cabs(a[1]) + cabs(a[3]));
+        double m0 = cabs(a[0]), m1 = cabs(a[1]), m2 = cabs(a[2]), m3 = cabs(a[3]);
+        double rows = fmax(m0 + m1, m2 + m3), columns = fmax(m0 + m2, m1 + m3);
         double inv_norm = det > 0.0 ? rows / det : INFINITY;
         cond = fmax(cond, columns * inv_norm);
         inverse = fmax(inverse, inv_norm);

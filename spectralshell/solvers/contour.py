@@ -19,8 +19,9 @@ The answer and its certificate
 ------------------------------
 A candidate z* is bracketed by a sign change of g on the real axis (within 5 % of the caller's
 ``hint`` squared, a neighbour's tau_min; else, once the count below finds zeros, on a grid over
-[0, tau_max^2]) and refined by Newton's method on the kernel's g'/g, safeguarded by bisection
-(``_schur.root``; first to 1e-13, then again, to rounding, inside a fixed dyadic cell around
+[0, tau_max^2]; the points taken in turn from the lowest up to the first change) and
+refined by Newton's method on the kernel's g'/g, safeguarded by bisection (``_schur.root``;
+first to 1e-13, then again, to rounding, inside a fixed dyadic cell around
 that value, so that the answer does not depend on the hint). The argument principle then
 counts the zeros of g (real or not) inside
 
@@ -109,6 +110,29 @@ kernel's log det evaluations ~40 % (the widest strip's count of the truncations 
 tau <= tau_max, ~80 % of them, takes 54 % of the evaluations at ~20 nodes each, near the 17
 of its starting path), Python ~40 % (assembly of D(s) from the tables, marginal_tau's
 bookkeeping, the sweep's per-point work), numpy ~13 %.
+
+Then fewer evaluations per truncation (issue 25, measured against the main branch as above):
+the counting rectangle of 2 x 2 blocks starts on 4 top segments and one per side
+(UPPER_RECTANGLE; the walk bisects them under the same MAX_BEND / MAX_TURN rule, in practice
+each top segment once), the circle on 4 segments of its upper half; the real-axis points near
+the hint and of the scan are evaluated only up to the lowest sign change, and the root reuses
+log det at 0 and at the bracket's ends instead of evaluating them again. On 3 full lines
+(sigma indices 2, 101, 198; 12128 truncations, every answer bitwise equal to main's kernel's,
+counted with an instrumented build): 377k -> 245k log det evaluations (35 % fewer; an empty
+truncation without hint 19.8 -> 11.9, one with tau_min and a hint 67.7 -> 44.9). With the
+Python trims (the blocks passed to the kernel without a LogDet, _schur.conditioning taking each
+block's moduli once and a run of equal coupling blocks once, the fluid table's cut-out check
+on a Python complex), ``validation/bench_fig613.py --lines --against /work/main --rounds 4``
+at load 8-10 on 2 cores: CPU s per round 4.75, 5.09, 5.24, 6.15 against main's 6.87, 6.72,
+6.07, 7.07 (best rounds 21.8 % less, medians ~24 %), the maps bitwise equal; earlier 2-round
+runs of intermediate states at load 8-15 gave 8-16 % (the CPU time of one code varies by up to
+30 % between rounds at that load). The whole 200 x 200 map (validation/bench_fig613.py, 2
+workers, run once at load ~10): workers' CPU 95.3 s (47.7 s per worker) against the 122.5 s
+of the code before (measured at load 6-12) and 150.0 s of the one before that; scaled from the
+quiet measurement above (64.2-72.8 s CPU per worker for the 150 s code) about 41-46 s CPU per
+worker, so ~45-50 s wall on 2 idle cores (a projection: the wall time at load ~10 was 195 s).
+The same run: the sampled cells equal to the dense path's to 2.5e-15 with the same has_tau
+masks; one sphere truncation, N = 40..80, both kinds: 57x QZ (goal 30x).
 """
 
 from __future__ import annotations
@@ -163,8 +187,7 @@ class LogDet:
     def __init__(self, hill: HillMatrices):
         if not hill.bipartite:
             raise ValueError("LogDet needs a bipartite pencil (no self-coupling in B)")
-        self.blocks = tuple(np.ascontiguousarray(x, dtype=complex)
-                            for x in (hill.diag, hill.lower, hill.upper))
+        self.blocks = _kernel_blocks(hill)
         self.compiled = self.blocks[0].shape[1] == 2
         if not self.compiled:  # log det A, which the compiled kernel reads at z = 0 instead
             sign, modulus = np.linalg.slogdet(self.blocks[0])
@@ -204,6 +227,18 @@ class LogDet:
             return _schur.winding(*self.blocks, path, MAX_BEND, MAX_TURN, MAX_NODES)
         with one_blas_thread():  # M x M blocks: BLAS threads only cost (_threads.py)
             return _schur.winding_of(self.point, path, MAX_BEND, MAX_TURN, MAX_BLOCK_NODES)
+
+
+def _kernel_blocks(hill: HillMatrices) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(diag, lower, upper) of ``hill`` as C-contiguous complex128 arrays (the kernel's
+    buffers): themselves when they are already (an assembled pencil and its cut-outs), else
+    copies."""
+    d, lower, upper = hill.diag, hill.lower, hill.upper
+    if (d.dtype.char == lower.dtype.char == upper.dtype.char == "D" and d.flags.c_contiguous
+            and lower.flags.c_contiguous and upper.flags.c_contiguous):
+        return d, lower, upper
+    return (np.ascontiguousarray(d, dtype=complex), np.ascontiguousarray(lower, dtype=complex),
+            np.ascontiguousarray(upper, dtype=complex))
 
 
 def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray,
@@ -267,32 +302,42 @@ def winding(log_g: LogDet, path: np.ndarray) -> int | None:
     return count if abs(total - count) <= 0.05 else None
 
 
-def _upper_rectangle(per_edge: int) -> np.ndarray:
-    """The upper half of [0, 1] x [-1, 1] from (1, 0) counter-clockwise to (0, 0): ``per_edge``
-    segments along the top, half as many on each side."""
-    side = np.linspace(0.0, 1.0, per_edge // 2, endpoint=False)
-    top = np.linspace(1.0, 0.0, per_edge, endpoint=False)
-    return np.concatenate([1 + 1j * side, top + 1j, 1j * (1 - side), [0.0]])
+def _upper_rectangle(top: int, side: int) -> np.ndarray:
+    """The upper half of [0, 1] x [-1, 1] from (1, 0) counter-clockwise to (0, 0): ``top``
+    segments along the top, ``side`` on each side."""
+    sides = np.linspace(0.0, 1.0, side, endpoint=False)
+    tops = np.linspace(1.0, 0.0, top, endpoint=False)
+    return np.concatenate([1 + 1j * sides, tops + 1j, 1j * (1 - sides), [0.0]])
 
 
-UPPER_RECTANGLE = _upper_rectangle(8)
-_ACROSS, _UP = UPPER_RECTANGLE.real.copy(), 1j * UPPER_RECTANGLE.imag
+#: The starting nodes of the counting rectangle for 2 x 2 blocks: 4 segments along the top,
+#: one on each side (the rectangles are 50-10^6 times wider than high, so each side is short);
+#: the walk (:func:`winding`) bisects them under the same rule as any others. Issue 25: on 3
+#: lines of the Fig 6.13 grid (12128 truncations) the kernel's time fell by 24 % against the 8
+#: top segments and 4 per side before, every answer bitwise the same.
+UPPER_RECTANGLE = _upper_rectangle(4, 1)
+#: Those of blocks larger than 2 x 2 (the cochlea's counts, MAX_BLOCK_NODES was tuned on them).
+BLOCK_RECTANGLE = _upper_rectangle(8, 4)
 
 
-def rectangle(left: float, right: float, half_height: float) -> np.ndarray:
+def rectangle(left: float, right: float, half_height: float,
+              shape: np.ndarray = UPPER_RECTANGLE) -> np.ndarray:
     """The upper half (:func:`winding`) of the rectangle [left, right] x [-half_height,
-    half_height], 16 segments (the kernel refines them)."""
-    return left + (right - left) * _ACROSS + half_height * _UP
+    half_height], on the starting nodes ``shape`` (an upper rectangle of [0, 1] x [-1, 1];
+    the kernel refines them)."""
+    return left + (right - left) * shape.real + half_height * (1j * shape.imag)
 
 
-def circle(centre: float, radius: float, count: int = 16) -> np.ndarray:
-    """The upper half (:func:`winding`) of a circle, ``count // 2`` segments."""
+def circle(centre: float, radius: float, count: int = 8) -> np.ndarray:
+    """The upper half (:func:`winding`) of a circle, ``count // 2`` segments (around the lone
+    zero at its centre, g'/g ~ 1 / (z - centre) turns by pi/4 per segment of the default 8:
+    |dz (g'/g)| changes by (pi/4)^2 ~ 0.6 < MAX_BEND, no bisection needed)."""
     nodes = centre + radius * np.exp(1j * math.pi * np.arange(count // 2 + 1) / (count // 2))
     nodes[-1] = centre - radius  # on the real axis exactly
     return nodes
 
 
-#: The unit circle's upper half (16 segments around), from which the kernel places the circle
+#: The unit circle's upper half (8 segments around), from which the kernel places the circle
 #: around z* as :func:`circle` does: z* + rho u (the last node z* - rho).
 UNIT_HALF_CIRCLE = circle(0.0, 1.0)
 
@@ -305,10 +350,11 @@ def _zeros_below(log_g: LogDet, right: float, z_max: float,
     real axis are left outside a thinner strip."""
     if strips is None:
         strips = STRIPS if log_g.compiled else BLOCK_STRIPS
+    shape = UPPER_RECTANGLE if log_g.compiled else BLOCK_RECTANGLE
     count = None
     for strip in strips:
         side = strip * z_max
-        count = winding(log_g, rectangle(-side, right, side))
+        count = winding(log_g, rectangle(-side, right, side, shape))
         if count == 0:
             break
     return count
@@ -337,13 +383,14 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
     depend on the hint); the counts of :func:`rectangle` (STRIPS) below z* - rho / 2 and of
     :func:`circle` around z*, each as :func:`winding` takes them. Called from Python, these
     steps cost about as much as the counts themselves (issue 25)."""
-    log_g = LogDet(hill)
-    if not log_g.compiled:
+    if not hill.bipartite:
+        raise ValueError("smallest_real_tau needs a bipartite pencil (no self-coupling in B)")
+    if hill.diag.shape[1] != 2:
         raise ValueError("smallest_real_tau needs 2 x 2 blocks (larger ones: none_up_to)")
     z_max = tau_max * tau_max
-    z = _schur.smallest(*log_g.blocks, UPPER_RECTANGLE, UNIT_HALF_CIRCLE, HINT_STEPS, STRIPS,
-                        z_max, -1.0 if hint is None else hint * hint, DISK, SCAN_POINTS,
-                        MAX_BEND, MAX_TURN, MAX_NODES, ROOT_RTOL)
+    z = _schur.smallest(*_kernel_blocks(hill), UPPER_RECTANGLE, UNIT_HALF_CIRCLE, HINT_STEPS,
+                        STRIPS, z_max, -1.0 if hint is None else hint * hint, DISK,
+                        SCAN_POINTS, MAX_BEND, MAX_TURN, MAX_NODES, ROOT_RTOL)
     if z is None:
         return None
     if math.isnan(z):
