@@ -106,6 +106,10 @@ SEARCH_DENSITY = 8
 NEAR_EDGE = 1 / 16
 #: Two Newton results closer than this many times their largest last step are one exponent.
 DUPLICATE = 16
+#: Sub-intervals per edge that the winding count starts from when it is guarded by
+#: tr(T^{-1} T') at its nodes (the count's refinement and 2 pi guard do the rest): 16, as for an
+#: unguarded count, took 64 s against 19 s for the same count (the cochlea at M = 32, N = 40).
+COUNT_START = 4
 #: Memory for the blocks of one batch of shifts in HillPencil.phases / log_derivatives: the
 #: winding count evaluates whole refinement levels at once, and unbatched the cochlea at
 #: M = 32, N = 40 held 4.9 GB (the stress test's larger draws were killed by the kernel).
@@ -180,13 +184,18 @@ class HillPencil:
 
     def log_derivatives(self, g: np.ndarray) -> np.ndarray:
         """tr(T(g)^{-1} T'(g)) = d/dg log det T(g) at each g."""
+        return self.phases_and_log_derivatives(g)[1]
+
+    def phases_and_log_derivatives(self, g: np.ndarray) -> np.ndarray:
+        """(2, len(g)): det T(g) / |det T(g)| and tr(T(g)^{-1} T'(g)) at each g, from one block
+        LU."""
         out = []
         for part in self._batches(g, 10):  # D at five points, D', the block LU's work
             diag, d = self._blocks(part, True)
-            found = log_det_phase_and_derivative(diag, *self._couplings, d)[1]
+            sign, found = log_det_phase_and_derivative(diag, *self._couplings, d)
             assert found is not None
-            out.append(found)
-        return np.concatenate(out)
+            out.append(np.stack([sign, found]))
+        return np.concatenate(out, axis=1)
 
 
 def pencil_family(system: HillSystem, kind: str, n_temporal: int, dense: bool = False
@@ -216,37 +225,50 @@ def window(gamma: complex) -> tuple[str, complex]:
 def _followed(system: HillSystem, tau: float, seeds: Sequence[complex], n_temporal: int,
               tol: float, dense: bool) -> tuple[np.ndarray, float]:
     """Every exponent continued from the natural modes ``seeds`` (one per conjugate pair) to
-    ``tau`` at truncation N: (folded exponents, largest Newton step)."""
-    out, steps = [], [0.0]
-    for kind in KINDS:
-        start = [g for k, g in map(window, seeds) if k == kind]
-        start = [g if g.imag >= 0 else g.conjugate() for g in start]
-        if not start:
-            continue
-        family = pencil_family(system, kind, n_temporal, dense)
-        tau0 = START_FRACTION * abs(tau)
+    ``tau`` at truncation N, both windows together (so that a branch of one cannot jump onto an
+    exponent the other follows): (folded exponents, largest Newton step)."""
+    windows = [window(g) for g in seeds]
+    kinds = [kind for kind in KINDS if any(k == kind for k, _ in windows)]
+    families = [pencil_family(system, kind, n_temporal, dense) for kind in kinds]
+    group = [kinds.index(k) for k, _ in windows]
+    start = [g if g.imag >= 0 else g.conjugate() for _, g in windows]
+    tau0 = START_FRACTION * abs(tau)
+    polished = []
+    for j, family in enumerate(families):
         T, dT = family(math.copysign(tau0, tau))
-        polished = [newton(T, dT, g, tol=tol) for g in start]
-        if any(p is None for p in polished):
-            raise ConvergenceError("a natural mode is not a root of the truncated Hill "
-                                   f"determinant at n_temporal={n_temporal}: raise n_temporal=")
-        if tau == 0.0:  # the error is the Newton step: a mode on the cut is then one exponent
-            roots, err = (np.array(x) for x in zip(*polished))
-            ok = np.ones(len(roots), bool)
-        else:
-            roots, err, ok = continue_roots(
-                lambda t: family(math.copysign(t, tau)), tau0, abs(tau),
-                [p[0] for p in polished], tol=tol, conjugate_symmetric=True)
-        found: list[complex] = []
-        for g, e in zip(roots[ok], err[ok]):
-            found += [g] if abs(g.imag) <= e else [g, g.conjugate()]
-            steps.append(float(e))
-        T, dT = family(tau)
-        for g in roots[~ok]:  # lost where a pair met the line (a double root) or two merged
-            reach = abs(g.imag) + LOST_REACH
-            _newton_from(T, dT, (g, g.conjugate(), complex(g.real + reach),
-                                 complex(g.real - reach)), found, steps, tol)
-        out += [g + 1j * GAMMA[kind] for g in found]
+        polished += [(i, newton(T, dT, start[i], tol=tol)) for i in range(len(start))
+                     if group[i] == j]
+    if any(p is None for _, p in polished):
+        raise ConvergenceError("a natural mode is not a root of the truncated Hill "
+                               f"determinant at n_temporal={n_temporal}: raise n_temporal=")
+    order = [i for i, _ in polished]
+    frames = [1j * GAMMA[kind] for kind in kinds]
+    if tau == 0.0:  # the error is the Newton step: a mode on the cut is then one exponent
+        roots = np.array([p[0] + frames[group[i]] for i, p in polished])
+        err = np.array([p[1] for _, p in polished])
+        ok = np.ones(len(roots), bool)
+    else:
+        roots, err, ok = continue_roots(
+            lambda t: [family(math.copysign(t, tau)) for family in families], tau0, abs(tau),
+            [p[0] for _, p in polished], tol=tol, conjugate_symmetric=True, frames=frames,
+            group=[group[i] for i in order], period=1j)
+    found: dict[str, list[complex]] = {kind: [] for kind in kinds}
+    steps = [0.0]
+    for gamma, e in zip(roots[ok], err[ok]):
+        kind, g = window(complex(gamma))
+        found.setdefault(kind, [])
+        found[kind] += [g] if abs(g.imag) <= e else [g, g.conjugate()]
+        steps.append(float(e))
+    for gamma in roots[~ok]:  # lost where a pair met the line (a double root) or two merged
+        kind, g = window(complex(gamma))
+        T, dT = pencil_family(system, kind, n_temporal, dense)(tau)
+        reach = abs(g.imag) + LOST_REACH
+        other = [z + 1j * (GAMMA[k] - GAMMA[kind]) for k, zs in found.items() if k != kind
+                 for z in zs]  # the other window's, deflated too (in this window's variable)
+        _newton_from(T, dT, (g, g.conjugate(), complex(g.real + reach),
+                             complex(g.real - reach)), found.setdefault(kind, []), steps, tol,
+                     other)
+    out = [g + 1j * GAMMA[kind] for kind, gs in found.items() for g in gs]
     return fold(np.array(out, dtype=complex)), max(steps)
 
 
@@ -265,14 +287,21 @@ def _polished(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int
 
 
 def _newton_from(T: Matrix, dT: Matrix, seeds: Sequence[complex], found: list[complex],
-                 steps: list[float], tol: float) -> None:
-    """Deflated Newton's method from each seed; a new root is appended to ``found`` and its
-    last step to ``steps``."""
+                 steps: list[float], tol: float, other: Sequence[complex] = ()) -> None:
+    """Deflated Newton's method from each seed; a new root (one not in ``found`` nor, modulo
+    i, in ``other``: exponents found in another window, deflated too) is appended to ``found``
+    and its last step to ``steps``."""
     for seed in seeds:
-        got = newton(T, dT, seed, known=found, tol=tol)
-        if got is not None and _new(got[0], found, max(got[1], *steps)):
+        known = [*found, *(_nearest(z, seed) for z in other)]
+        got = newton(T, dT, seed, known=known, tol=tol)
+        if got is not None and _new(got[0], known, max(got[1], *steps)):
             found.append(got[0])
             steps.append(got[1])
+
+
+def _nearest(z: complex, to: complex) -> complex:
+    """The copy z + i k (k integer) nearest ``to``."""
+    return complex(z.real, z.imag - round(z.imag - to.imag))
 
 
 def _new(gamma: complex, found: Sequence[complex], error: float) -> bool:
@@ -359,12 +388,15 @@ def _counted(found: Sequence[complex], slit: float, branch: float) -> int:
 
 
 def _slit_count(T, re_lo: float, re_hi: float, slit: float, branch: float,
-                marks: Sequence[float] = (), near: Sequence[complex] = ()) -> tuple[float, int]:
+                marks: Sequence[float] = (), near: Sequence[complex] = (),
+                dT: Matrix | None = None) -> tuple[float, int]:
     """(slit half-width, winding count of R) with the slit of :func:`slit_width`, or, where an
     exponent lies on that contour to rounding (an exponent a few 1e-11 off the cut makes the
     slit as narrow: the fibre at m = 12, kappa = nu = 1, tau = -1.138), with the default SLIT,
     which leaves such exponents in the band (on the cut to working precision). The exponents
-    ``near`` add vertices to the contour (:func:`_through`).
+    ``near`` add vertices to the contour (:func:`_through`); ``dT`` (T') guards the count
+    against a phase turn of 2 pi between samples (:func:`~spectralshell.solvers.
+    nonlinear_eigen.count_by_winding`).
 
     Raises
     ------
@@ -373,7 +405,8 @@ def _slit_count(T, re_lo: float, re_hi: float, slit: float, branch: float,
     for width in dict.fromkeys((slit, SLIT)):
         try:
             return width, count_by_winding(T, _contour(re_lo, re_hi, width, branch, marks,
-                                                       near))
+                                                       near), dT=dT,
+                                           n_start=16 if dT is None else COUNT_START)
         except ConvergenceError as exc:
             failure = exc
     raise ConvergenceError(f"{failure}, so the Floquet exponents there cannot be counted: give "
@@ -393,7 +426,8 @@ def _completed(system: HillSystem, tau: float, gamma: np.ndarray, step: float,
     marks = () if system.cut_poles is None else tuple(system.cut_poles(re_lo))
     seeds = np.asarray(seeds, dtype=complex)
     near = _in_strip(np.concatenate([gamma, seeds, seeds.conj()]))
-    slit, count = _slit_count(T, re_lo, re_hi, slit_width(gamma, branch), branch, marks, near)
+    slit, count = _slit_count(T, re_lo, re_hi, slit_width(gamma, branch), branch, marks, near,
+                              dT)
     found = [g for g in _in_strip(gamma) if not _on_cut(g, slit, branch)]
     bottom, top = STRIP
     grid = np.linspace(re_lo, re_hi, max(3, int(SEARCH_DENSITY * (re_hi - re_lo))))
