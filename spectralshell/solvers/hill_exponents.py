@@ -151,7 +151,7 @@ class HillPencil:
         if not derivative:
             return self.system.unforced(s).reshape(shape), None
         h = DERIVATIVE_STEP * np.maximum(1.0, np.abs(s))
-        along = (s.real < 0) & (np.abs(s.imag) <= 2 * h)
+        along = _along_cut(s)
         hi = np.where(along, 0.0, h)
         values = self.system.unforced(np.concatenate([s, s + h, s - h, s + 1j * hi, s - 1j * hi]))
         values = values.reshape(5, len(s), b, b)
@@ -184,11 +184,24 @@ class HillPencil:
 
     def log_derivatives(self, g: np.ndarray) -> np.ndarray:
         """tr(T(g)^{-1} T'(g)) = d/dg log det T(g) at each g."""
-        return self.phases_and_log_derivatives(g)[1]
+        return self._both(g)[1]
 
     def phases_and_log_derivatives(self, g: np.ndarray) -> np.ndarray:
         """(2, len(g)): det T(g) / |det T(g)| and tr(T(g)^{-1} T'(g)) at each g, from one block
-        LU."""
+        LU, for the winding count's guard: the log-derivative is nan next to the cut, where D'
+        is the central difference along it (:meth:`_blocks`), whose step does not resolve the
+        poles of D on the cut that the contour passes within SLIT (the count judges the phase
+        alone there, and the log-derivative is not computed)."""
+        g = np.asarray(g, dtype=complex)
+        near = np.any(_along_cut(g[:, None] + self._frequencies[None, :]), axis=1)
+        out = np.full((2, len(g)), np.nan, dtype=complex)
+        if np.any(near):
+            out[0, near] = self.phases(g[near])
+        if not np.all(near):
+            out[:, ~near] = self._both(g[~near])
+        return out
+
+    def _both(self, g: np.ndarray) -> np.ndarray:
         out = []
         for part in self._batches(g, 10):  # D at five points, D', the block LU's work
             diag, d = self._blocks(part, True)
@@ -196,6 +209,11 @@ class HillPencil:
             assert found is not None
             out.append(np.stack([sign, found]))
         return np.concatenate(out, axis=1)
+
+
+def _along_cut(s: np.ndarray) -> np.ndarray:
+    """s is so near the cut Re s < 0 that D(s +- i h) of the 4-point D' would straddle it."""
+    return (s.real < 0) & (np.abs(s.imag) <= 2 * DERIVATIVE_STEP * np.maximum(1.0, np.abs(s)))
 
 
 def pencil_family(system: HillSystem, kind: str, n_temporal: int, dense: bool = False
