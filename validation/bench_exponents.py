@@ -20,7 +20,9 @@ exponents listed there (each a verified root, one per natural mode and its conju
 this count and the joint continuation of both windows (2026-12-04, one run each on a loaded
 machine), the previous version took 12.2 s CPU at M = 16 (32 exponents), and at M = 32 refused
 after ~100 s ('counts 32 ... but 59 were found': its count aliased 64 to 32, and the windows'
-continuations had each found three exponents twice and lost others).
+continuations had each found three exponents twice and lost others). At M = 32 the package
+still refuses ('counts 64 ... 63 were found', see solvers/hill_exponents.py): that row then
+prints the refusal.
 
 Times are the best of 3 (the dense cochlea: one call), one BLAS thread. (The first version of
 the module, dense throughout, without batched counts and re-continuing at every N, took 1.2 s
@@ -40,11 +42,12 @@ import numpy as np  # noqa: E402
 
 import spectralshell as ss  # noqa: E402
 from _bench import best_time, row  # noqa: E402
+from spectralshell.errors import ConvergenceError  # noqa: E402
 from spectralshell.models.registry import hill_system  # noqa: E402
 from spectralshell.params.registry import make_params  # noqa: E402
 from spectralshell.solvers.exponents import distance  # noqa: E402
-from spectralshell.solvers.hill_exponents import (_in_strip, _slit_count, hill_exponents,  # noqa: E402
-                                                  pencil_family, slit_width)
+from spectralshell.solvers.hill_exponents import (  # noqa: E402
+    _in_strip, _slit_count, hill_exponents, pencil_family, slit_width)
 
 TAU = 0.3
 CASES = [("sphere", dict(m=3, kappa=0.02, nu=0.006)),
@@ -73,7 +76,11 @@ def large_cochlea(n_spatial: int, n_temporal: int = 40) -> None:
     params = dict(kappa=0.5, nu=1e-3, alpha=1.0, n_spatial=n_spatial)
     system = hill_system(make_params("cochlea", params))
     seeds = ss.natural_modes("cochlea", **params).gamma
-    t_all, res = cpu_time(lambda: hill_exponents(system, TAU, seeds, n_temporal=n_temporal))
+    try:
+        t_all, res = cpu_time(lambda: hill_exponents(system, TAU, seeds, n_temporal=n_temporal))
+    except ConvergenceError as exc:  # M = 32: one exponent of 64 still not found (module notes)
+        print(f"  cochlea M = {n_spatial}, N = {n_temporal}: refused: {exc}", flush=True)
+        return
     T, dT = pencil_family(system, "harmonic", n_temporal)(TAU)
     lo, hi = res.complete_in
     near = _in_strip(np.concatenate([res.gamma, seeds, np.conj(seeds)]))

@@ -24,7 +24,11 @@ Method
    subharmonic) lies nearer its folded frequency. In that window the index set is symmetric, so
    det T_N(conj g) = conj det T_N(g) exactly: a pair that meets the line there has locked to the
    forcing and splits into two exponents on the line (one of which crosses Re gamma = 0 at
-   tau_min of that kind).
+   tau_min of that kind). The two windows' branches are continued together, each in its own
+   window but guarded against the other's (compared modulo i): continued apart, a branch of one
+   could jump onto an exponent the other follows near the line between them, Im gamma = 1/4
+   (the cochlea at M = 32: three exponents found twice, others lost). A branch lost anyway is
+   sought by deflated Newton's method from its last value, deflating both windows' exponents.
 3. Completeness: the argument principle (:func:`~spectralshell.solvers.nonlinear_eigen.
    count_by_winding`) counts the zeros of det T_N (harmonic window, g = gamma) in the region
    R = {re_lo <= Re gamma <= re_hi, -1/4 <= Im gamma <= 3/4}, a period of the exponents, minus
@@ -59,6 +63,18 @@ reference that ``validation/bench_exponents.py`` times and compares. Measured at
 thread): sphere (m = 3, kappa = 0.02, nu = 0.006) 0.27 s against 0.39 s dense, cochlea (M = 8)
 0.94 s against 5.6 s dense, the exponents equal to 3e-16; the first, all-dense version of this
 module took 1.2 s and 60 s.
+
+The count is guarded by tr(T^{-1} T') at its nodes (:func:`~spectralshell.solvers.
+nonlinear_eigen.count_by_winding`; from the same block LU as the phase, so a node costs about
+twice a phase alone, five D evaluations instead of one), which lets it start from COUNT_START
+sub-intervals per edge. Sampled alone, the phase of the cochlea's det T at M = 32, N = 40
+turned by 2 pi between samples at 16 and at 32 per edge and counted 32 of the 64 exponents
+(32 s CPU); guarded it counts 64 in 19 s CPU (64 s from 16 per edge; 138 s with the older
+midpoint-rule guard, one unbatched tr(T^{-1} T') per sub-interval). Measured 2026-12-04 on a
+loaded 2-core machine (``validation/bench_exponents.py --large``). Not yet fast there: the
+continuation at N = 30 takes ~50 s CPU and, together, still misses 4 of the 64 exponents at
+N = 40, of which the count's grid search finds 3 (the fourth not: 'counts 64 ... 63 were
+found'); M = 16 is complete (32 exponents, ~12 s CPU).
 """
 
 from __future__ import annotations
