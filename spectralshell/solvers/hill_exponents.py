@@ -95,7 +95,7 @@ from ..results.records import Exponents
 from .exponents import N_MAX, distance, first_truncation, fold
 from .block_tridiagonal import log_det_phase_and_derivative
 from .marginal import coarser, finer
-from .nonlinear_eigen import Matrix, continue_roots, count_by_winding, newton
+from .nonlinear_eigen import Matrix, _phases, continue_roots, count_by_winding, newton
 
 #: Im gamma of the counting region: one period of the exponents, both locking lines inside.
 STRIP = (-0.25, 0.75)
@@ -115,6 +115,8 @@ BRANCH_SEED = 1e-3
 #: Newton's method restarts at tau from the branch, its mirror image and the points this far
 #: beyond |Im g| on either side along the line; the count then checks nothing was missed.
 LOST_REACH = 1e-3
+#: Samples of det T along each window's locking line in the search for exponents there.
+LINE_SAMPLES = 256
 #: Seeds per unit length of the region's edges in the search for exponents the count says are
 #: missing.
 SEARCH_DENSITY = 8
@@ -468,6 +470,9 @@ def _completed(system: HillSystem, tau: float, gamma: np.ndarray, step: float,
     grid = np.linspace(re_lo, re_hi, max(3, int(SEARCH_DENSITY * (re_hi - re_lo))))
     searched = [complex(x, y) for y in np.linspace(bottom, top, SEARCH_DENSITY + 1)[1:-1]
                 for x in grid]
+    if _counted(found, slit, branch) < count:
+        _on_lines(system, tau, (re_lo, re_hi), branch + slit, n_temporal, tol, dense, found,
+                  step)
     branch_seed = complex(branch + BRANCH_SEED, 0.0)
     for seed in [branch_seed] + searched:  # the branch seed always: the count misses its root
         if seed != branch_seed and _counted(found, slit, branch) >= count:
@@ -487,6 +492,30 @@ def _completed(system: HillSystem, tau: float, gamma: np.ndarray, step: float,
             f"[{re_lo:.4g}, {re_hi:.4g}] at n_temporal={n_temporal}, but {_counted(found, slit, branch)} were "
             "found: give n_temporal= or a nearby tau")
     return fold(np.array(found, dtype=complex)), (re_lo, re_hi)
+
+
+def _on_lines(system: HillSystem, tau: float, bounds: tuple[float, float], cut_end: float,
+              n_temporal: int, tol: float, dense: bool, found: list[complex],
+              step: float) -> None:
+    """Append to ``found`` (exponents in R's period) those on the locking lines that it lacks:
+    in each window det T(conj g) = conj det T(g), so det T is real on its line (Im g = 0; in
+    the harmonic window right of the cut, Re g > ``cut_end``), and each sign change between
+    LINE_SAMPLES samples brackets an exponent there (locked pairs: the cochlea at M = 32, N = 40
+    has six on the subharmonic line, three of which the continuation missed), sought by
+    deflated Newton's method from the bracket's middle."""
+    for kind in KINDS:
+        lo = bounds[0] if kind == "subharmonic" else max(bounds[0], cut_end)
+        x = np.linspace(lo, bounds[1], LINE_SAMPLES) + 0j
+        T, dT = pencil_family(system, kind, n_temporal, dense)(tau)
+        sign = np.sign(_phases(T, x).real)
+        for a, b in zip(x[:-1][sign[1:] != sign[:-1]], x[1:][sign[1:] != sign[:-1]]):
+            seed = 0.5 * (a + b)
+            shift = 1j * GAMMA[kind]
+            known = [_nearest(z - shift, seed) for z in found]
+            got = newton(T, dT, seed, known=known, tol=tol)
+            if got is not None and _new(got[0], known, max(got[1], step)) and \
+                    bounds[0] < got[0].real < bounds[1]:
+                found.append(complex(_in_strip(np.array([got[0] + shift]))[0]))
 
 
 def hill_exponents(system: HillSystem, tau: float, seeds: Sequence[complex], *,
