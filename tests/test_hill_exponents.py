@@ -315,3 +315,22 @@ def test_guarded_count_sees_a_2_pi_turn_between_samples():
 
     assert count_by_winding(T, box) == 33   # the aliasing the guard is for
     assert count_by_winding(T, box, dT=dT) == count_by_winding(T, box, dT=dT, n_start=4) == 3
+
+
+def test_exponents_on_a_locking_line_are_found_from_sign_changes():
+    """_on_lines: det T is real on each window's locking line, so a sign change brackets an
+    exponent there. The cochlea (M = 4) above its subharmonic tau_min has a locked pair on
+    Im gamma = 1/2; with either member taken out of the list, it is found again (to 1e-10 of the
+    continued value), and nothing else is added."""
+    from spectralshell.solvers.hill_exponents import _in_strip, _on_lines
+
+    res = ss.exponents("cochlea", tau=0.45, **COCHLEA)
+    system = hill_system(make_params("cochlea", COCHLEA))
+    locked = [g for g in res.gamma if abs(g.imag - 0.5) < 1e-12]
+    assert len(locked) >= 2
+    for g in locked:
+        found = [z for z in _in_strip(res.gamma) if abs(z - g) > 1e-12]
+        _on_lines(system, 0.45, res.complete_in, system.branch_point + 1e-6, res.n_temporal,
+                  1e-10, False, found, res.error_estimate)
+        assert len(found) == len(res.gamma)
+        assert distance(np.array([g]), np.array(found[-1:])) < 1e-10

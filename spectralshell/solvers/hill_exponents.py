@@ -41,9 +41,10 @@ Method
    contour on one side within a sampling step and alias its phase by 2 pi. For the same reason the
    contour has a vertex next to each exponent and natural mode close to an edge (at tau = 0 the
    fibre's strongly damped modes lie 1e-9 off the cut, 0.04 apart). When the count exceeds the
-   exponents found in R, deflated Newton searches from a grid of seeds over R (and next to the
-   branch point, where a harmonic exponent is born at the cut); a count still larger
-   raises. The result states R (``complete_in``): every exponent of the truncation in it is
+   exponents found in R, deflated Newton searches from the sign changes of the real det T
+   along each window's locking line (locked pairs; :func:`_on_lines`), then from a grid of
+   seeds over R (and next to the branch point, where a harmonic exponent is born at the cut);
+   a count still larger raises. The result states R (``complete_in``): every exponent of the truncation in it is
    listed.
 4. Convergence: N is raised (N -> N + max(6, N // 2)) from the resonant index + 8 until the
    exponents change by less than ``tol`` (mod i); the change is the error estimate, floored at
