@@ -72,11 +72,14 @@ sub-intervals per edge. Sampled alone, the phase of the cochlea's det T at M = 3
 turned by 2 pi between samples at 16 and at 32 per edge and counted 32 of the 64 exponents
 (32 s CPU); guarded it counts 64 in 19 s CPU (64 s from 16 per edge; 138 s with the older
 midpoint-rule guard, one unbatched tr(T^{-1} T') per sub-interval). Measured 2026-12-04 on a
-loaded 2-core machine (``validation/bench_exponents.py --large``). Not yet fast there: the
-continuation at N = 30 takes ~50 s CPU and, together, still misses 4 of the 64 exponents at
-N = 40, of which the count's grid search finds 3 (the fourth not: 'counts 64 ... 63 were
-found'). At M = 16, N = 40 the 32 exponents equal the previous version's to 1e-15, in 13.9 s
-CPU against its 12.2 s (one run each, loaded): no speed-up there yet.
+loaded 2-core machine (``validation/bench_exponents.py --large``). The whole computation at
+M = 32, N = 40 (``n_temporal=40``) now lists the 64 exponents the count proves, in 88 s CPU
+(153 s wall, loaded; error estimate 3.4e-10): ~2/3 the continuation at N = 30, then the count
+(19 s) and the search, whose line scan (:func:`_on_lines`) found the locked exponents the
+continuation missed. Before, it refused after ~100 s ('counts 32 ... but 59 were found');
+an earlier version was reported at 1,393 s (loaded), ~600 s in the grid search. At M = 16, N = 40 the 32
+exponents equal the previous version's to 1e-15, in 13.9 s
+CPU against its 12.2 s (one run each, loaded): no speed-up there.
 """
 
 from __future__ import annotations
