@@ -44,8 +44,8 @@ Method
    exponents found in R, deflated Newton searches from the sign changes of the real det T
    along each window's locking line (locked pairs; :func:`_on_lines`), then from a grid of
    seeds over R (and next to the branch point, where a harmonic exponent is born at the cut);
-   a count still larger raises. The result states R (``complete_in``): every exponent of the truncation in it is
-   listed.
+   a count still larger raises. The result states R (``complete_in``): every exponent of the
+   truncation in it is listed.
 4. Convergence: N is raised (N -> N + max(6, N // 2)) from the resonant index + 8 until the
    exponents change by less than ``tol`` (mod i); the change is the error estimate, floored at
    the Newton steps. Step 2 runs at the first truncation only: at the next, each exponent is
@@ -77,9 +77,9 @@ M = 32, N = 40 (``n_temporal=40``) now lists the 64 exponents the count proves, 
 (153 s wall, loaded; error estimate 3.4e-10): ~2/3 the continuation at N = 30, then the count
 (19 s) and the search, whose line scan (:func:`_on_lines`) found the locked exponents the
 continuation missed. Before, it refused after ~100 s ('counts 32 ... but 59 were found');
-an earlier version was reported at 1,393 s (loaded), ~600 s in the grid search. At M = 16, N = 40 the 32
-exponents equal the previous version's to 1e-15, in 13.9 s
-CPU against its 12.2 s (one run each, loaded): no speed-up there.
+an earlier version was reported at 1,393 s (loaded), ~600 s in the grid search. At M = 16,
+N = 40 the 32 exponents equal the previous version's to 1e-15, in 13.9 s CPU against its
+12.2 s (one run each, loaded): no speed-up there.
 """
 
 from __future__ import annotations
