@@ -299,8 +299,9 @@ def cmd_exponents(args) -> int:
         raise ParameterError("--tau is required: the forcing amplitude")
     count = None if args.count is None else require_int_in_range("count", parse_int("count", args.count), 1)
     text = _nonuniform(args)
+    priced = _given(args, "max_seconds", parse_real) if hasattr(args, "max_seconds") else {}
     res = _api().exponents(args.model, tau=parse_real("tau", args.tau), count=count,
-                           **_solver(args),
+                           **_solver(args), **priced,
                            **_params(args, args.model, skip=tuple(text)), **text)
     _warn(res.warnings)
     return _report(args.json, res.to_dict(), res.summary)
@@ -780,6 +781,7 @@ def _exponents_options(p: argparse.ArgumentParser, model: str) -> None:
                        help="with --kappa an expression in theta, phi (non-uniform stiffness): "
                             "the degree truncation, 'auto' (default: raised until the least "
                             "damped exponent settles to 1e-6) or an integer")
+        _max_seconds_flag(p)
 
 
 def _stability_options(p: argparse.ArgumentParser, model: str) -> None:

@@ -273,3 +273,64 @@ def test_strongly_damped_fibre_forced_keeps_both_members_of_each_pair():
         kind, g = window(complex(gamma))
         T, _ = pencil_family(system, kind, res.n_temporal, dense=True)(-0.3)
         assert singular_ratio(T, g) < 1e-10
+
+
+class _Product:
+    """det T(s) = prod_k (s - z_k), 1 x 1, as a StructuredMatrix (phases and log-derivatives
+    of many points at once, both from the closed form)."""
+
+    def __init__(self, zeros):
+        self.zeros = np.asarray(zeros, dtype=complex)
+
+    def __call__(self, s):
+        return np.array([[np.prod(s - self.zeros)]])
+
+    def phases(self, s):
+        v = np.prod(np.asarray(s)[:, None] - self.zeros, axis=1)
+        return v / np.abs(v)
+
+    def log_derivatives(self, s):
+        return np.sum(1.0 / (np.asarray(s)[:, None] - self.zeros), axis=1)
+
+    def phases_and_log_derivatives(self, s):
+        return np.stack([self.phases(s), self.log_derivatives(s)])
+
+
+def test_guarded_count_sees_a_2_pi_turn_between_samples():
+    """Three zeros inside the unit box and a row of 64 just below its bottom edge, 1/64 apart:
+    every sub-interval of 16 or 32 per edge holds an even number of them, whose turn of the phase
+    (~pi each) the samples read modulo 2 pi as nearly none, so the phase alone counts 33 at both
+    (as the cochlea's Hill determinant at M = 32, N = 40 counted 32 of 64); guarded by
+    tr(T^{-1} T') at the nodes (the trapezoid rule fixes the multiple of 2 pi, and a
+    log-derivative that bends fast refines), the count is 3 from 4 or 16 sub-intervals."""
+    from spectralshell.solvers.nonlinear_eigen import StructuredMatrix
+
+    inside = [0.3 + 0.85j, 0.7 + 0.9j, 0.5 + 0.8j]
+    T = _Product(inside + list((np.arange(64) + 0.5) / 64 - 1e-4j))
+    assert isinstance(T, StructuredMatrix)
+    box = [0j, 1 + 0j, 1 + 1j, 1j]
+
+    def dT(s):
+        return T(s) * T.log_derivatives(np.array([s]))[0]
+
+    assert count_by_winding(T, box) == 33   # the aliasing the guard is for
+    assert count_by_winding(T, box, dT=dT) == count_by_winding(T, box, dT=dT, n_start=4) == 3
+
+
+def test_exponents_on_a_locking_line_are_found_from_sign_changes():
+    """_on_lines: det T is real on each window's locking line, so a sign change brackets an
+    exponent there. The cochlea (M = 4) above its subharmonic tau_min has a locked pair on
+    Im gamma = 1/2; with either member taken out of the list, it is found again (to 1e-10 of the
+    continued value), and nothing else is added."""
+    from spectralshell.solvers.hill_exponents import _in_strip, _on_lines
+
+    res = ss.exponents("cochlea", tau=0.45, **COCHLEA)
+    system = hill_system(make_params("cochlea", COCHLEA))
+    locked = [g for g in res.gamma if abs(g.imag - 0.5) < 1e-12]
+    assert len(locked) >= 2
+    for g in locked:
+        found = [z for z in _in_strip(res.gamma) if abs(z - g) > 1e-12]
+        _on_lines(system, 0.45, res.complete_in, system.branch_point + 1e-6, res.n_temporal,
+                  1e-10, False, found, res.error_estimate)
+        assert len(found) == len(res.gamma)
+        assert distance(np.array([g]), np.array(found[-1:])) < 1e-10

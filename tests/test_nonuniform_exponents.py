@@ -100,3 +100,39 @@ def test_auto_l_max_stops_when_the_least_damped_exponent_settles():
     assert r.params["l_max"] == 6
     lead = ss.exponents("sphere", m=3, kappa=0.02, nu=0.006, tau=0.3).gamma[0]
     assert abs(r.gamma[0] - lead) < 1e-10 and r.error_estimate < 1e-6
+
+
+ASYMMETRIC = "0.02*(1 + 0.2*sin(theta)*cos(phi) + 0.1*cos(theta))"
+
+
+def test_a_costly_truncation_is_refused_before_any_work(monkeypatch, capsys):
+    """Each degree truncation of the exponents is priced as floquet's (runner.nonuniform.Price)
+    and refused above the limit before any sector is solved: the solver and the sectors' modes
+    are patched to fail, so a refusal that ran any of them would not be a ParameterError. The
+    kappa without symmetry couples every mode (priced ~27 min at l_max = 12); the CLI says so
+    in one line (exit 2); max_seconds lowers the limit (also for l_max 'auto', whose first
+    truncations are priced before the coarser is solved) and is refused for other models."""
+    from spectralshell.errors import ParameterError
+    from spectralshell.runner import nonuniform
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("a sector was solved before the price was checked")
+
+    with monkeypatch.context() as patch:
+        patch.setattr(nonuniform, "hill_exponents", no_solve)
+        patch.setattr(nonuniform, "sector_modes", no_solve)
+        with pytest.raises(ParameterError) as info:
+            ss.exponents("sphere", kappa=ASYMMETRIC, nu=0.006, tau=0.3, l_max=12)
+        text = str(info.value)
+        assert "l_max = 12" in text and "blocks <= " in text and "max_seconds=" in text
+        assert "SPECTRALSHELL_MAX_SECONDS" in text and "\n" not in text
+        for l_max in (4, "auto"):
+            with pytest.raises(ParameterError, match="above the limit of 0.001"):
+                ss.exponents("sphere", kappa=KAPPA, nu=0.006, tau=0.3, l_max=l_max,
+                             max_seconds=1e-3)
+        assert main(["exponents", "sphere", "--kappa", ASYMMETRIC, "--nu", "0.006",
+                     "--tau", "0.3", "--l-max", "12"]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "SPECTRALSHELL_MAX_SECONDS" in err
+    with pytest.raises(ParameterError, match="max_seconds"):
+        ss.exponents("sphere", m=3, kappa=0.02, nu=0.006, tau=0.3, max_seconds=10)

@@ -510,7 +510,8 @@ def tau_map(model: str, *, x: tuple[str, Any], y: tuple[str, Any],
 
 
 def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | None = None,
-              count: int | None = None, **params: Any) -> ExponentsResult:
+              count: int | None = None, max_seconds: float | None = None,
+              **params: Any) -> ExponentsResult:
     """Floquet characteristic exponents gamma at forcing amplitude ``tau``.
 
     Re gamma is the growth rate per unit time; Im gamma is folded into (-1/2, 1/2]; the list
@@ -529,7 +530,9 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
     :func:`floquet`): the exponents of every decoupled sector of the coupled degrees, each
     continued from the sector's natural modes
     (:func:`spectralshell.runner.nonuniform.exponents_nonuniform`); ``params`` states the l_max
-    used.
+    used. Each of its degree truncations is priced as :func:`floquet`'s and refused above the
+    limit on estimated seconds (default :data:`spectralshell.params.limits.SECONDS`, 600 s, or
+    $SPECTRALSHELL_MAX_SECONDS), which ``max_seconds`` raises (that sphere only).
     """
     model = check_model(model)
     tau = require_real("tau", tau)
@@ -540,9 +543,14 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
         from .nonuniform import exponents_nonuniform
 
         p = nonuniform_params(params)
-        result, l_max = exponents_nonuniform(p, tau=tau, options=options)
+        result, l_max = exponents_nonuniform(p, tau=tau, options=options,
+                                             max_seconds=max_seconds)
         p = dataclasses.replace(p, l_max=l_max)
     else:
+        if max_seconds is not None:
+            raise ParameterError(f"max_seconds = {max_seconds!r} is invalid for the exponents of "
+                                 f"model {model!r}: only the sphere with a non-uniform kappa "
+                                 "is priced")
         p, result = _exponents(model, tau, options, params)
     if count is not None and count < result.gamma.size:
         bounds = result.complete_in  # still proved: lo < Re gamma <= hi, lo the first dropped

@@ -16,7 +16,8 @@ priced before it is solved (:class:`Price`, refused above the limit on estimated
 
 Floquet exponents (:func:`exponents_nonuniform`): those of every sector, each continued from
 the sector's natural modes (:func:`sector_modes`) by
-:func:`~spectralshell.solvers.hill_exponents.hill_exponents` and counted complete there.
+:func:`~spectralshell.solvers.hill_exponents.hill_exponents` and counted complete there; each
+truncation priced and refused as above.
 """
 
 from __future__ import annotations
@@ -378,26 +379,35 @@ def sector_exponents(sphere: NonUniformSphere, tau: float, options: dict[str, An
                      complete_in=(max(lows), min(highs)))
 
 
-def exponents_nonuniform(p: NonUniformSphereParams, *, tau: float, options: dict[str, Any]
-                         ) -> tuple[Exponents, int]:
+def exponents_nonuniform(p: NonUniformSphereParams, *, tau: float, options: dict[str, Any],
+                         max_seconds: float | None = None) -> tuple[Exponents, int]:
     """(Floquet exponents, the degree truncation l_max used) of the sphere with stiffness
     kappa(theta, phi) at amplitude ``tau`` (:func:`sector_exponents`).
 
     ``p.l_max`` 'auto': l_max = start, start + 2, ... (:func:`start_degree`) until the least
     damped exponent (the first, largest Re gamma) moves by at most :data:`TOL_DEGREES` from
     l_max - 2; that move enters the error estimate. An integer l_max is solved as given (the
-    error estimate is then that of the temporal truncation only).
+    error estimate is then that of the temporal truncation only). Each truncation is priced
+    before it is solved, as :func:`floquet_nonuniform`'s (:func:`priced_sphere`, both kinds:
+    the exponents are followed in both windows), and refused above the limit on estimated
+    seconds (``max_seconds`` raises it).
 
     Raises
     ------
-    ParameterError : an argument out of range. ConvergenceError : no convergence in N, or in
-        l_max by L_MAX_LIMIT.
+    ParameterError : an argument out of range; a truncation estimated above the limit.
+    ConvergenceError : no convergence in N, or in l_max by L_MAX_LIMIT.
     """
     expr = parse_expression("kappa", p.kappa, positive=True)
-    solve = functools.partial(_truncation_exponents, expr.function, p.nu, tau, options)
+    priced = functools.partial(priced_sphere, expr.function, p.nu, kinds=expand_kind("both"),
+                               options=options, max_seconds=max_seconds)
+
+    def solve(l_max: int) -> Exponents:
+        return sector_exponents(priced(l_max), tau, options)
+
     if p.l_max != "auto":
         return solve(p.l_max), p.l_max
     l_max = start_degree(_mean(expr.function))
+    priced(l_max)  # the finer truncation too, before the coarser one is solved
     coarse = solve(l_max - 2)
     while True:
         fine = solve(l_max)
@@ -410,9 +420,3 @@ def exponents_nonuniform(p: NonUniformSphereParams, *, tau: float, options: dict
                 f"the least damped Floquet exponent did not settle to {TOL_DEGREES:g} in the "
                 f"degree truncation by l_max={l_max} (last change {change:.3g}); give l_max")
         l_max, coarse = l_max + 2, fine
-
-
-def _truncation_exponents(kappa: Callable, nu: float, tau: float, options: dict[str, Any],
-                          l_max: int) -> Exponents:
-    """:func:`sector_exponents` of the truncation l_max."""
-    return sector_exponents(nonuniform_sphere(kappa=kappa, nu=nu, l_max=l_max), tau, options)

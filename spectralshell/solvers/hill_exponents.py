@@ -24,7 +24,11 @@ Method
    subharmonic) lies nearer its folded frequency. In that window the index set is symmetric, so
    det T_N(conj g) = conj det T_N(g) exactly: a pair that meets the line there has locked to the
    forcing and splits into two exponents on the line (one of which crosses Re gamma = 0 at
-   tau_min of that kind).
+   tau_min of that kind). The two windows' branches are continued together, each in its own
+   window but guarded against the other's (compared modulo i): continued apart, a branch of one
+   could jump onto an exponent the other follows near the line between them, Im gamma = 1/4
+   (the cochlea at M = 32: three exponents found twice, others lost). A branch lost anyway is
+   sought by deflated Newton's method from its last value, deflating both windows' exponents.
 3. Completeness: the argument principle (:func:`~spectralshell.solvers.nonlinear_eigen.
    count_by_winding`) counts the zeros of det T_N (harmonic window, g = gamma) in the region
    R = {re_lo <= Re gamma <= re_hi, -1/4 <= Im gamma <= 3/4}, a period of the exponents, minus
@@ -37,10 +41,11 @@ Method
    contour on one side within a sampling step and alias its phase by 2 pi. For the same reason the
    contour has a vertex next to each exponent and natural mode close to an edge (at tau = 0 the
    fibre's strongly damped modes lie 1e-9 off the cut, 0.04 apart). When the count exceeds the
-   exponents found in R, deflated Newton searches from a grid of seeds over R (and next to the
-   branch point, where a harmonic exponent is born at the cut); a count still larger
-   raises. The result states R (``complete_in``): every exponent of the truncation in it is
-   listed.
+   exponents found in R, deflated Newton searches from the sign changes of the real det T
+   along each window's locking line (locked pairs; :func:`_on_lines`), then from a grid of
+   seeds over R (and next to the branch point, where a harmonic exponent is born at the cut);
+   a count still larger raises. The result states R (``complete_in``): every exponent of the
+   truncation in it is listed.
 4. Convergence: N is raised (N -> N + max(6, N // 2)) from the resonant index + 8 until the
    exponents change by less than ``tol`` (mod i); the change is the error estimate, floored at
    the Newton steps. Step 2 runs at the first truncation only: at the next, each exponent is
@@ -59,6 +64,24 @@ reference that ``validation/bench_exponents.py`` times and compares. Measured at
 thread): sphere (m = 3, kappa = 0.02, nu = 0.006) 0.27 s against 0.39 s dense, cochlea (M = 8)
 0.94 s against 5.6 s dense, the exponents equal to 3e-16; the first, all-dense version of this
 module took 1.2 s and 60 s.
+
+The count is guarded by tr(T^{-1} T') at its nodes (:func:`~spectralshell.solvers.
+nonlinear_eigen.count_by_winding`; from the same block LU as the phase, so a node costs about
+twice a phase alone, five D evaluations instead of one), which lets it start from COUNT_START
+sub-intervals per edge. Sampled alone, the phase of the cochlea's det T at M = 32, N = 40
+turned by 2 pi between samples at 16 and at 32 per edge and counted 32 of the 64 exponents
+(32 s CPU); guarded it counts 64 in 19 s CPU (64 s from 16 per edge; 138 s with the older
+midpoint-rule guard, one unbatched tr(T^{-1} T') per sub-interval). Measured 2026-12-04 on a
+loaded 2-core machine (``validation/bench_exponents.py --large``). The whole computation at
+M = 32, N = 40 (``n_temporal=40``) now lists the 64 exponents the count proves, in 88 s CPU
+(153 s wall, loaded; error estimate 3.4e-10): ~2/3 the continuation at N = 30, then the count
+(19 s) and the search, whose line scan (:func:`_on_lines`) found the locked exponents the
+continuation missed. Before, it refused after ~100 s ('counts 32 ... but 59 were found');
+an earlier version was reported at 1,393 s (loaded), ~600 s in the grid search. At M = 16,
+N = 40 the 32 exponents equal the previous version's to 1e-15, in 13.9 s CPU against its
+12.2 s (one run each, loaded): no speed-up there. The count mismatch once reported at M = 32,
+N = 100 was not run; at N = 60 the count and the list agree (64; 222 s CPU, 290 s wall,
+loaded; error estimate 1.7e-9), within 8.4e-10 of the N = 40 list.
 """
 
 from __future__ import annotations
@@ -78,7 +101,7 @@ from ..results.records import Exponents
 from .exponents import N_MAX, distance, first_truncation, fold
 from .block_tridiagonal import log_det_phase_and_derivative
 from .marginal import coarser, finer
-from .nonlinear_eigen import Matrix, continue_roots, count_by_winding, newton
+from .nonlinear_eigen import Matrix, _phases, continue_roots, count_by_winding, newton
 
 #: Im gamma of the counting region: one period of the exponents, both locking lines inside.
 STRIP = (-0.25, 0.75)
@@ -98,6 +121,8 @@ BRANCH_SEED = 1e-3
 #: Newton's method restarts at tau from the branch, its mirror image and the points this far
 #: beyond |Im g| on either side along the line; the count then checks nothing was missed.
 LOST_REACH = 1e-3
+#: Samples of det T along each window's locking line in the search for exponents there.
+LINE_SAMPLES = 256
 #: Seeds per unit length of the region's edges in the search for exponents the count says are
 #: missing.
 SEARCH_DENSITY = 8
@@ -106,6 +131,10 @@ SEARCH_DENSITY = 8
 NEAR_EDGE = 1 / 16
 #: Two Newton results closer than this many times their largest last step are one exponent.
 DUPLICATE = 16
+#: Sub-intervals per edge that the winding count starts from when it is guarded by
+#: tr(T^{-1} T') at its nodes (the count's refinement and 2 pi guard do the rest): 16, as for an
+#: unguarded count, took 64 s against 19 s for the same count (the cochlea at M = 32, N = 40).
+COUNT_START = 4
 #: Memory for the blocks of one batch of shifts in HillPencil.phases / log_derivatives: the
 #: winding count evaluates whole refinement levels at once, and unbatched the cochlea at
 #: M = 32, N = 40 held 4.9 GB (the stress test's larger draws were killed by the kernel).
@@ -147,7 +176,7 @@ class HillPencil:
         if not derivative:
             return self.system.unforced(s).reshape(shape), None
         h = DERIVATIVE_STEP * np.maximum(1.0, np.abs(s))
-        along = (s.real < 0) & (np.abs(s.imag) <= 2 * h)
+        along = _along_cut(s)
         hi = np.where(along, 0.0, h)
         values = self.system.unforced(np.concatenate([s, s + h, s - h, s + 1j * hi, s - 1j * hi]))
         values = values.reshape(5, len(s), b, b)
@@ -180,13 +209,36 @@ class HillPencil:
 
     def log_derivatives(self, g: np.ndarray) -> np.ndarray:
         """tr(T(g)^{-1} T'(g)) = d/dg log det T(g) at each g."""
+        return self._both(g)[1]
+
+    def phases_and_log_derivatives(self, g: np.ndarray) -> np.ndarray:
+        """(2, len(g)): det T(g) / |det T(g)| and tr(T(g)^{-1} T'(g)) at each g, from one block
+        LU, for the winding count's guard: the log-derivative is nan next to the cut, where D'
+        is the central difference along it (:meth:`_blocks`), whose step does not resolve the
+        poles of D on the cut that the contour passes within SLIT (the count judges the phase
+        alone there, and the log-derivative is not computed)."""
+        g = np.asarray(g, dtype=complex)
+        near = np.any(_along_cut(g[:, None] + self._frequencies[None, :]), axis=1)
+        out = np.full((2, len(g)), np.nan, dtype=complex)
+        if np.any(near):
+            out[0, near] = self.phases(g[near])
+        if not np.all(near):
+            out[:, ~near] = self._both(g[~near])
+        return out
+
+    def _both(self, g: np.ndarray) -> np.ndarray:
         out = []
         for part in self._batches(g, 10):  # D at five points, D', the block LU's work
             diag, d = self._blocks(part, True)
-            found = log_det_phase_and_derivative(diag, *self._couplings, d)[1]
+            sign, found = log_det_phase_and_derivative(diag, *self._couplings, d)
             assert found is not None
-            out.append(found)
-        return np.concatenate(out)
+            out.append(np.stack([sign, found]))
+        return np.concatenate(out, axis=1)
+
+
+def _along_cut(s: np.ndarray) -> np.ndarray:
+    """s is so near the cut Re s < 0 that D(s +- i h) of the 4-point D' would straddle it."""
+    return (s.real < 0) & (np.abs(s.imag) <= 2 * DERIVATIVE_STEP * np.maximum(1.0, np.abs(s)))
 
 
 def pencil_family(system: HillSystem, kind: str, n_temporal: int, dense: bool = False
@@ -216,37 +268,50 @@ def window(gamma: complex) -> tuple[str, complex]:
 def _followed(system: HillSystem, tau: float, seeds: Sequence[complex], n_temporal: int,
               tol: float, dense: bool) -> tuple[np.ndarray, float]:
     """Every exponent continued from the natural modes ``seeds`` (one per conjugate pair) to
-    ``tau`` at truncation N: (folded exponents, largest Newton step)."""
-    out, steps = [], [0.0]
-    for kind in KINDS:
-        start = [g for k, g in map(window, seeds) if k == kind]
-        start = [g if g.imag >= 0 else g.conjugate() for g in start]
-        if not start:
-            continue
-        family = pencil_family(system, kind, n_temporal, dense)
-        tau0 = START_FRACTION * abs(tau)
+    ``tau`` at truncation N, both windows together (so that a branch of one cannot jump onto an
+    exponent the other follows): (folded exponents, largest Newton step)."""
+    windows = [window(g) for g in seeds]
+    kinds = [kind for kind in KINDS if any(k == kind for k, _ in windows)]
+    families = [pencil_family(system, kind, n_temporal, dense) for kind in kinds]
+    group = [kinds.index(k) for k, _ in windows]
+    start = [g if g.imag >= 0 else g.conjugate() for _, g in windows]
+    tau0 = START_FRACTION * abs(tau)
+    polished = []
+    for j, family in enumerate(families):
         T, dT = family(math.copysign(tau0, tau))
-        polished = [newton(T, dT, g, tol=tol) for g in start]
-        if any(p is None for p in polished):
-            raise ConvergenceError("a natural mode is not a root of the truncated Hill "
-                                   f"determinant at n_temporal={n_temporal}: raise n_temporal=")
-        if tau == 0.0:  # the error is the Newton step: a mode on the cut is then one exponent
-            roots, err = (np.array(x) for x in zip(*polished))
-            ok = np.ones(len(roots), bool)
-        else:
-            roots, err, ok = continue_roots(
-                lambda t: family(math.copysign(t, tau)), tau0, abs(tau),
-                [p[0] for p in polished], tol=tol, conjugate_symmetric=True)
-        found: list[complex] = []
-        for g, e in zip(roots[ok], err[ok]):
-            found += [g] if abs(g.imag) <= e else [g, g.conjugate()]
-            steps.append(float(e))
-        T, dT = family(tau)
-        for g in roots[~ok]:  # lost where a pair met the line (a double root) or two merged
-            reach = abs(g.imag) + LOST_REACH
-            _newton_from(T, dT, (g, g.conjugate(), complex(g.real + reach),
-                                 complex(g.real - reach)), found, steps, tol)
-        out += [g + 1j * GAMMA[kind] for g in found]
+        polished += [(i, newton(T, dT, start[i], tol=tol)) for i in range(len(start))
+                     if group[i] == j]
+    if any(p is None for _, p in polished):
+        raise ConvergenceError("a natural mode is not a root of the truncated Hill "
+                               f"determinant at n_temporal={n_temporal}: raise n_temporal=")
+    order = [i for i, _ in polished]
+    frames = [1j * GAMMA[kind] for kind in kinds]
+    if tau == 0.0:  # the error is the Newton step: a mode on the cut is then one exponent
+        roots = np.array([p[0] + frames[group[i]] for i, p in polished])
+        err = np.array([p[1] for _, p in polished])
+        ok = np.ones(len(roots), bool)
+    else:
+        roots, err, ok = continue_roots(
+            lambda t: [family(math.copysign(t, tau)) for family in families], tau0, abs(tau),
+            [p[0] for _, p in polished], tol=tol, conjugate_symmetric=True, frames=frames,
+            group=[group[i] for i in order], period=1j)
+    found: dict[str, list[complex]] = {kind: [] for kind in kinds}
+    steps = [0.0]
+    for gamma, e in zip(roots[ok], err[ok]):
+        kind, g = window(complex(gamma))
+        found.setdefault(kind, [])
+        found[kind] += [g] if abs(g.imag) <= e else [g, g.conjugate()]
+        steps.append(float(e))
+    for gamma in roots[~ok]:  # lost where a pair met the line (a double root) or two merged
+        kind, g = window(complex(gamma))
+        T, dT = pencil_family(system, kind, n_temporal, dense)(tau)
+        reach = abs(g.imag) + LOST_REACH
+        other = [z + 1j * (GAMMA[k] - GAMMA[kind]) for k, zs in found.items() if k != kind
+                 for z in zs]  # the other window's, deflated too (in this window's variable)
+        _newton_from(T, dT, (g, g.conjugate(), complex(g.real + reach),
+                             complex(g.real - reach)), found.setdefault(kind, []), steps, tol,
+                     other)
+    out = [g + 1j * GAMMA[kind] for kind, gs in found.items() for g in gs]
     return fold(np.array(out, dtype=complex)), max(steps)
 
 
@@ -265,14 +330,21 @@ def _polished(system: HillSystem, tau: float, gamma: np.ndarray, n_temporal: int
 
 
 def _newton_from(T: Matrix, dT: Matrix, seeds: Sequence[complex], found: list[complex],
-                 steps: list[float], tol: float) -> None:
-    """Deflated Newton's method from each seed; a new root is appended to ``found`` and its
-    last step to ``steps``."""
+                 steps: list[float], tol: float, other: Sequence[complex] = ()) -> None:
+    """Deflated Newton's method from each seed; a new root (one not in ``found`` nor, modulo
+    i, in ``other``: exponents found in another window, deflated too) is appended to ``found``
+    and its last step to ``steps``."""
     for seed in seeds:
-        got = newton(T, dT, seed, known=found, tol=tol)
-        if got is not None and _new(got[0], found, max(got[1], *steps)):
+        known = [*found, *(_nearest(z, seed) for z in other)]
+        got = newton(T, dT, seed, known=known, tol=tol)
+        if got is not None and _new(got[0], known, max(got[1], *steps)):
             found.append(got[0])
             steps.append(got[1])
+
+
+def _nearest(z: complex, to: complex) -> complex:
+    """The copy z + i k (k integer) nearest ``to``."""
+    return complex(z.real, z.imag - round(z.imag - to.imag))
 
 
 def _new(gamma: complex, found: Sequence[complex], error: float) -> bool:
@@ -359,12 +431,15 @@ def _counted(found: Sequence[complex], slit: float, branch: float) -> int:
 
 
 def _slit_count(T, re_lo: float, re_hi: float, slit: float, branch: float,
-                marks: Sequence[float] = (), near: Sequence[complex] = ()) -> tuple[float, int]:
+                marks: Sequence[float] = (), near: Sequence[complex] = (),
+                dT: Matrix | None = None) -> tuple[float, int]:
     """(slit half-width, winding count of R) with the slit of :func:`slit_width`, or, where an
     exponent lies on that contour to rounding (an exponent a few 1e-11 off the cut makes the
     slit as narrow: the fibre at m = 12, kappa = nu = 1, tau = -1.138), with the default SLIT,
     which leaves such exponents in the band (on the cut to working precision). The exponents
-    ``near`` add vertices to the contour (:func:`_through`).
+    ``near`` add vertices to the contour (:func:`_through`); ``dT`` (T') guards the count
+    against a phase turn of 2 pi between samples (:func:`~spectralshell.solvers.
+    nonlinear_eigen.count_by_winding`).
 
     Raises
     ------
@@ -373,7 +448,8 @@ def _slit_count(T, re_lo: float, re_hi: float, slit: float, branch: float,
     for width in dict.fromkeys((slit, SLIT)):
         try:
             return width, count_by_winding(T, _contour(re_lo, re_hi, width, branch, marks,
-                                                       near))
+                                                       near), dT=dT,
+                                           n_start=16 if dT is None else COUNT_START)
         except ConvergenceError as exc:
             failure = exc
     raise ConvergenceError(f"{failure}, so the Floquet exponents there cannot be counted: give "
@@ -393,12 +469,16 @@ def _completed(system: HillSystem, tau: float, gamma: np.ndarray, step: float,
     marks = () if system.cut_poles is None else tuple(system.cut_poles(re_lo))
     seeds = np.asarray(seeds, dtype=complex)
     near = _in_strip(np.concatenate([gamma, seeds, seeds.conj()]))
-    slit, count = _slit_count(T, re_lo, re_hi, slit_width(gamma, branch), branch, marks, near)
+    slit, count = _slit_count(T, re_lo, re_hi, slit_width(gamma, branch), branch, marks, near,
+                              dT)
     found = [g for g in _in_strip(gamma) if not _on_cut(g, slit, branch)]
     bottom, top = STRIP
     grid = np.linspace(re_lo, re_hi, max(3, int(SEARCH_DENSITY * (re_hi - re_lo))))
     searched = [complex(x, y) for y in np.linspace(bottom, top, SEARCH_DENSITY + 1)[1:-1]
                 for x in grid]
+    if _counted(found, slit, branch) < count:
+        _on_lines(system, tau, (re_lo, re_hi), branch + slit, n_temporal, tol, dense, found,
+                  step)
     branch_seed = complex(branch + BRANCH_SEED, 0.0)
     for seed in [branch_seed] + searched:  # the branch seed always: the count misses its root
         if seed != branch_seed and _counted(found, slit, branch) >= count:
@@ -418,6 +498,30 @@ def _completed(system: HillSystem, tau: float, gamma: np.ndarray, step: float,
             f"[{re_lo:.4g}, {re_hi:.4g}] at n_temporal={n_temporal}, but {_counted(found, slit, branch)} were "
             "found: give n_temporal= or a nearby tau")
     return fold(np.array(found, dtype=complex)), (re_lo, re_hi)
+
+
+def _on_lines(system: HillSystem, tau: float, bounds: tuple[float, float], cut_end: float,
+              n_temporal: int, tol: float, dense: bool, found: list[complex],
+              step: float) -> None:
+    """Append to ``found`` (exponents in R's period) those on the locking lines that it lacks:
+    in each window det T(conj g) = conj det T(g), so det T is real on its line (Im g = 0; in
+    the harmonic window right of the cut, Re g > ``cut_end``), and each sign change between
+    LINE_SAMPLES samples brackets an exponent there (locked pairs: the cochlea at M = 32, N = 40
+    has six on the subharmonic line, three of which the continuation missed), sought by
+    deflated Newton's method from the bracket's middle."""
+    for kind in KINDS:
+        lo = bounds[0] if kind == "subharmonic" else max(bounds[0], cut_end)
+        x = np.linspace(lo, bounds[1], LINE_SAMPLES) + 0j
+        T, dT = pencil_family(system, kind, n_temporal, dense)(tau)
+        sign = np.sign(_phases(T, x).real)
+        for a, b in zip(x[:-1][sign[1:] != sign[:-1]], x[1:][sign[1:] != sign[:-1]]):
+            seed = 0.5 * (a + b)
+            shift = 1j * GAMMA[kind]
+            known = [_nearest(z - shift, seed) for z in found]
+            got = newton(T, dT, seed, known=known, tol=tol)
+            if got is not None and _new(got[0], known, max(got[1], step)) and \
+                    bounds[0] < got[0].real < bounds[1]:
+                found.append(complex(_in_strip(np.array([got[0] + shift]))[0]))
 
 
 def hill_exponents(system: HillSystem, tau: float, seeds: Sequence[complex], *,

@@ -33,9 +33,9 @@ is followed on as the two real roots it becomes there.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -64,6 +64,10 @@ class StructuredMatrix(Protocol):
 
     def log_derivatives(self, s: np.ndarray) -> np.ndarray:
         """tr(T(s)^{-1} T'(s)) at each point."""
+        ...
+
+    def phases_and_log_derivatives(self, s: np.ndarray) -> np.ndarray:
+        """(2, len(s)): both of the above at each point, from one factorisation."""
         ...
 
 
@@ -180,25 +184,58 @@ def _phases(T: Matrix, s: np.ndarray) -> np.ndarray:
     return np.array([np.linalg.slogdet(T(x))[0] for x in s], dtype=complex)
 
 
-def _remembered(T: Matrix) -> Callable[[np.ndarray], np.ndarray]:
-    """s -> :func:`_phases` of T at s, each distinct point (bitwise: +0 and -0 in Im s are two
-    sides of a cut) evaluated once however often it is asked for."""
-    seen: dict[bytes, complex] = {}
+def _remembered(T: Matrix, slopes: bool = False) -> Callable[[np.ndarray], np.ndarray]:
+    """s -> :func:`_phases` of T at s (with ``slopes``, of a StructuredMatrix: (2, len(s)), the
+    phases and tr(T^{-1} T')), each distinct point (bitwise: +0 and -0 in Im s are two sides of
+    a cut) evaluated once however often it is asked for."""
+    seen: dict[bytes, np.ndarray] = {}
 
-    def phases(s: np.ndarray) -> np.ndarray:
+    def values(s: np.ndarray) -> np.ndarray:
         s = np.asarray(s, dtype=complex)
         keys = [x.tobytes() for x in s]
         new = {k: x for k, x in zip(keys, s) if k not in seen}
         if new:
-            seen.update(zip(new, _phases(T, np.array(list(new.values()), dtype=complex))))
-        return np.array([seen[k] for k in keys], dtype=complex)
+            points = np.array(list(new.values()), dtype=complex)
+            got = T.phases_and_log_derivatives(points) if slopes else _phases(T, points)[None]
+            seen.update(zip(new, got.T))
+        out = np.array([seen[k] for k in keys], dtype=complex).T
+        return out if slopes else out[0]
 
-    return phases
+    return values
+
+
+def _turn(dz: complex, p: tuple[complex, complex], f: tuple[complex, complex] | None,
+          max_phase: float, max_bend: float) -> float | None:
+    """The turn of arg det T over a sub-interval dz with phases ``p`` at its ends, or None
+    (refine it). Without the log-derivatives ``f`` at the ends: the sampled turn, if at most
+    ``max_phase``. With them: the sampled turn plus the multiple of 2 pi that brings it within
+    ``max_phase``/2 of the trapezoid rule Im(dz (f_0 + f_1) / 2), if dz f changes by at most
+    ``max_bend`` along it (so that the rule errs by much less than pi): a zero pair between the
+    ends, which a sampled phase sees as no turn, makes f vary like 1/distance there; the many
+    far zeros of a large determinant turn the phase fast but smoothly, and are accepted. A
+    sampled turn of at most ``max_phase`` that the rule confirms is accepted while dz f bends
+    by up to 4 ``max_bend``: a hidden pair of zeros within a tenth of the length of the
+    sub-interval bends it by ~8 or more, and f that oscillates along a cut without turning the
+    phase (the fibre's fluid) would otherwise be refined 4 times as often; f not finite (a
+    branch point, or where T' is not accurate) leaves the sampled turn alone to judge."""
+    turn = float(np.angle(p[1] / p[0]))
+    if f is None or not (np.isfinite(f[0]) and np.isfinite(f[1])):
+        return turn if abs(turn) <= max_phase else None
+    bend = abs(dz * (f[1] - f[0]))
+    predicted = (dz * 0.5 * (f[0] + f[1])).imag
+    if abs(turn) <= max_phase and abs(turn - predicted) <= max_phase / 2 and \
+            bend <= 4 * max_bend:
+        return turn
+    if bend > max_bend:
+        return None
+    turn += 2 * np.pi * round((predicted - turn) / (2 * np.pi))
+    return turn if abs(turn - predicted) <= max_phase / 2 else None
 
 
 def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | None = None,
                      n_start: int = 16, n_max: int = 1024, max_phase: float = 0.5,
-                     min_width: float = 1e-14, pieces: int | None = None) -> int:
+                     max_bend: float = 1.0, min_width: float = 1e-14,
+                     pieces: int | None = None) -> int:
     """Number of eigenvalues (with multiplicity) inside the closed polygon ``vertices``
     (counter-clockwise) from the winding number of det T along it.
 
@@ -208,17 +245,24 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
     edges, each cut into ``n_start`` equal sub-intervals that are refined until the phase turns by
     at most ``max_phase`` across each (a point met again, e.g. at the next ``n_start``, is not
     evaluated again). A sampled phase cannot tell a turn theta from
-    theta + 2 pi n (clustered eigenvalues near the contour alias that way); with ``dT`` each
-    sub-interval must also agree to ``max_phase``/2 with the midpoint rule for the turn,
-    Im(ds tr(T^{-1} T')) at its midpoint, which follows the full turn. The count is repeated with
+    theta + 2 pi n (clustered eigenvalues near the contour alias that way, and so do the many
+    far eigenvalues of a large determinant: the cochlea's Hill truncation at M = 32, N = 40
+    counted 32 of 64). With ``dT`` the turn is also predicted from tr(T^{-1} T'), which follows
+    the full turn: for a plain matrix function each sub-interval must agree to ``max_phase``/2
+    with the midpoint rule Im(ds tr(T^{-1} T')); for a :class:`StructuredMatrix` (whose
+    ``phases_and_log_derivatives`` gives both from one factorisation) the log-derivative is
+    taken at the nodes and the trapezoid rule fixes the multiple of 2 pi (:func:`_turn`; a
+    sub-interval may then turn by more than ``max_phase``). The count is repeated with
     ``n_start`` doubled until two successive values agree. An eigenvalue at distance d from the
     contour turns the phase by ~pi over a length ~d, so refinement finds it. A sub-interval is
     refined into ``pieces`` equal parts, all of a level's new points evaluated together (default
     4 for a :class:`StructuredMatrix`, whose batched phases cost little more than one, so that
     fewer levels reach a nearby eigenvalue; 2, a bisection, otherwise).
-    It needs T only continuous up to the contour (and dT only at the midpoints): an edge may run along a branch cut, evaluated as its limit from one side (for
+    It needs T only continuous up to the contour (and dT only at the midpoints or nodes): an
+    edge may run along a branch cut, evaluated as its limit from one side (for
     a principal square root in T, points x + 0j with a positive-zero imaginary part give the limit
-    from Im s > 0), and a vertex may sit on a branch point, where tr(T^{-1} T') is infinite.
+    from Im s > 0), and a vertex may sit on a branch point, where tr(T^{-1} T') is infinite (a
+    sub-interval that ends there is judged by its sampled turn alone).
 
     Raises
     ------
@@ -227,44 +271,56 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
         by ``n_max`` sub-intervals per edge.
     """
     v = [complex(z) for z in vertices]
-    phases_at = _remembered(T)  # the grid of n sub-intervals holds that of n / 2
+    structured = isinstance(T, StructuredMatrix)
+    slopes = dT is not None and structured
+    values_at = _remembered(T, slopes)  # the grid of n sub-intervals holds that of n / 2
     if pieces is None:
-        pieces = 4 if isinstance(T, StructuredMatrix) else 2
+        pieces = 4 if structured else 2
     cuts = np.linspace(0.0, 1.0, pieces + 1)
     edges = list(zip(v, v[1:] + v[:1]))
     n, previous = n_start, None
+
+    def nodes(points: np.ndarray, rows: int, cols: int) -> tuple[np.ndarray, np.ndarray | None]:
+        """(phases, log-derivatives or None) at ``points``, each shaped (rows, cols)."""
+        got = values_at(points)
+        if slopes:
+            return got[0].reshape(rows, cols), got[1].reshape(rows, cols)
+        return got.reshape(rows, cols), None
+
     while n <= n_max:
         total = 0.0
         t = np.linspace(0.0, 1.0, n + 1)
-        phases = phases_at(np.concatenate([a + (b - a) * t for a, b in edges]))
-        phases = phases.reshape(len(edges), n + 1)
-        pending = [(a, b, t[j], t[j + 1], p[j], p[j + 1]) for (a, b), p in zip(edges, phases)
-                   for j in range(n)]
+        phases, logd = nodes(np.concatenate([a + (b - a) * t for a, b in edges]), len(edges), n + 1)
+        pending = [(a, b, t[j], t[j + 1], phases[i, j:j + 2],
+                    None if logd is None else logd[i, j:j + 2])
+                   for i, (a, b) in enumerate(edges) for j in range(n)]
         while pending:  # sub-intervals refined level by level, each level's phases in one batch
             split = []
-            for a, b, lo, hi, p_lo, p_hi in pending:
-                if p_lo == 0 or p_hi == 0:
+            for a, b, lo, hi, p, f in pending:
+                if p[0] == 0 or p[1] == 0:
                     raise ConvergenceError(f"det T vanishes on the contour near s = {a + (b - a) * lo!r}")
-                turn = float(np.angle(p_hi / p_lo))
-                agrees = abs(turn) <= max_phase
-                if agrees and dT is not None:
+                turn = _turn((b - a) * (hi - lo), p, f, max_phase, max_bend)
+                if turn is not None and dT is not None and not slopes:
                     estimate = ((b - a) * (hi - lo) * _log_derivative(T, dT, a + (b - a) * 0.5 * (lo + hi))).imag
-                    agrees = abs(turn - estimate) <= max_phase / 2
-                if agrees:
+                    turn = turn if abs(turn - estimate) <= max_phase / 2 else None
+                if turn is not None:
                     total += turn
                     continue
                 if hi - lo < min_width:
                     raise ConvergenceError(f"an eigenvalue lies on the contour near s = {a + (b - a) * lo!r}")
-                split.append((a, b, lo, hi, p_lo, p_hi))
+                split.append((a, b, lo, hi, p, f))
             if not split:
                 break
             inner = np.array([[lo + (hi - lo) * c for c in cuts[1:-1]] for _, _, lo, hi, _, _ in split])
-            middle = phases_at(np.concatenate([a + (b - a) * x for (a, b, *_), x in zip(split, inner)]))
-            middle = middle.reshape(len(split), pieces - 1)
+            new = np.concatenate([a + (b - a) * x for (a, b, *_), x in zip(split, inner)])
+            middle, slope = nodes(new, len(split), pieces - 1)
             pending = []
-            for (a, b, lo, hi, p_lo, p_hi), x, p in zip(split, inner, middle):
-                x, p = np.concatenate([[lo], x, [hi]]), np.concatenate([[p_lo], p, [p_hi]])
-                pending += [(a, b, x[j], x[j + 1], p[j], p[j + 1]) for j in range(pieces)]
+            for i, ((a, b, lo, hi, p, f), x) in enumerate(zip(split, inner)):
+                x = np.concatenate([[lo], x, [hi]])
+                p = np.concatenate([[p[0]], middle[i], [p[1]]])
+                f = None if slope is None else np.concatenate([[f[0]], slope[i], [f[1]]])
+                pending += [(a, b, x[j], x[j + 1], p[j:j + 2], None if f is None else f[j:j + 2])
+                            for j in range(pieces)]
         value = total / (2 * np.pi)
         if previous is not None and abs(value - previous) < 1e-6 and abs(value - round(value)) < 1e-6:
             return int(round(value))
@@ -287,10 +343,19 @@ def _real_partner(T: Matrix, dT: Matrix, before: complex, real: complex, tol: fl
     return complex(out[0].real, 0.0)
 
 
-def continue_roots(family: Callable[[float], tuple[Matrix, Matrix]], start: float, stop: float,
+def _nearest_copy(z: np.ndarray, to: complex, period: complex) -> np.ndarray:
+    """Each of ``z`` moved by a whole number of ``period`` (0: not moved) to lie nearest ``to``."""
+    if period == 0:
+        return z
+    return z - period * np.round(((z - to) / period).real)
+
+
+def continue_roots(family: Callable[[float], Any], start: float, stop: float,
                    roots: Iterable[complex], *, first_ratio: float = 1.5, min_ratio: float = 1e-6,
                    max_move: float = 0.25, tol: float = 1e-13,
-                   conjugate_symmetric: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                   conjugate_symmetric: bool = False, frames: Sequence[complex] | None = None,
+                   group: Iterable[int] | None = None, period: complex = 0j
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Follow each eigenvalue of T(s; p) from p = ``start`` (where ``roots`` are its eigenvalues)
     to p = ``stop`` > start > 0, in geometric steps with step control.
 
@@ -312,13 +377,28 @@ def continue_roots(family: Callable[[float], tuple[Matrix, Matrix]], start: floa
     found by deflated Newton from the mirror image of the first about the pair's last real part
     and followed on as a new branch.
 
+    ``frames``: several matrix functions T_j(s; p) whose eigenvalues are those of one problem
+    in shifted variables, z = s + frames[j] (modulo ``period`` if not 0), each branch followed
+    in its own (``group``: the index j of each root; ``family(p)`` then gives one (T, dT) per
+    frame). The guard then compares the branches in z, so that a branch of one frame cannot
+    jump onto the eigenvalue another frame follows (two frames each find it; the eigenvalue
+    that branch followed is lost). (The Floquet exponents' two windows: a pair of exponents near
+    the line between them, Im z = 1/4, came out twice and another pair not at all.)
+
     Every branch is then polished by a full Newton solve at ``stop``. Returns (roots at ``stop``,
-    last Newton steps, ok), one entry per branch (the given ones first, then any split off):
-    ``ok`` is False for an abandoned branch (its root is then the last accepted value, at a
-    smaller p) or for two branches that meet (or mirror each other).
+    last Newton steps, ok), one entry per branch (the given ones first, then any split off), the
+    roots in z = s + frames[j] if ``frames`` are given: ``ok`` is False for an abandoned branch
+    (its root is then the last accepted value, at a smaller p) or for two branches that meet (or
+    mirror each other).
     """
     s = np.array(list(roots), dtype=complex)
     n = s.size
+    shift = np.zeros(1, dtype=complex) if frames is None else np.asarray(frames, dtype=complex)
+    grp = np.zeros(n, dtype=int) if group is None else np.array(list(group), dtype=int)
+
+    def at(p: float, j: int) -> tuple[Matrix, Matrix]:
+        return family(p) if frames is None else family(p)[j]
+
     previous = s.copy()                        # position at the start of each branch's last step
     lp = np.full(n, np.log(start))             # log p of each branch
     lp_previous = lp.copy()
@@ -337,10 +417,13 @@ def continue_roots(family: Callable[[float], tuple[Matrix, Matrix]], start: floa
         weight = np.divide(lp[i] - lp_previous[others], span, out=np.ones(others.size), where=span > 0)
         at_p = previous[others] + (s[others] - previous[others]) * weight
         if conjugate_symmetric:
-            at_p = np.concatenate([at_p, at_p.conj()])
+            at_p, moved = np.concatenate([at_p, at_p.conj()]), np.tile(shift[grp[others]], 2)
+        else:
+            moved = shift[grp[others]]
+        at_p = _nearest_copy(at_p + moved - shift[grp[i]], s[i], period)  # in branch i's frame
         guard = np.min(np.abs(at_p - s[i])) if at_p.size else abs(s[i]) + 1.0
         lq = min(lp[i] + np.log(ratio[i]), log_stop)
-        T, dT = family(stop if lq == log_stop else float(np.exp(lq)))
+        T, dT = at(stop if lq == log_stop else float(np.exp(lq)), grp[i])
         out = newton(T, dT, s[i] + slope[i] * (lq - lp[i]), tol=tol, max_iter=12)
         if out is not None and conjugate_symmetric and abs(out[0].conjugate() - s[i]) < abs(out[0] - s[i]):
             out = (out[0].conjugate(), out[1])
@@ -354,6 +437,7 @@ def continue_roots(family: Callable[[float], tuple[Matrix, Matrix]], start: floa
                     lp, lp_previous, ratio, ok = (np.append(a, v) for a, v in
                                                   ((lp, lq), (lp_previous, lq), (ratio, first_ratio),
                                                    (ok, True)))
+                    grp = np.append(grp, grp[i])
                     n += 1
             slope[i] = (out[0] - s[i]) / (lq - lp[i])
             previous[i], lp_previous[i] = s[i], lp[i]
@@ -363,16 +447,20 @@ def continue_roots(family: Callable[[float], tuple[Matrix, Matrix]], start: floa
         ratio[i] = np.sqrt(ratio[i])
         if ratio[i] < 1.0 + min_ratio:
             ok[i] = False
-    T, dT = family(stop)
-    for i in np.flatnonzero(ok):  # polish at ``stop``: merged branches then coincide to rounding
-        out = newton(T, dT, s[i], tol=tol)
-        if out is None:
-            ok[i] = False
-        else:
-            s[i], steps[i] = out
+    for j in np.unique(grp):
+        T, dT = at(stop, j)
+        for i in np.flatnonzero(ok & (grp == j)):  # polish at ``stop``: merged branches coincide
+            out = newton(T, dT, s[i], tol=tol)
+            if out is None:
+                ok[i] = False
+            else:
+                s[i], steps[i] = out
+    z = s + shift[grp]
     for i in range(n):
         for j in range(i):
-            twins = [s[j], s[j].conjugate()] if conjugate_symmetric else [s[j]]
-            if ok[i] and ok[j] and min(abs(s[i] - t) for t in twins) <= DUPLICATE_RTOL * max(abs(s[i]), 1.0):
+            twins = np.array([s[j], s[j].conjugate()] if conjugate_symmetric else [s[j]])
+            twins = _nearest_copy(twins + shift[grp[j]], z[i], period)
+            close = np.min(np.abs(z[i] - twins)) <= DUPLICATE_RTOL * max(abs(s[i]), 1.0)
+            if ok[i] and ok[j] and close:
                 ok[i] = ok[j] = False
-    return s, steps, ok
+    return (s if frames is None else z), steps, ok
