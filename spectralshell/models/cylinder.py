@@ -74,27 +74,40 @@ def components(m: int, k: float, component: str = "coupled") -> list[int]:
     return [0, 1, 2]
 
 
-def _interface_entries(m: int, k: float, s, nu, lam, L) -> tuple[list, list]:
-    """V, T at r = 1 per amplitude (a, A, C) as 3 x 3 nested lists of entries: numpy arrays over
-    s (broadcast by the caller) or mpmath numbers."""
+def _interface_entries(m: int, k: float, s, nu, lam, L, Q) -> tuple[list, list]:
+    """V, T at r = 1 per amplitude (s a, A, (C + i k s a) nu/s) as 3 x 3 nested lists of entries:
+    numpy arrays over s (broadcast by the caller) or mpmath numbers.
+
+    Notes
+    -----
+    In the amplitudes (a, A, C) of the pressure and the two vortical potentials, the pressure's
+    column carries 1/s and, as beta -> k (s -> 0), the gradient part of C's column tends to
+    -i k s times it, so that V is nearly singular and H = s T V^-1 loses digits like
+    eps nu k^2/|s|. The columns used here are s times the pressure's and the combination
+    (C + i k s a) nu/s, in which that cancellation is done in closed form: its entries hold
+    Q = (L - Lambda)/(beta^2 - k^2), a divided difference of the logarithmic derivative
+    (:func:`_divided_difference`). A change of columns leaves T V^-1 unchanged.
+    """
     b2 = s / nu + k * k
-    V = [[-lam / s, 1j * m, 1j * k * L],
-         [-1j * m / s, -L, -m * k],
-         [-1j * k / s, 0, -b2]]
-    du = [[-(k * k + m * m - lam) / s, 1j * m * (L - 1), 1j * k * (b2 + m * m - L)],
-          [-1j * m * (lam - 1) / s, -(b2 + m * m - L), -m * k * (L - 1)],
-          [-1j * k * lam / s, 0, -b2 * L]]
+    V = [[-lam, 1j * m, 1j * k * Q],
+         [-1j * m, -L, 0],
+         [-1j * k, 0, -1]]
+    du = [[-(k * k + m * m - lam), 1j * m * (L - 1), 1j * k * (1 - Q)],
+          [-1j * m * (lam - 1), -(b2 + m * m - L), -m * k * Q],
+          [-1j * k * lam, 0, -L - k * k * Q]]
     T = [[2 * nu * d for d in du[0]],
          [nu * (du[1][j] - V[1][j] + 1j * m * V[0][j]) for j in range(3)],
          [nu * (du[2][j] + 1j * k * V[0][j]) for j in range(3)]]
-    T[0][0] -= 1
+    T[0][0] -= s
+    T[0][2] -= 1j * k * nu
     return V, T
 
 
 def _interface(m: int, k: float, s: np.ndarray, nu: float, lam: np.ndarray | float,
-               L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """V, T (shape (len(s), 3, 3)): velocity and traction at r = 1 per amplitude (a, A, C)."""
-    V, T = _interface_entries(m, k, s, nu, lam, L)
+               L: np.ndarray, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """V, T (shape (len(s), 3, 3)): velocity and traction at r = 1 per amplitude
+    (:func:`_interface_entries`)."""
+    V, T = _interface_entries(m, k, s, nu, lam, L, Q)
 
     def stacked(rows: list) -> np.ndarray:
         return np.stack([np.stack(np.broadcast_arrays(s, *row)[1:], -1) for row in rows], -2)
@@ -109,28 +122,83 @@ def _pressure_logderivs(m: int, k: float) -> tuple[float, float]:
     return float(np.real(logderiv_i(m, k))), float(np.real(logderiv_k(m, k)))
 
 
+#: |beta - k| below which the divided difference Q comes from a Cauchy integral (in units of k),
+#: the circle's radius (in units of k) and its number of nodes (aliasing error ~ 2^-_NODES).
+_NEAR = 0.25
+_CIRCLE = 0.5
+_NODES = 64
+
+
+def _asymptote(m: int, z, side: int):
+    """+-sqrt(m^2 + z^2) (+ inside, - outside): the leading term of the logarithmic derivatives
+    z I_m'/I_m and z K_m'/K_m uniformly in m and z (DLMF 10.41.3-4)."""
+    return (1 - 2 * side) * np.sqrt(m * m + z * z)
+
+
+@functools.lru_cache(maxsize=256)
+def _circle_values(m: int, k: float, side: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes z_j = k + _CIRCLE k e^(2 pi i j/N) and g(z_j) = y(z_j) -+ sqrt(m^2 + z_j^2), y the
+    logarithmic derivative of I_m (side 0) or K_m (side 1)."""
+    z = k + _CIRCLE * k * np.exp(2j * np.pi * np.arange(_NODES) / _NODES)
+    y = logderiv_i(m, z) if side == 0 else logderiv_k(m, z)
+    return z, np.asarray(y, dtype=complex) - _asymptote(m, z, side)
+
+
+def _divided_difference(m: int, k: float, side: int, lam: float, L: np.ndarray,
+                        x: np.ndarray) -> np.ndarray:
+    """Q = (L - Lambda)/(beta^2 - k^2) at beta = k + x, L = y(beta), Lambda = y(k), y the
+    logarithmic derivative of I_m (side 0) or K_m (side 1), without the cancellation L - Lambda.
+
+    Notes
+    -----
+    y = +-sqrt(m^2 + z^2) + g(z) with g = O(1) (DLMF 10.41.3-4), so
+
+        Q = +-1/(sqrt(m^2 + beta^2) + sqrt(m^2 + k^2)) + g[k, beta]/(beta + k),
+
+    the first term in closed form and the divided difference g[k, beta] by the Cauchy integral
+    (1/N) sum_j g(z_j)/(z_j - beta) over a circle of radius k/2 about k for |x| < k/4 (trapezoidal
+    rule: error ~ 2^-N, g analytic within |z - k| < k), else directly as (g(beta) - g(k))/x.
+    Subtracting the asymptote matters for m >> k, where y'(k) ~ k/m is small against y ~ m: an
+    unsubtracted difference loses a factor m^2/k^2 (measured 1e-11 at m = 25, k = 1)."""
+    x = np.asarray(x, dtype=complex)
+    beta = k + x
+    closed = (1 - 2 * side) / (np.sqrt(m * m + beta * beta) + np.sqrt(m * m + k * k))
+    g_k = lam - _asymptote(m, k, side)
+    out = np.empty(x.shape, dtype=complex)
+    near = np.abs(x) < _NEAR * k
+    far = ~near
+    out[far] = (L[far] - _asymptote(m, beta[far], side) - g_k) / x[far]
+    if near.any():
+        z, g = _circle_values(m, float(k), side)
+        out[near] = np.mean(g[None, :] / (z[None, :] - beta[near][:, None]), axis=1)
+    return closed + out / (beta + k)
+
+
 def fluid_load(s: np.ndarray, *, m: int, k: float, nu: float) -> np.ndarray:
     """H(s) (shape (len(s), 3, 3), s != 0): the fluid's load on (X^r, X^theta, X^z) in the real basis.
 
     Notes
     -----
-    As s -> 0 (beta -> k) the pressure and vortical fields nearly coincide, and the relative
-    error of H grows like eps nu k^2 / |s| (measured against 40-digit mpmath); H itself is O(s),
-    so D = H + kappa E keeps its accuracy relative to kappa E.
+    The pressure-vortical cancellation as s -> 0 (beta -> k) is done in closed form
+    (:func:`_interface_entries`), with x = beta - k = (s/nu)/(beta + k) taken from s, not from
+    beta, so H keeps its relative accuracy as s -> 0 (checked against 40-digit mpmath).
 
     Raises
     ------
     ParameterError : an s whose beta = sqrt(s/nu + k^2) leaves the Bessel kernels' domain.
     """
     s = np.asarray(s, dtype=complex).ravel()
-    return _fluid_load_at(s, np.sqrt(s / nu + k * k), m=m, k=k, nu=nu)
+    beta = np.sqrt(s / nu + k * k)
+    return _fluid_load_at(s, beta, (s / nu) / (beta + k), m=m, k=k, nu=nu)
 
 
-def _fluid_load_at(s: np.ndarray, beta: np.ndarray, *, m: int, k: float, nu: float) -> np.ndarray:
-    """H(s) at beta with beta^2 = s/nu + k^2 on either sheet: the principal one (Re beta >= 0, the
-    exterior field decays) or, for Re beta < 0, its continuation across the imaginary beta axis
-    (:func:`~spectralshell.special.cylindrical.logderiv_k_continued`; I_m(beta r) is even up to
-    sign, so only K_m carries the sheet)."""
+def _fluid_load_at(s: np.ndarray, beta: np.ndarray, x: np.ndarray, *, m: int, k: float,
+                   nu: float) -> np.ndarray:
+    """H(s) at beta = k + x with beta^2 = s/nu + k^2 on either sheet: the principal one
+    (Re beta >= 0, the exterior field decays) or, for Re beta < 0, its continuation across the
+    imaginary beta axis (:func:`~spectralshell.special.cylindrical.logderiv_k_continued`;
+    I_m(beta r) is even up to sign, so only K_m carries the sheet). x = beta - k is passed
+    separately so that a caller who knows it better than beta - k keeps its digits."""
     lam_in, lam_out = _pressure_logderivs(m, k)
     second = beta.real < 0
     with boundary_layer(nu):
@@ -138,8 +206,15 @@ def _fluid_load_at(s: np.ndarray, beta: np.ndarray, *, m: int, k: float, nu: flo
         L_out = np.empty(beta.shape, dtype=complex)
         L_out[~second] = logderiv_k(m, beta[~second])
         L_out[second] = [logderiv_k_continued(m, b) for b in beta[second]]
-    Vi, Ti = _interface(m, k, s, nu, lam_in, L_in)
-    Vo, To = _interface(m, k, s, nu, lam_out, L_out)
+    if k > 0:
+        Q_in = _divided_difference(m, k, 0, lam_in, L_in, np.where(second, beta - k, x))
+        Q_out = _divided_difference(m, k, 1, lam_out, L_out, np.where(second, beta - k, x))
+        Q_out[second] = (L_out[second] - lam_out) / (s[second] / nu)
+        Q_in[second] = (L_in[second] - lam_in) / (s[second] / nu)
+    else:
+        Q_in, Q_out = (L_in - lam_in) / (s / nu), (L_out - lam_out) / (s / nu)
+    Vi, Ti = _interface(m, k, s, nu, lam_in, L_in, Q_in)
+    Vo, To = _interface(m, k, s, nu, lam_out, L_out, Q_out)
     # Z = T V^-1 on each side, as (V^T)^-1 T^T transposed
     Z = (np.linalg.solve(np.swapaxes(Vi, 1, 2), np.swapaxes(Ti, 1, 2))
          - np.linalg.solve(np.swapaxes(Vo, 1, 2), np.swapaxes(To, 1, 2)))
@@ -151,19 +226,21 @@ def unforced(s: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
              component: str = "coupled") -> np.ndarray:
     """D(s) = H(s) + kappa E on the set ``component``, shape (len(s), b, b); D(0) = kappa E."""
     s = np.asarray(s, dtype=complex).ravel()
-    return _unforced_at(s, np.sqrt(s / nu + k * k), m=m, k=k, kappa=kappa, nu=nu,
+    beta = np.sqrt(s / nu + k * k)
+    return _unforced_at(s, beta, (s / nu) / (beta + k), m=m, k=k, kappa=kappa, nu=nu,
                         component=component)
 
 
-def _unforced_at(s: np.ndarray, beta: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
-                 component: str) -> np.ndarray:
-    """:func:`unforced` at beta on either sheet (:func:`_fluid_load_at`)."""
+def _unforced_at(s: np.ndarray, beta: np.ndarray, x: np.ndarray, *, m: int, k: float,
+                 kappa: float, nu: float, component: str) -> np.ndarray:
+    """:func:`unforced` at beta = k + x on either sheet (:func:`_fluid_load_at`)."""
     idx = components(m, k, component)
     E = kappa * elastic_matrix(m, k)[np.ix_(idx, idx)]
     out = np.broadcast_to(E, (s.size, len(idx), len(idx))).astype(complex)
     live = s != 0
     if live.any():
-        out[live] += _fluid_load_at(s[live], beta[live], m=m, k=k, nu=nu)[:, idx][:, :, idx]
+        out[live] += _fluid_load_at(s[live], beta[live], x[live], m=m, k=k,
+                                    nu=nu)[:, idx][:, :, idx]
     return out
 
 
@@ -254,7 +331,16 @@ def natural_matrix(beta: np.ndarray, *, m: int, k: float, kappa: float, nu: floa
     physical sheet for Re beta > 0, continued across the imaginary axis (the cut) for
     Re beta < 0; its determinant vanishes at the natural modes e^{gamma t}."""
     beta = np.asarray(beta, dtype=complex).ravel()
-    return _unforced_at(nu * (beta * beta - k * k), beta, m=m, k=k, kappa=kappa, nu=nu,
+    return natural_matrix_shifted(beta - k, m=m, k=k, kappa=kappa, nu=nu, component=component)
+
+
+def natural_matrix_shifted(x: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
+                           component: str = "coupled") -> np.ndarray:
+    """:func:`natural_matrix` at beta = k + x, with gamma = nu x (x + 2k) and the divided
+    differences of :func:`_interface_entries` taken from x itself: the overdamped modes of large
+    zeta crowd at beta -> k (gamma ~ 2 nu k x), where beta alone would lose the digits of x."""
+    x = np.asarray(x, dtype=complex).ravel()
+    return _unforced_at(nu * x * (x + 2 * k), k + x, x, m=m, k=k, kappa=kappa, nu=nu,
                         component=component) / kappa
 
 
@@ -276,6 +362,73 @@ def modal_residual(beta: complex, *, m: int, k: float, kappa: float, nu: float,
     return complex(det[0]), complex(_four_point(list(det[1:]), h))
 
 
+def _stencil_scale(x: complex, k: float) -> float:
+    """min(|x|, |beta|, |Re beta|) at beta = k + x (|beta| where Re beta = 0): the difference
+    stencil of the derivative stays well inside the distance to beta = k (where the roots
+    crowd), to the branch point beta = 0 and to the cut Re beta = 0 (on which roots can sit)."""
+    beta = k + x
+    return min(abs(x), abs(beta), abs(beta.real) or abs(beta))
+
+
+def modal_residual_shifted(x: complex, *, m: int, k: float, kappa: float, nu: float,
+                           component: str = "coupled") -> tuple[complex, complex]:
+    """:func:`modal_residual` in x = beta - k (:func:`natural_matrix_shifted`): the 4-point
+    derivative with step 1e-3 :func:`_stencil_scale`, so that the roots crowding at x -> 0
+    stay resolved and the stencil does not reach across the cut."""
+    x = complex(x)
+    h = _STEP * _stencil_scale(x, k)
+    points = x + h * np.array([0, 1, -1, 1j, -1j])
+    det = np.linalg.det(natural_matrix_shifted(points, m=m, k=k, kappa=kappa, nu=nu,
+                                               component=component))
+    return complex(det[0]), complex(_four_point(list(det[1:]), h))
+
+
+def modal_residual_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
+                              component: str = "coupled"):
+    """:func:`modal_residual_shifted` in mpmath (:func:`natural_determinant_shifted_mp`), the
+    derivative's step 10^(-dps/3) :func:`_stencil_scale`."""
+    x = mpmath.mpc(x)
+    h = mpmath.mpf(10) ** (-(mpmath.mp.dps // 3)) * _stencil_scale(complex(x), k)
+    det = [natural_determinant_shifted_mp(x + d, m=m, k=k, kappa=kappa, nu=nu,
+                                          component=component)
+           for d in (0, h, -h, 1j * h, -1j * h)]
+    return det[0], _four_point(det[1:], h)
+
+
+#: Relative accuracy of the entries of D (against max |D|), as eps_D = _ENTRY_EPS (1 + m^2/k):
+#: the logarithmic derivatives carry an absolute error ~eps m, which the divided differences Q
+#: over |beta - k| ~ k amplify; measured up to 2e-10 at m = 10, k = 0.01 and 3e-13 at m = 25,
+#: k = 1 against 30-digit mpmath (tests/test_cylinder_modes.py), within this bound.
+_ENTRY_EPS = 128 * 2.220446049250313e-16
+
+
+def _cofactors(D: np.ndarray) -> np.ndarray:
+    """The cofactor matrix of a b x b matrix (b <= 3), d det D/d D_ij, from its minors (defined
+    at a singular D too)."""
+    b = D.shape[0]
+    if b == 1:
+        return np.ones((1, 1), dtype=complex)
+    C = np.empty_like(D)
+    for i in range(b):
+        for j in range(b):
+            minor = np.delete(np.delete(D, i, 0), j, 1)
+            C[i, j] = (-1) ** (i + j) * np.linalg.det(minor)
+    return C
+
+
+def modal_noise_shifted(x: complex, *, m: int, k: float, kappa: float, nu: float,
+                        component: str = "coupled") -> float:
+    """An absolute bound on the error in x of a root at x caused by the rounding of D:
+    eps_D max|D| sum_ij |C_ij| / |d det/dx| (C the cofactors, eps_D the entries' relative
+    accuracy, _ENTRY_EPS (1 + m^2/k)); at least 64 eps |x|."""
+    fixed = {"m": m, "k": k, "kappa": kappa, "nu": nu, "component": component}
+    D = natural_matrix_shifted(np.array([x]), **fixed)[0]
+    _, fp = modal_residual_shifted(x, **fixed)
+    eps_d = _ENTRY_EPS * (1 + m * m / k)
+    spread = eps_d * np.abs(D).max() * np.abs(_cofactors(D)).sum()
+    return float(max(spread / abs(fp), 64 * 2.220446049250313e-16 * abs(x)))
+
+
 def _logderivs_mp(m: int, z) -> tuple:
     """(z I_m'(z)/I_m(z), z K_m'(z)/K_m(z)) in mpmath (DLMF 10.29.2); (m, -m) at z = 0."""
     if z == 0:
@@ -289,21 +442,46 @@ def natural_determinant_mp(beta, *, m: int, k: float, kappa: float, nu: float,
     """det D(gamma)/kappa^b at gamma = nu (beta^2 - k^2) in mpmath at the current precision
     (beta on the physical sheet, gamma != 0): :func:`natural_matrix` with mpmath's Bessel
     functions."""
-    beta, k_, nu_ = mpmath.mpc(beta), mpmath.mpf(k), mpmath.mpf(nu)
-    s = nu_ * (beta * beta - k_ * k_)
-    lam = _logderivs_mp(m, k_)
-    L = _logderivs_mp(m, beta)
-    Z = []
-    for side in range(2):
-        V, T = (mpmath.matrix(a) for a in _interface_entries(m, k_, s, nu_, lam[side], L[side]))
-        Z.append(T * mpmath.inverse(V))
+    return natural_determinant_shifted_mp(mpmath.mpc(beta) - k, m=m, k=k, kappa=kappa, nu=nu,
+                                          component=component)
+
+
+def natural_matrix_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
+                              component: str = "coupled"):
+    """:func:`natural_matrix_shifted` (beta = k + x, x != 0) in mpmath, accurate to about the
+    current precision: the Bessel functions and the divided difference
+    Q = (L - Lambda)/(x (x + 2k)) are evaluated with the digits that the cancellation L - Lambda
+    costs added (log10((1 + k)/|x|)), and the matrix is rounded back to the current precision."""
+    x = mpmath.mpc(x)
+    extra = max(0, int(mpmath.ceil(mpmath.log10((1 + k) / abs(x))))) + 5
     idx = components(m, k, component)
-    E = elastic_matrix(m, k)
     D = mpmath.matrix(len(idx), len(idx))
-    for a, i in enumerate(idx):
-        for c, j in enumerate(idx):
-            D[a, c] = s * (Z[0][i, j] - Z[1][i, j]) * _S[j] / _S[i] / kappa + E[i, j]
-    return mpmath.det(D)
+    with mpmath.extradps(extra):
+        k_, nu_ = mpmath.mpf(k), mpmath.mpf(nu)
+        b2k = x * (x + 2 * k_)
+        s = nu_ * b2k
+        lam = _logderivs_mp(m, k_)
+        L = _logderivs_mp(m, k_ + x)
+        Z = []
+        for side in range(2):
+            Q = (L[side] - lam[side]) / b2k
+            V, T = (mpmath.matrix(a) for a in _interface_entries(m, k_, s, nu_, lam[side],
+                                                                 L[side], Q))
+            Z.append(T * mpmath.inverse(V))
+        E = elastic_matrix(m, k)
+        for a, i in enumerate(idx):
+            for c, j in enumerate(idx):
+                D[a, c] = +(s * (Z[0][i, j] - Z[1][i, j]) * _S[j] / _S[i] / kappa + E[i, j])
+    return D
+
+
+def natural_determinant_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
+                                   component: str = "coupled"):
+    """det of :func:`natural_matrix_shifted_mp`: :func:`natural_determinant_mp` at beta = k + x."""
+    D = natural_matrix_shifted_mp(x, m=m, k=k, kappa=kappa, nu=nu, component=component)
+    with mpmath.extradps(10):
+        det = mpmath.det(D)
+    return +det
 
 
 def modal_residual_mp(beta, *, m: int, k: float, kappa: float, nu: float,
@@ -384,6 +562,23 @@ def modal_seeds(*, m: int, k: float, kappa: float, nu: float,
                                         component=component), starts, ZETA_START, zeta)
 
 
+#: The counting box's left edge Re beta = _CUT_GAP k (just off the cut, the imaginary beta axis)
+#: and its size in units of the largest asymptotic |beta| (:func:`_counting_box`).
+_CUT_GAP = 1e-6
+_BOX = 3.0
+
+
+def _counting_box(m: int, k: float, kappa: float, nu: float,
+                  component: str) -> tuple[float, float, float]:
+    """The rectangle of x = beta - k in which the count-driven finder counts and finds the modes:
+    _CUT_GAP k <= Re beta <= B, |Im beta| <= B, B = _BOX max(k, |beta| of each asymptotic
+    estimate of :func:`_asymptotic_modes`); a root closer to the cut than _CUT_GAP k is a decay
+    on the cut to working accuracy and is not offered."""
+    gammas = np.array(_asymptotic_modes(m, k, kappa, nu, component))
+    size = _BOX * max(k, float(np.abs(np.sqrt(gammas / nu + k * k)).max()))
+    return (-k + _CUT_GAP * k, size - k, size)
+
+
 def modal_system(*, m: int, k: float, kappa: float, nu: float,
                  component: str = "coupled") -> ModalSystem:
     """Natural modes of the mode (m, k) of the cylinder as a :class:`ModalSystem` in beta.
@@ -413,7 +608,18 @@ def modal_system(*, m: int, k: float, kappa: float, nu: float,
         raise invalid("zeta", zeta, f"in [{ZETA_MIN:g}, {top:.4g}] for m = {p.m}, k = {p.k:g} "
                       "(zeta = nu/sqrt(kappa): the range over which the mode count is verified)")
     fixed = {"m": p.m, "k": p.k, "kappa": p.kappa, "nu": p.nu, "component": p.component}
-    nu_, k2 = p.nu, p.k * p.k
+    nu_, k_, k2 = p.nu, p.k, p.k * p.k
+    if p.k > 0 and zeta > ZETA_START_CHECKED:
+        return ModalSystem(
+            name="cylinder", n_modes=len(components(p.m, p.k, p.component)),
+            residual=functools.partial(modal_residual_shifted, **fixed),
+            residual_mp=functools.partial(modal_residual_shifted_mp, **fixed),
+            seeds=lambda: (beta - k_ for beta in _deflated_seeds(p.m, k_, p.kappa, nu_,
+                                                                 p.component)),
+            to_gamma=lambda x: nu_ * x * (x + 2 * k_), sheet_margin=lambda x: x.real + k_,
+            region=_counting_box(p.m, k_, p.kappa, nu_, p.component),
+            determinant=lambda x: np.linalg.det(natural_matrix_shifted(x, **fixed)),
+            noise=functools.partial(modal_noise_shifted, **fixed), branch=-k_)
 
     return ModalSystem(name="cylinder", n_modes=len(components(p.m, p.k, p.component)),
                        residual=functools.partial(modal_residual, **fixed),

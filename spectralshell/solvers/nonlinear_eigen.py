@@ -198,7 +198,8 @@ def _remembered(T: Matrix) -> Callable[[np.ndarray], np.ndarray]:
 
 def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | None = None,
                      n_start: int = 16, n_max: int = 1024, max_phase: float = 0.5,
-                     min_width: float = 1e-14, pieces: int | None = None) -> int:
+                     min_width: float = 1e-14, pieces: int | None = None,
+                     near_zeros: bool = False) -> int:
     """Number of eigenvalues (with multiplicity) inside the closed polygon ``vertices``
     (counter-clockwise) from the winding number of det T along it.
 
@@ -216,6 +217,11 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
     refined into ``pieces`` equal parts, all of a level's new points evaluated together (default
     4 for a :class:`StructuredMatrix`, whose batched phases cost little more than one, so that
     fewer levels reach a nearby eigenvalue; 2, a bisection, otherwise).
+    ``near_zeros`` (with ``dT``): a sub-interval of length h must also have
+    |h tr(T^{-1} T')| <= 2 ``max_phase`` at its midpoint, the modulus rather than the imaginary
+    part, so that any eigenvalue (or pole) within about h/2 of it forces a refinement: a turn
+    that aliases by 2 pi needs one that close, which the imaginary part alone can miss where the
+    turns of a nearby zero and pole cancel at the midpoint.
     It needs T only continuous up to the contour (and dT only at the midpoints): an edge may run along a branch cut, evaluated as its limit from one side (for
     a principal square root in T, points x + 0j with a positive-zero imaginary part give the limit
     from Im s > 0), and a vertex may sit on a branch point, where tr(T^{-1} T') is infinite.
@@ -248,8 +254,9 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
                 turn = float(np.angle(p_hi / p_lo))
                 agrees = abs(turn) <= max_phase
                 if agrees and dT is not None:
-                    estimate = ((b - a) * (hi - lo) * _log_derivative(T, dT, a + (b - a) * 0.5 * (lo + hi))).imag
-                    agrees = abs(turn - estimate) <= max_phase / 2
+                    change = (b - a) * (hi - lo) * _log_derivative(T, dT, a + (b - a) * 0.5 * (lo + hi))
+                    agrees = abs(turn - change.imag) <= max_phase / 2 and \
+                        (not near_zeros or abs(change) <= 2 * max_phase)
                 if agrees:
                     total += turn
                     continue
