@@ -290,37 +290,46 @@ def _hill_system(p: CylinderParams) -> HillSystem:
 # pressure's I_m(k r), K_m(k r) do not depend on gamma. An overdamped mode with
 # -nu k^2 < gamma < 0 has a real beta in (0, k): on the physical sheet, off the cut.
 
-#: Range of zeta = nu/sqrt(kappa) over which the seeds find every mode and the count was checked
-#: by the argument principle (tests/test_cylinder_modes.py), for m <= 200, k <= 10; the upper end
-#: depends on m and k (:func:`zeta_max`), ZETA_MAX is its largest value.
+#: Range of zeta = nu/sqrt(kappa) over which the modes are offered (:func:`zeta_max` gives the
+#: upper end for each m and k; ZETA_MAX is its largest value).
 ZETA_MIN = 1e-8
-ZETA_MAX = 0.3
-#: Where the seeds' continuation in zeta starts: below ZETA_START_CHECKED the asymptotic seeds
-#: alone find every mode.
+ZETA_MAX = 1e3
+#: Where the seeds' continuation in zeta starts (k = 0): below ZETA_START_CHECKED the asymptotic
+#: seeds alone find every mode; above it, for k > 0, the count-driven finder takes over.
 ZETA_START = 0.04
 ZETA_START_CHECKED = 0.05
-#: (largest m of a tier, its upper end of zeta) above ZETA_START_CHECKED (checked on grids).
+#: k = 0 (the fibre pair, axial): (largest m of a tier, its upper end of zeta), checked on grids.
 _ZETA_TOPS = ((25, 0.3), (60, 0.15))
+#: 0 < k <= K_COUNTED: (largest m of a tier, its upper end of zeta) for the count-driven finder,
+#: checked on grids of (m, k, zeta) (tests/test_cylinder_modes.py).
+K_COUNTED = 10.0
+_COUNTED_TOPS = ((25, 1e3),)
 #: Relative step of the 4-point derivative of the determinant in beta (error ~ step^4).
 _STEP = 1e-3
 
 
 def zeta_max(m: int, k: float, component: str = "coupled") -> float:
-    """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered:
-    max(0.05, min(z_m, 2/k^2)) with z_m = 0.3 for m <= 25, 0.15 for m <= 60 and 0.05 above (the
-    continuation in zeta loses a mode near the cut at zeta 0.2-0.3 for m = 35..60 and at some
-    zeta in 0.1-0.3 for m = 100, 200).
+    """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered.
 
-    Above it the number of modes on the physical sheet can exceed the number b of components (a
-    conjugate pair of overdamped modes splits into two real decays in -nu k^2 < gamma < 0: four
-    modes at m = 1, k = 2, zeta = 1 and at m = 1, k = 10, zeta = 0.3), which the root finder,
-    looking for b modes, does not yet certify; up to 0.05 the asymptotic seeds alone were
-    checked for m <= 200, k <= 10, and up to the end here also the continuation in zeta
-    (tests/test_cylinder_modes.py). At k = 0 the fibre pair also stops at
-    :func:`spectralshell.models.fibre.zeta_max` (not reached below 0.3)."""
-    tier = next((end for largest, end in _ZETA_TOPS if m <= largest), ZETA_START_CHECKED)
-    top = max(ZETA_START_CHECKED, min(tier, 2.0 / k**2)) if k > 0 else tier
-    if k == 0 and component == "coupled":
+    * 0 < k <= 10 (the count-driven finder above zeta = 0.05, :func:`modal_system`): 1e3 for
+      m <= 25, 0.05 above. The number of modes is the argument-principle count in a box of the
+      beta plane, so it may exceed the number b of components (four at m = 1, k = 2, zeta = 1:
+      a conjugate pair of overdamped modes splits into two real decays in -nu k^2 < gamma < 0).
+      Checked on grids of m, k and zeta in {0.1, ..., 1e3} against counts on a box twice as
+      large and against 30-digit roots (tests/test_cylinder_modes.py).
+    * k = 0 (no count-driven finder; the seeds and their continuation in zeta):
+      z_m = 0.3 for m <= 25, 0.15 for m <= 60 and 0.05 above (the continuation loses a mode near
+      the cut at zeta 0.2-0.3 for m = 35..60 and at some zeta in 0.1-0.3 for m = 100, 200); the
+      fibre pair also stops at :func:`spectralshell.models.fibre.zeta_max` (not reached below
+      0.3).
+    * k > 10: 0.05, up to which the asymptotic seeds alone were checked (m <= 200).
+    """
+    if 0 < k <= K_COUNTED:
+        return next((end for largest, end in _COUNTED_TOPS if m <= largest), ZETA_START_CHECKED)
+    if k > 0:
+        return ZETA_START_CHECKED
+    top = next((end for largest, end in _ZETA_TOPS if m <= largest), ZETA_START_CHECKED)
+    if component == "coupled":
         top = min(top, fibre.zeta_max(m))
     return top
 
@@ -539,6 +548,19 @@ def _deflated_seeds(m: int, k: float, kappa: float, nu: float, component: str) -
         yield root
 
 
+def _shifted_seeds(*, m: int, k: float, kappa: float, nu: float,
+                   component: str) -> Iterator[complex]:
+    """Starting points x = beta - k of the count-driven finder: the roots of
+    :func:`_deflated_seeds`, then the asymptotic estimates of :func:`_asymptotic_modes`
+    themselves (at large zeta some lie on the cut, the imaginary beta axis, where the modes
+    that have reached it are)."""
+    for beta in _deflated_seeds(m, k, kappa, nu, component):
+        yield beta - k
+    for gamma in _asymptotic_modes(m, k, kappa, nu, component):
+        beta = np.sqrt(complex(gamma) / nu + k * k)
+        yield complex(abs(beta.real), abs(beta.imag)) - k
+
+
 def modal_seeds(*, m: int, k: float, kappa: float, nu: float,
                 component: str = "coupled") -> Iterator[complex]:
     """Starting points beta for the natural modes, best first (lazy).
@@ -614,8 +636,7 @@ def modal_system(*, m: int, k: float, kappa: float, nu: float,
             name="cylinder", n_modes=len(components(p.m, p.k, p.component)),
             residual=functools.partial(modal_residual_shifted, **fixed),
             residual_mp=functools.partial(modal_residual_shifted_mp, **fixed),
-            seeds=lambda: (beta - k_ for beta in _deflated_seeds(p.m, k_, p.kappa, nu_,
-                                                                 p.component)),
+            seeds=functools.partial(_shifted_seeds, **fixed),
             to_gamma=lambda x: nu_ * x * (x + 2 * k_), sheet_margin=lambda x: x.real + k_,
             region=_counting_box(p.m, k_, p.kappa, nu_, p.component),
             determinant=lambda x: np.linalg.det(natural_matrix_shifted(x, **fixed)),

@@ -255,7 +255,9 @@ def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
     (:func:`~spectralshell.solvers.nonlinear_eigen.count_by_winding` of f on the rectangle's
     edge), deflated Newton's method finds them, first from the seeds, then, while a rectangle
     holds fewer roots found than counted, from a grid of starts in it and in its four parts
-    (recursively). Returns (roots, evaluations, seeds tried).
+    (recursively). Returns (roots, roots on the cut, evaluations, seeds tried): the second are
+    the roots met on the way between the cut (sheet margin >= -error) and the box's left edge,
+    one of each conjugate pair, reported (``on_cut``) but not counted.
 
     Raises
     ------
@@ -268,6 +270,7 @@ def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
     lo, hi, top = system.region
     whole = (lo, hi, -top, top)
     roots: list[_Root] = []
+    cut: list[_Root] = []  # roots met left of the box, on the cut to within its width
     tally = {"evaluations": 0, "tried": 0}
 
     def count(box: tuple[float, float, float, float]) -> int:
@@ -281,7 +284,14 @@ def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
     def attempt(start: complex) -> None:
         root, n = _deflated_newton(system, start, [r.x for r in roots], tol, max_iter)
         tally["evaluations"] += n
-        if root is None or not inside(root.x, whole):
+        if root is None:
+            return
+        if not inside(root.x, whole):
+            if -root.step <= system.sheet_margin(root.x) and root.x.real <= lo and \
+                    abs(root.x.imag) < top:  # between the cut and the box: on the cut
+                x = root.x if root.x.imag >= 0 else complex(system.conjugate(root.x))
+                if not any(abs(x - r.x) <= DUPLICATE_RTOL * abs(x) for r in cut):
+                    cut.append(_with_noise(system, _Root(x, root.step)))
             return
         root = _with_noise(system, root)
         if abs(root.x.imag) <= root.step:  # real to within its error: is there a real root?
@@ -298,8 +308,8 @@ def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
             roots.extend([root, _Root(complex(system.conjugate(root.x)), root.step)])
 
     total = count(whole)
-    for seed in system.seeds():
-        if len(roots) >= total or tally["tried"] == max_seeds:
+    for seed in system.seeds():  # with nothing counted, the seeds may still meet the cut's
+        if (total and len(roots) >= total) or tally["tried"] == max_seeds:
             break
         tally["tried"] += 1
         attempt(complex(seed))
@@ -352,7 +362,7 @@ def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
 
     if len(roots) != total:
         search(whole, total, 0)
-    return roots, tally["evaluations"], tally["tried"]
+    return roots, cut, tally["evaluations"], tally["tried"]
 
 
 def find_modes(system: ModalSystem, *, count: int | None = None, precision: int | None = None,
@@ -384,8 +394,8 @@ def find_modes(system: ModalSystem, *, count: int | None = None, precision: int 
     if precision is not None:
         precision = require_int_in_range("precision", precision, 16, PRECISION_MAX)
     if system.region is not None:
-        every, evaluations, tried = _counted_roots(system, tol, max_iter, max_seeds)
-        found = [r for r in every if r.x.imag >= 0]
+        every, cut, evaluations, tried = _counted_roots(system, tol, max_iter, max_seeds)
+        found = [r for r in every if r.x.imag >= 0] + cut
     else:
         found, evaluations, tried = _seeded_roots(system, tol, max_iter, max_seeds)
     if count is None:
