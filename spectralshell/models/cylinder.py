@@ -24,9 +24,13 @@ row is the Mathieu equation with lambda0^2 = kappa (q - 1)/M(m, k),
 M = I_m(k)/(k I_m'(k)) - K_m(k)/(k K_m'(k)) (added mass; 2/m at k = 0, the fibre's Rayleigh
 frequency kappa m (m^2 - 1)/2). ``nu = 0`` therefore reuses the Mathieu model.
 
-Natural modes (tau = 0): det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2) (:func:`modal_system`,
-one mode per component; the cut of D is gamma <= -nu k^2, ``HillSystem.branch_point``), from which
-the Floquet exponents are continued.
+Natural modes (tau = 0): det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2) (:func:`modal_system`;
+the cut of D is gamma <= -nu k^2, ``HillSystem.branch_point``), from which the Floquet exponents
+are continued. Up to zeta = nu/sqrt(kappa) = 0.05 (and at k = 0) one mode per component from
+seeds; above it, for 0 < k <= 10, as many as an argument-principle count finds in a box of the
+beta plane (a conjugate pair can split into two real decays, so there may be more modes than
+components), solved in x = beta - k, where those decays crowd as zeta grows, up to zeta = 1e3
+(:func:`zeta_max`).
 """
 
 from __future__ import annotations
@@ -300,10 +304,14 @@ ZETA_START = 0.04
 ZETA_START_CHECKED = 0.05
 #: k = 0 (the fibre pair, axial): (largest m of a tier, its upper end of zeta), checked on grids.
 _ZETA_TOPS = ((25, 0.3), (60, 0.15))
-#: 0 < k <= K_COUNTED: (largest m of a tier, its upper end of zeta) for the count-driven finder,
-#: checked on grids of (m, k, zeta) (tests/test_cylinder_modes.py).
-K_COUNTED = 10.0
-_COUNTED_TOPS = ((25, 1e3),)
+#: Where the count-driven finder offers zeta above ZETA_START_CHECKED up to ZETA_COUNTED:
+#: K_COUNTED[0] <= k <= K_COUNTED[1], m <= M_COUNTED (checked on grids of (m, k, zeta),
+#: tests/test_cylinder_modes.py). Below k = 0.5 its error bounds exceed 1e-10 |gamma| (1.4e-10
+#: at m = 1, k = 0.1: the divided differences over |beta - k| ~ k amplify the Bessel kernels'
+#: rounding), so the seeds' range applies there.
+K_COUNTED = (0.5, 10.0)
+M_COUNTED = 25
+ZETA_COUNTED = 1e3
 #: Relative step of the 4-point derivative of the determinant in beta (error ~ step^4).
 _STEP = 1e-3
 
@@ -311,27 +319,33 @@ _STEP = 1e-3
 def zeta_max(m: int, k: float, component: str = "coupled") -> float:
     """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered.
 
-    * 0 < k <= 10 (the count-driven finder above zeta = 0.05, :func:`modal_system`): 1e3 for
-      m <= 25, 0.05 above. The number of modes is the argument-principle count in a box of the
-      beta plane, so it may exceed the number b of components (four at m = 1, k = 2, zeta = 1:
-      a conjugate pair of overdamped modes splits into two real decays in -nu k^2 < gamma < 0).
-      Checked on grids of m, k and zeta in {0.1, ..., 1e3} against counts on a box twice as
-      large and against 30-digit roots (tests/test_cylinder_modes.py).
-    * k = 0 (no count-driven finder; the seeds and their continuation in zeta):
-      z_m = 0.3 for m <= 25, 0.15 for m <= 60 and 0.05 above (the continuation loses a mode near
-      the cut at zeta 0.2-0.3 for m = 35..60 and at some zeta in 0.1-0.3 for m = 100, 200); the
-      fibre pair also stops at :func:`spectralshell.models.fibre.zeta_max` (not reached below
-      0.3).
-    * k > 10: 0.05, up to which the asymptotic seeds alone were checked (m <= 200).
+    * m <= 25, 0.5 <= k <= 10 (:func:`counted`; the count-driven finder above zeta = 0.05,
+      :func:`modal_system`): 1e3. The number of modes is the argument-principle count in a box
+      of the beta plane, so it may exceed the number b of components (four at m = 1, k = 2,
+      zeta = 1: a conjugate pair of overdamped modes splits into two real decays in
+      -nu k^2 < gamma < 0). Checked on grids of m, k and zeta in {0.06, ..., 1e3} against counts
+      on a box twice as large and against 30-digit roots (tests/test_cylinder_modes.py).
+    * otherwise (the seeds, and at k = 0 their continuation in zeta, find b modes):
+      max(0.05, min(z_m, 2/k^2)) (z_m alone at k = 0), z_m = 0.3 for m <= 25, 0.15 for m <= 60
+      and 0.05 above (the continuation loses a mode near the cut at zeta 0.2-0.3 for m = 35..60
+      and at some zeta in 0.1-0.3 for m = 100, 200; beyond 2/k^2 the modes can outnumber the
+      components); the fibre pair also stops at :func:`spectralshell.models.fibre.zeta_max`
+      (not reached below 0.3). The count-driven grids do not yet cover m > 25, and below
+      k = 0.5 its error bounds exceed 1e-10 |gamma|.
     """
-    if 0 < k <= K_COUNTED:
-        return next((end for largest, end in _COUNTED_TOPS if m <= largest), ZETA_START_CHECKED)
+    if counted(m, k):
+        return ZETA_COUNTED
+    tier = next((end for largest, end in _ZETA_TOPS if m <= largest), ZETA_START_CHECKED)
     if k > 0:
-        return ZETA_START_CHECKED
-    top = next((end for largest, end in _ZETA_TOPS if m <= largest), ZETA_START_CHECKED)
+        return max(ZETA_START_CHECKED, min(tier, 2.0 / k**2))
     if component == "coupled":
-        top = min(top, fibre.zeta_max(m))
-    return top
+        tier = min(tier, fibre.zeta_max(m))
+    return tier
+
+
+def counted(m: int, k: float) -> bool:
+    """Whether the count-driven finder serves (m, k) above zeta = ZETA_START_CHECKED."""
+    return m <= M_COUNTED and K_COUNTED[0] <= k <= K_COUNTED[1]
 
 
 def natural_matrix(beta: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
@@ -372,11 +386,14 @@ def modal_residual(beta: complex, *, m: int, k: float, kappa: float, nu: float,
 
 
 def _stencil_scale(x: complex, k: float) -> float:
-    """min(|x|, |beta|, |Re beta|) at beta = k + x (|beta| where Re beta = 0): the difference
+    """min(|x|, |beta|, max(|Re beta|, 1e-5 min(k, |beta|))) at beta = k + x: the difference
     stencil of the derivative stays well inside the distance to beta = k (where the roots
-    crowd), to the branch point beta = 0 and to the cut Re beta = 0 (on which roots can sit)."""
+    crowd), to the branch point beta = 0 and, down to 1e-8 k, to the cut Re beta = 0 (on which
+    roots can sit, 1e-6 k from the counting box's edge); nearer the cut it reaches across it
+    onto the continuation (analytic there), so that a root on the cut still has a derivative
+    accurate to ~1e-8."""
     beta = k + x
-    return min(abs(x), abs(beta), abs(beta.real) or abs(beta))
+    return min(abs(x), abs(beta), max(abs(beta.real), 1e-5 * min(k, abs(beta))))
 
 
 def modal_residual_shifted(x: complex, *, m: int, k: float, kappa: float, nu: float,
@@ -607,13 +624,22 @@ def modal_system(*, m: int, k: float, kappa: float, nu: float,
 
     Notes
     -----
-    x = beta = sqrt(gamma/nu + k^2) (Re beta > 0 on the physical sheet), gamma = nu (beta^2 - k^2),
-    residual det D(gamma)/kappa^b (:func:`modal_residual`, :func:`modal_residual_mp`), seeds
-    :func:`modal_seeds`. n_modes is the number b of components of the set (3 coupled, 2 for the
-    sausage pair (m = 0) and the fibre pair (k = 0), 1 for torsion or axial): one oscillation
-    (gamma -> i lambda0 as nu -> 0) for a set containing X^r, one Stokes-layer relaxation per
-    tangential component. Argument-principle counts of det D over the first beta-quadrant find
-    exactly b roots (tests/test_cylinder_modes.py); at k = 0 the pair is the fibre's.
+    Up to zeta = nu/sqrt(kappa) = 0.05, and at k = 0: x = beta = sqrt(gamma/nu + k^2)
+    (Re beta > 0 on the physical sheet), gamma = nu (beta^2 - k^2), residual det D(gamma)/kappa^b
+    (:func:`modal_residual`, :func:`modal_residual_mp`), seeds :func:`modal_seeds`. n_modes is
+    the number b of components of the set (3 coupled, 2 for the sausage pair (m = 0) and the
+    fibre pair (k = 0), 1 for torsion or axial): one oscillation (gamma -> i lambda0 as
+    nu -> 0) for a set containing X^r, one Stokes-layer relaxation per tangential component.
+    Argument-principle counts of det D over the first beta-quadrant find exactly b roots there
+    (tests/test_cylinder_modes.py); at k = 0 the pair is the fibre's.
+
+    Above zeta = 0.05 with k > 0: x = beta - k, gamma = nu x (x + 2k)
+    (:func:`modal_residual_shifted`: the overdamped modes crowd at beta -> k as zeta grows,
+    gamma ~ 2 nu k x, and x keeps their digits), with a counting ``region``
+    (:func:`_counting_box`): the root finder counts the roots in it by the argument principle and
+    finds that many, so the number of modes is the count's (four at m = 1, k = 2, zeta = 1).
+    Roots nearer the cut than the box (Re beta < 1e-6 k) that the finder meets are reported as
+    on the cut, not counted. Error estimates include :func:`modal_noise_shifted`.
 
     Raises
     ------
@@ -631,7 +657,7 @@ def modal_system(*, m: int, k: float, kappa: float, nu: float,
                       "(zeta = nu/sqrt(kappa): the range over which the mode count is verified)")
     fixed = {"m": p.m, "k": p.k, "kappa": p.kappa, "nu": p.nu, "component": p.component}
     nu_, k_, k2 = p.nu, p.k, p.k * p.k
-    if p.k > 0 and zeta > ZETA_START_CHECKED:
+    if counted(p.m, p.k) and zeta > ZETA_START_CHECKED:
         return ModalSystem(
             name="cylinder", n_modes=len(components(p.m, p.k, p.component)),
             residual=functools.partial(modal_residual_shifted, **fixed),
