@@ -25,6 +25,17 @@ With ``precision`` digits each root is polished by Newton's method in mpmath at
 the error estimate then becomes max(step, 10^-precision |x|) mapped to gamma, and the difference
 between the double and the polished root is reported as ``double_error``.
 
+Count-driven search. A system with a ``region`` (a rectangle of the x plane closed under
+conjugation) has as many modes as the argument principle counts there
+(:func:`~spectralshell.solvers.nonlinear_eigen.count_by_winding` of f on its edge, with the
+``near_zeros`` refinement): deflated Newton's method (each root found and its conjugate divided
+out) runs from the seeds, then, while a rectangle holds fewer roots than it counts, from a grid
+of starts in it and recursively in its four parts, whose counts must add up to it. A root whose
+imaginary part is below its error is tested by Newton's method along the real axis (a real root,
+or a complex pair). Roots met between the cut and the rectangle are reported on the cut, not
+counted. The model's ``noise`` (the residual's own rounding carried to the root) floors each
+error estimate.
+
 Error estimates are absolute in gamma: |gamma(x + e_x) - gamma(x)| (maximised over the real and
 imaginary directions of the perturbation).
 """
@@ -33,6 +44,7 @@ from __future__ import annotations
 
 import cmath
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import mpmath
@@ -56,21 +68,31 @@ class _Root:
     step: float
 
 
-def _newton(system: ModalSystem, x: complex, tol: float, max_iter: int) -> tuple[_Root | None, int]:
-    """Newton's method in double from x; (root, evaluations) or (None, evaluations)."""
+def _newton(system: ModalSystem, x: complex, tol: float, max_iter: int, *,
+            known: Iterable[complex] = (), real: bool = False) -> tuple[_Root | None, int]:
+    """Newton's method in double from x; (root, evaluations) or (None, evaluations).
+
+    The step is capped at |x - system.branch|/2. ``known`` roots r are divided out (the step is
+    that of f/prod(x - r)); ``real``: only the real part of each step is taken (along the real
+    axis, where f is real for a real problem: tells a real root from a complex pair whose
+    imaginary part is below the error)."""
+    known = list(known)
     previous = math.inf
     for k in range(1, max_iter + 1):
         try:
             f, fp = system.residual(x)
         except (ZeroDivisionError, OverflowError, ParameterError):
             return None, k
-        if fp == 0 or not (cmath.isfinite(f) and cmath.isfinite(fp)):
+        g = fp - f * sum(1.0 / (x - r) for r in known)
+        if g == 0 or not (cmath.isfinite(f) and cmath.isfinite(g)):
             return None, k
-        step = f / fp
-        size, scale = abs(step), abs(x)
-        if size > 0.5 * scale:
-            step *= 0.5 * scale / size
-            size = 0.5 * scale
+        step = f / g
+        if real:
+            step = complex(step.real, 0.0)
+        size, cap = abs(step), 0.5 * abs(x - system.branch)
+        if size > cap:
+            step *= cap / size
+            size = cap
         x = x - step
         if x == 0 or not cmath.isfinite(x):
             return None, k
@@ -178,67 +200,11 @@ class _ScalarDeterminant:
         return np.array(out, dtype=complex)
 
 
-def _deflated_newton(system: ModalSystem, x: complex, known: list[complex], tol: float,
-                     max_iter: int) -> tuple[_Root | None, int]:
-    """Newton's method on f(x)/prod(x - r) over the ``known`` roots r from x, the step capped at
-    |x - system.branch|/2; stops as :func:`_newton` (step <= tol |x|, or stalled at the rounding
-    floor). (root, evaluations) or (None, evaluations)."""
-    previous = math.inf
-    for k in range(1, max_iter + 1):
-        try:
-            f, fp = system.residual(x)
-        except (ZeroDivisionError, OverflowError, ParameterError):
-            return None, k
-        if not (cmath.isfinite(f) and cmath.isfinite(fp)):
-            return None, k
-        g = fp - f * sum(1.0 / (x - r) for r in known)
-        if g == 0 or not cmath.isfinite(g):
-            return None, k
-        step = f / g
-        size, cap = abs(step), 0.5 * abs(x - system.branch)
-        if size > cap:
-            step *= cap / size
-            size = cap
-        x = x - step
-        if x == 0 or not cmath.isfinite(x):
-            return None, k
-        if size <= tol * abs(x) or (size >= previous and size <= STALL_RTOL * abs(x)):
-            return _Root(x, max(size, FLOOR * abs(x))), k
-        previous = size
-    return None, max_iter
-
-
 def _with_noise(system: ModalSystem, root: _Root) -> _Root:
     """The root with its error estimate raised to the model's noise bound at it."""
     if system.noise is None:
         return root
     return _Root(root.x, max(root.step, float(system.noise(root.x))))
-
-
-def _real_newton(system: ModalSystem, x: float, known: list[complex], tol: float,
-                 max_iter: int) -> tuple[_Root | None, int]:
-    """Newton's method along the real axis (the real part of each step; f is real there for a
-    real problem) from x, deflating ``known``: (a real root, evaluations) or (None, evaluations).
-    Tells a real root from a complex pair whose imaginary part is below the error."""
-    previous = math.inf
-    for k in range(1, max_iter + 1):
-        try:
-            f, fp = system.residual(complex(x, 0.0))
-        except (ZeroDivisionError, OverflowError, ParameterError):
-            return None, k
-        g = fp - f * sum(1.0 / (x - r) for r in known)
-        if g == 0 or not (cmath.isfinite(f) and cmath.isfinite(g)):
-            return None, k
-        step = (f / g).real
-        size, cap = abs(step), 0.5 * abs(x - system.branch)
-        if size > cap:
-            step *= cap / size
-            size = cap
-        x -= step
-        if size <= tol * abs(x) or (size >= previous and size <= STALL_RTOL * abs(x)):
-            return _Root(complex(x, 0.0), max(size, FLOOR * abs(x))), k
-        previous = size
-    return None, max_iter
 
 
 #: Sub-rectangles of the count-driven search: deepest level, and Newton starts per side of the
@@ -282,7 +248,7 @@ def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
         return box[0] < x.real < box[1] and box[2] < x.imag < box[3]
 
     def attempt(start: complex) -> None:
-        root, n = _deflated_newton(system, start, [r.x for r in roots], tol, max_iter)
+        root, n = _newton(system, start, tol, max_iter, known=[r.x for r in roots])
         tally["evaluations"] += n
         if root is None:
             return
@@ -295,7 +261,8 @@ def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
             return
         root = _with_noise(system, root)
         if abs(root.x.imag) <= root.step:  # real to within its error: is there a real root?
-            real, n = _real_newton(system, root.x.real, [r.x for r in roots], tol, max_iter)
+            real, n = _newton(system, complex(root.x.real, 0.0), tol, max_iter,
+                              known=[r.x for r in roots], real=True)
             tally["evaluations"] += n
             if real is not None and abs(real.x - root.x) <= 2 * root.step:
                 root = _with_noise(system, real)
@@ -322,7 +289,8 @@ def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
             a, b, c, d = box
             for i in range(_GRID):
                 for j in range(_GRID):
-                    attempt(complex(a + (b - a) * (i + 0.5) / _GRID, c + (d - c) * (j + 0.4) / _GRID))
+                    attempt(complex(a + (b - a) * (i + 0.5) / _GRID,
+                                    c + (d - c) * (j + 0.4) / _GRID))
                     if held() >= n:
                         break
                 if held() >= n:

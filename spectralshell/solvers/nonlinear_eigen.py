@@ -254,7 +254,8 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
                 turn = float(np.angle(p_hi / p_lo))
                 agrees = abs(turn) <= max_phase
                 if agrees and dT is not None:
-                    change = (b - a) * (hi - lo) * _log_derivative(T, dT, a + (b - a) * 0.5 * (lo + hi))
+                    centre = a + (b - a) * 0.5 * (lo + hi)
+                    change = (b - a) * (hi - lo) * _log_derivative(T, dT, centre)
                     agrees = abs(turn - change.imag) <= max_phase / 2 and \
                         (not near_zeros or abs(change) <= 2 * max_phase)
                 if agrees:
