@@ -192,7 +192,7 @@ def test_cli_modes_cylinder():
     ref = _modes(m=2, k=1.0, kappa=1.0, nu=0.01).gamma
     assert data["model"] == "cylinder" and data["params"]["k"] == 1.0
     assert str(ref[0].real)[:10] in out.stdout
-    bad = subprocess.run(cmd[:-1] + ["50"], capture_output=True, text=True, timeout=120)
+    bad = subprocess.run(cmd[:-1] + ["2000"], capture_output=True, text=True, timeout=120)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "zeta" in bad.stderr
 
 
@@ -413,6 +413,6 @@ def test_cli_exponents_cylinder():
     assert data["model"] == "cylinder" and len(data["exponents"]) == len(ref.gamma)
     listed = np.array([complex(g["re"], g["im"]) for g in data["exponents"]])
     np.testing.assert_allclose(np.sort_complex(listed), np.sort_complex(ref.gamma), atol=1e-12)
-    bad = subprocess.run(cmd[:-4] + ["--nu", "50", "--tau", "0.1"], capture_output=True,
+    bad = subprocess.run(cmd[:-4] + ["--nu", "2000", "--tau", "0.1"], capture_output=True,
                          text=True, timeout=120)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "zeta" in bad.stderr
