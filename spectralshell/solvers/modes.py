@@ -260,12 +260,14 @@ def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
                     cut.append(_with_noise(system, _Root(x, root.step)))
             return
         root = _with_noise(system, root)
-        if abs(root.x.imag) <= root.step:  # real to within its error: is there a real root?
+        if abs(root.x.imag) <= root.step:  # real to within its error: a real root
             real, n = _newton(system, complex(root.x.real, 0.0), tol, max_iter,
                               known=[r.x for r in roots], real=True)
             tally["evaluations"] += n
             if real is not None and abs(real.x - root.x) <= 2 * root.step:
                 root = _with_noise(system, real)
+            else:  # (a pair closer than its error would count one more than is found: refused)
+                root = _Root(complex(root.x.real, 0.0), root.step + abs(root.x.imag))
         if any(abs(root.x - r.x) <= max(DUPLICATE_RTOL * abs(root.x), r.step + root.step)
                for r in roots):
             return
