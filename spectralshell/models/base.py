@@ -196,7 +196,19 @@ class ModalSystem:
         are bounded), < 0 on an unphysical one, 0 on the branch cut between them.
     conjugate : x -> the x of the root with conjugate gamma (real problems: roots pair up).
     n_modes : number of distinct roots on the physical sheet with Im gamma >= 0 (the whole
-        natural-mode spectrum, counting one of each conjugate pair).
+        natural-mode spectrum, counting one of each conjugate pair); ignored when ``region`` is
+        given (the count then sets it).
+    region : None, or (re_lo, re_hi, im_max): a rectangle re_lo <= Re x <= re_hi,
+        |Im x| <= im_max of the physical sheet, closed under ``conjugate`` (x -> conj x) and
+        holding every mode the model offers, in which ``determinant`` is analytic. A root finder
+        then counts the roots inside by the argument principle and finds that many, so the
+        number of modes is the count's, not a fixed n_modes.
+    determinant : with ``region``, x (complex array) -> f(x) (the residual's f, vectorised).
+    noise : None, or x -> an absolute bound on the error of a root at x that the residual's
+        own rounding causes (|error of f| / |f'|); the root's error estimate is at least this.
+    branch : the x of the branch point (beta = 0): a root finder's Newton step is capped at
+        |x - branch|/2, which keeps an iterate from jumping across it onto another sheet (0 for
+        x = beta; -k for the shifted x = beta - k).
     """
 
     name: str
@@ -207,6 +219,10 @@ class ModalSystem:
     sheet_margin: Callable[[Any], Any]
     n_modes: int
     conjugate: Callable[[Any], Any] = _conjugate
+    region: tuple[float, float, float] | None = None
+    determinant: Callable[[np.ndarray], np.ndarray] | None = None
+    noise: Callable[[complex], float] | None = None
+    branch: float = 0.0
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

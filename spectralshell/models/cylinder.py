@@ -24,9 +24,13 @@ row is the Mathieu equation with lambda0^2 = kappa (q - 1)/M(m, k),
 M = I_m(k)/(k I_m'(k)) - K_m(k)/(k K_m'(k)) (added mass; 2/m at k = 0, the fibre's Rayleigh
 frequency kappa m (m^2 - 1)/2). ``nu = 0`` therefore reuses the Mathieu model.
 
-Natural modes (tau = 0): det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2) (:func:`modal_system`,
-one mode per component; the cut of D is gamma <= -nu k^2, ``HillSystem.branch_point``), from which
-the Floquet exponents are continued.
+Natural modes (tau = 0): det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2) (:func:`modal_system`;
+the cut of D is gamma <= -nu k^2, ``HillSystem.branch_point``), from which the Floquet exponents
+are continued. Up to zeta = nu/sqrt(kappa) = 0.05 (and at k = 0) one mode per component from
+seeds; above it, for 0 < k <= 10, as many as an argument-principle count finds in a box of the
+beta plane (a conjugate pair can split into two real decays, so there may be more modes than
+components), solved in x = beta - k, where those decays crowd as zeta grows, up to zeta = 1e3
+(:func:`zeta_max`).
 """
 
 from __future__ import annotations
@@ -74,27 +78,40 @@ def components(m: int, k: float, component: str = "coupled") -> list[int]:
     return [0, 1, 2]
 
 
-def _interface_entries(m: int, k: float, s, nu, lam, L) -> tuple[list, list]:
-    """V, T at r = 1 per amplitude (a, A, C) as 3 x 3 nested lists of entries: numpy arrays over
-    s (broadcast by the caller) or mpmath numbers."""
+def _interface_entries(m: int, k: float, s, nu, lam, L, Q) -> tuple[list, list]:
+    """V, T at r = 1 per amplitude (s a, A, (C + i k s a) nu/s) as 3 x 3 nested lists of entries:
+    numpy arrays over s (broadcast by the caller) or mpmath numbers.
+
+    Notes
+    -----
+    In the amplitudes (a, A, C) of the pressure and the two vortical potentials, the pressure's
+    column carries 1/s and, as beta -> k (s -> 0), the gradient part of C's column tends to
+    -i k s times it, so that V is nearly singular and H = s T V^-1 loses digits like
+    eps nu k^2/|s|. The columns used here are s times the pressure's and the combination
+    (C + i k s a) nu/s, in which that cancellation is done in closed form: its entries hold
+    Q = (L - Lambda)/(beta^2 - k^2), a divided difference of the logarithmic derivative
+    (:func:`_divided_difference`). A change of columns leaves T V^-1 unchanged.
+    """
     b2 = s / nu + k * k
-    V = [[-lam / s, 1j * m, 1j * k * L],
-         [-1j * m / s, -L, -m * k],
-         [-1j * k / s, 0, -b2]]
-    du = [[-(k * k + m * m - lam) / s, 1j * m * (L - 1), 1j * k * (b2 + m * m - L)],
-          [-1j * m * (lam - 1) / s, -(b2 + m * m - L), -m * k * (L - 1)],
-          [-1j * k * lam / s, 0, -b2 * L]]
+    V = [[-lam, 1j * m, 1j * k * Q],
+         [-1j * m, -L, 0],
+         [-1j * k, 0, -1]]
+    du = [[-(k * k + m * m - lam), 1j * m * (L - 1), 1j * k * (1 - Q)],
+          [-1j * m * (lam - 1), -(b2 + m * m - L), -m * k * Q],
+          [-1j * k * lam, 0, -L - k * k * Q]]
     T = [[2 * nu * d for d in du[0]],
          [nu * (du[1][j] - V[1][j] + 1j * m * V[0][j]) for j in range(3)],
          [nu * (du[2][j] + 1j * k * V[0][j]) for j in range(3)]]
-    T[0][0] -= 1
+    T[0][0] -= s
+    T[0][2] -= 1j * k * nu
     return V, T
 
 
 def _interface(m: int, k: float, s: np.ndarray, nu: float, lam: np.ndarray | float,
-               L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """V, T (shape (len(s), 3, 3)): velocity and traction at r = 1 per amplitude (a, A, C)."""
-    V, T = _interface_entries(m, k, s, nu, lam, L)
+               L: np.ndarray, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """V, T (shape (len(s), 3, 3)): velocity and traction at r = 1 per amplitude
+    (:func:`_interface_entries`)."""
+    V, T = _interface_entries(m, k, s, nu, lam, L, Q)
 
     def stacked(rows: list) -> np.ndarray:
         return np.stack([np.stack(np.broadcast_arrays(s, *row)[1:], -1) for row in rows], -2)
@@ -109,28 +126,83 @@ def _pressure_logderivs(m: int, k: float) -> tuple[float, float]:
     return float(np.real(logderiv_i(m, k))), float(np.real(logderiv_k(m, k)))
 
 
+#: |beta - k| below which the divided difference Q comes from a Cauchy integral (in units of k),
+#: the circle's radius (in units of k) and its number of nodes (aliasing error ~ 2^-_NODES).
+_NEAR = 0.25
+_CIRCLE = 0.5
+_NODES = 64
+
+
+def _asymptote(m: int, z, side: int):
+    """+-sqrt(m^2 + z^2) (+ inside, - outside): the leading term of the logarithmic derivatives
+    z I_m'/I_m and z K_m'/K_m uniformly in m and z (DLMF 10.41.3-4)."""
+    return (1 - 2 * side) * np.sqrt(m * m + z * z)
+
+
+@functools.lru_cache(maxsize=256)
+def _circle_values(m: int, k: float, side: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes z_j = k + _CIRCLE k e^(2 pi i j/N) and g(z_j) = y(z_j) -+ sqrt(m^2 + z_j^2), y the
+    logarithmic derivative of I_m (side 0) or K_m (side 1)."""
+    z = k + _CIRCLE * k * np.exp(2j * np.pi * np.arange(_NODES) / _NODES)
+    y = logderiv_i(m, z) if side == 0 else logderiv_k(m, z)
+    return z, np.asarray(y, dtype=complex) - _asymptote(m, z, side)
+
+
+def _divided_difference(m: int, k: float, side: int, lam: float, L: np.ndarray,
+                        x: np.ndarray) -> np.ndarray:
+    """Q = (L - Lambda)/(beta^2 - k^2) at beta = k + x, L = y(beta), Lambda = y(k), y the
+    logarithmic derivative of I_m (side 0) or K_m (side 1), without the cancellation L - Lambda.
+
+    Notes
+    -----
+    y = +-sqrt(m^2 + z^2) + g(z) with g = O(1) (DLMF 10.41.3-4), so
+
+        Q = +-1/(sqrt(m^2 + beta^2) + sqrt(m^2 + k^2)) + g[k, beta]/(beta + k),
+
+    the first term in closed form and the divided difference g[k, beta] by the Cauchy integral
+    (1/N) sum_j g(z_j)/(z_j - beta) over a circle of radius k/2 about k for |x| < k/4 (trapezoidal
+    rule: error ~ 2^-N, g analytic within |z - k| < k), else directly as (g(beta) - g(k))/x.
+    Subtracting the asymptote matters for m >> k, where y'(k) ~ k/m is small against y ~ m: an
+    unsubtracted difference loses a factor m^2/k^2 (measured 1e-11 at m = 25, k = 1)."""
+    x = np.asarray(x, dtype=complex)
+    beta = k + x
+    closed = (1 - 2 * side) / (np.sqrt(m * m + beta * beta) + np.sqrt(m * m + k * k))
+    g_k = lam - _asymptote(m, k, side)
+    out = np.empty(x.shape, dtype=complex)
+    near = np.abs(x) < _NEAR * k
+    far = ~near
+    out[far] = (L[far] - _asymptote(m, beta[far], side) - g_k) / x[far]
+    if near.any():
+        z, g = _circle_values(m, float(k), side)
+        out[near] = np.mean(g[None, :] / (z[None, :] - beta[near][:, None]), axis=1)
+    return closed + out / (beta + k)
+
+
 def fluid_load(s: np.ndarray, *, m: int, k: float, nu: float) -> np.ndarray:
     """H(s) (shape (len(s), 3, 3), s != 0): the fluid's load on (X^r, X^theta, X^z) in the real basis.
 
     Notes
     -----
-    As s -> 0 (beta -> k) the pressure and vortical fields nearly coincide, and the relative
-    error of H grows like eps nu k^2 / |s| (measured against 40-digit mpmath); H itself is O(s),
-    so D = H + kappa E keeps its accuracy relative to kappa E.
+    The pressure-vortical cancellation as s -> 0 (beta -> k) is done in closed form
+    (:func:`_interface_entries`), with x = beta - k = (s/nu)/(beta + k) taken from s, not from
+    beta, so H keeps its relative accuracy as s -> 0 (checked against 40-digit mpmath).
 
     Raises
     ------
     ParameterError : an s whose beta = sqrt(s/nu + k^2) leaves the Bessel kernels' domain.
     """
     s = np.asarray(s, dtype=complex).ravel()
-    return _fluid_load_at(s, np.sqrt(s / nu + k * k), m=m, k=k, nu=nu)
+    beta = np.sqrt(s / nu + k * k)
+    return _fluid_load_at(s, beta, (s / nu) / (beta + k), m=m, k=k, nu=nu)
 
 
-def _fluid_load_at(s: np.ndarray, beta: np.ndarray, *, m: int, k: float, nu: float) -> np.ndarray:
-    """H(s) at beta with beta^2 = s/nu + k^2 on either sheet: the principal one (Re beta >= 0, the
-    exterior field decays) or, for Re beta < 0, its continuation across the imaginary beta axis
-    (:func:`~spectralshell.special.cylindrical.logderiv_k_continued`; I_m(beta r) is even up to
-    sign, so only K_m carries the sheet)."""
+def _fluid_load_at(s: np.ndarray, beta: np.ndarray, x: np.ndarray, *, m: int, k: float,
+                   nu: float) -> np.ndarray:
+    """H(s) at beta = k + x with beta^2 = s/nu + k^2 on either sheet: the principal one
+    (Re beta >= 0, the exterior field decays) or, for Re beta < 0, its continuation across the
+    imaginary beta axis (:func:`~spectralshell.special.cylindrical.logderiv_k_continued`;
+    I_m(beta r) is even up to sign, so only K_m carries the sheet). x = beta - k is passed
+    separately so that a caller who knows it better than beta - k keeps its digits."""
     lam_in, lam_out = _pressure_logderivs(m, k)
     second = beta.real < 0
     with boundary_layer(nu):
@@ -138,8 +210,15 @@ def _fluid_load_at(s: np.ndarray, beta: np.ndarray, *, m: int, k: float, nu: flo
         L_out = np.empty(beta.shape, dtype=complex)
         L_out[~second] = logderiv_k(m, beta[~second])
         L_out[second] = [logderiv_k_continued(m, b) for b in beta[second]]
-    Vi, Ti = _interface(m, k, s, nu, lam_in, L_in)
-    Vo, To = _interface(m, k, s, nu, lam_out, L_out)
+    if k > 0:
+        Q_in = _divided_difference(m, k, 0, lam_in, L_in, np.where(second, beta - k, x))
+        Q_out = _divided_difference(m, k, 1, lam_out, L_out, np.where(second, beta - k, x))
+        Q_out[second] = (L_out[second] - lam_out) / (s[second] / nu)
+        Q_in[second] = (L_in[second] - lam_in) / (s[second] / nu)
+    else:
+        Q_in, Q_out = (L_in - lam_in) / (s / nu), (L_out - lam_out) / (s / nu)
+    Vi, Ti = _interface(m, k, s, nu, lam_in, L_in, Q_in)
+    Vo, To = _interface(m, k, s, nu, lam_out, L_out, Q_out)
     # Z = T V^-1 on each side, as (V^T)^-1 T^T transposed
     Z = (np.linalg.solve(np.swapaxes(Vi, 1, 2), np.swapaxes(Ti, 1, 2))
          - np.linalg.solve(np.swapaxes(Vo, 1, 2), np.swapaxes(To, 1, 2)))
@@ -151,19 +230,21 @@ def unforced(s: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
              component: str = "coupled") -> np.ndarray:
     """D(s) = H(s) + kappa E on the set ``component``, shape (len(s), b, b); D(0) = kappa E."""
     s = np.asarray(s, dtype=complex).ravel()
-    return _unforced_at(s, np.sqrt(s / nu + k * k), m=m, k=k, kappa=kappa, nu=nu,
+    beta = np.sqrt(s / nu + k * k)
+    return _unforced_at(s, beta, (s / nu) / (beta + k), m=m, k=k, kappa=kappa, nu=nu,
                         component=component)
 
 
-def _unforced_at(s: np.ndarray, beta: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
-                 component: str) -> np.ndarray:
-    """:func:`unforced` at beta on either sheet (:func:`_fluid_load_at`)."""
+def _unforced_at(s: np.ndarray, beta: np.ndarray, x: np.ndarray, *, m: int, k: float,
+                 kappa: float, nu: float, component: str) -> np.ndarray:
+    """:func:`unforced` at beta = k + x on either sheet (:func:`_fluid_load_at`)."""
     idx = components(m, k, component)
     E = kappa * elastic_matrix(m, k)[np.ix_(idx, idx)]
     out = np.broadcast_to(E, (s.size, len(idx), len(idx))).astype(complex)
     live = s != 0
     if live.any():
-        out[live] += _fluid_load_at(s[live], beta[live], m=m, k=k, nu=nu)[:, idx][:, :, idx]
+        out[live] += _fluid_load_at(s[live], beta[live], x[live], m=m, k=k,
+                                    nu=nu)[:, idx][:, :, idx]
     return out
 
 
@@ -213,39 +294,58 @@ def _hill_system(p: CylinderParams) -> HillSystem:
 # pressure's I_m(k r), K_m(k r) do not depend on gamma. An overdamped mode with
 # -nu k^2 < gamma < 0 has a real beta in (0, k): on the physical sheet, off the cut.
 
-#: Range of zeta = nu/sqrt(kappa) over which the seeds find every mode and the count was checked
-#: by the argument principle (tests/test_cylinder_modes.py), for m <= 200, k <= 10; the upper end
-#: depends on m and k (:func:`zeta_max`), ZETA_MAX is its largest value.
+#: Range of zeta = nu/sqrt(kappa) over which the modes are offered (:func:`zeta_max` gives the
+#: upper end for each m and k; ZETA_MAX is its largest value).
 ZETA_MIN = 1e-8
-ZETA_MAX = 0.3
-#: Where the seeds' continuation in zeta starts: below ZETA_START_CHECKED the asymptotic seeds
-#: alone find every mode.
+ZETA_MAX = 1e3
+#: Where the seeds' continuation in zeta starts (k = 0): below ZETA_START_CHECKED the asymptotic
+#: seeds alone find every mode; above it, for k > 0, the count-driven finder takes over.
 ZETA_START = 0.04
 ZETA_START_CHECKED = 0.05
-#: (largest m of a tier, its upper end of zeta) above ZETA_START_CHECKED (checked on grids).
+#: k = 0 (the fibre pair, axial): (largest m of a tier, its upper end of zeta), checked on grids.
 _ZETA_TOPS = ((25, 0.3), (60, 0.15))
+#: Where the count-driven finder offers zeta above ZETA_START_CHECKED up to ZETA_COUNTED:
+#: K_COUNTED[0] <= k <= K_COUNTED[1], m <= M_COUNTED (checked on grids of (m, k, zeta),
+#: tests/test_cylinder_modes.py). Below k = 0.5 its error bounds exceed 1e-10 |gamma| (1.4e-10
+#: at m = 1, k = 0.1: the divided differences over |beta - k| ~ k amplify the Bessel kernels'
+#: rounding), so the seeds' range applies there.
+K_COUNTED = (0.5, 10.0)
+M_COUNTED = 25
+ZETA_COUNTED = 1e3
 #: Relative step of the 4-point derivative of the determinant in beta (error ~ step^4).
 _STEP = 1e-3
 
 
 def zeta_max(m: int, k: float, component: str = "coupled") -> float:
-    """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered:
-    max(0.05, min(z_m, 2/k^2)) with z_m = 0.3 for m <= 25, 0.15 for m <= 60 and 0.05 above (the
-    continuation in zeta loses a mode near the cut at zeta 0.2-0.3 for m = 35..60 and at some
-    zeta in 0.1-0.3 for m = 100, 200).
+    """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered.
 
-    Above it the number of modes on the physical sheet can exceed the number b of components (a
-    conjugate pair of overdamped modes splits into two real decays in -nu k^2 < gamma < 0: four
-    modes at m = 1, k = 2, zeta = 1 and at m = 1, k = 10, zeta = 0.3), which the root finder,
-    looking for b modes, does not yet certify; up to 0.05 the asymptotic seeds alone were
-    checked for m <= 200, k <= 10, and up to the end here also the continuation in zeta
-    (tests/test_cylinder_modes.py). At k = 0 the fibre pair also stops at
-    :func:`spectralshell.models.fibre.zeta_max` (not reached below 0.3)."""
+    * m <= 25, 0.5 <= k <= 10 (:func:`counted`; the count-driven finder above zeta = 0.05,
+      :func:`modal_system`): 1e3. The number of modes is the argument-principle count in a box
+      of the beta plane, so it may exceed the number b of components (four at m = 1, k = 2,
+      zeta = 1: a conjugate pair of overdamped modes splits into two real decays in
+      -nu k^2 < gamma < 0). Checked on grids of m, k and zeta in {0.06, ..., 1e3} against counts
+      on a box twice as large and against 30-digit roots (tests/test_cylinder_modes.py).
+    * otherwise (the seeds, and at k = 0 their continuation in zeta, find b modes):
+      max(0.05, min(z_m, 2/k^2)) (z_m alone at k = 0), z_m = 0.3 for m <= 25, 0.15 for m <= 60
+      and 0.05 above (the continuation loses a mode near the cut at zeta 0.2-0.3 for m = 35..60
+      and at some zeta in 0.1-0.3 for m = 100, 200; beyond 2/k^2 the modes can outnumber the
+      components); the fibre pair also stops at :func:`spectralshell.models.fibre.zeta_max`
+      (not reached below 0.3). The count-driven grids do not yet cover m > 25, and below
+      k = 0.5 its error bounds exceed 1e-10 |gamma|.
+    """
+    if counted(m, k):
+        return ZETA_COUNTED
     tier = next((end for largest, end in _ZETA_TOPS if m <= largest), ZETA_START_CHECKED)
-    top = max(ZETA_START_CHECKED, min(tier, 2.0 / k**2)) if k > 0 else tier
-    if k == 0 and component == "coupled":
-        top = min(top, fibre.zeta_max(m))
-    return top
+    if k > 0:
+        return max(ZETA_START_CHECKED, min(tier, 2.0 / k**2))
+    if component == "coupled":
+        tier = min(tier, fibre.zeta_max(m))
+    return tier
+
+
+def counted(m: int, k: float) -> bool:
+    """Whether the count-driven finder serves (m, k) above zeta = ZETA_START_CHECKED."""
+    return m <= M_COUNTED and K_COUNTED[0] <= k <= K_COUNTED[1]
 
 
 def natural_matrix(beta: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
@@ -254,7 +354,16 @@ def natural_matrix(beta: np.ndarray, *, m: int, k: float, kappa: float, nu: floa
     physical sheet for Re beta > 0, continued across the imaginary axis (the cut) for
     Re beta < 0; its determinant vanishes at the natural modes e^{gamma t}."""
     beta = np.asarray(beta, dtype=complex).ravel()
-    return _unforced_at(nu * (beta * beta - k * k), beta, m=m, k=k, kappa=kappa, nu=nu,
+    return natural_matrix_shifted(beta - k, m=m, k=k, kappa=kappa, nu=nu, component=component)
+
+
+def natural_matrix_shifted(x: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
+                           component: str = "coupled") -> np.ndarray:
+    """:func:`natural_matrix` at beta = k + x, with gamma = nu x (x + 2k) and the divided
+    differences of :func:`_interface_entries` taken from x itself: the overdamped modes of large
+    zeta crowd at beta -> k (gamma ~ 2 nu k x), where beta alone would lose the digits of x."""
+    x = np.asarray(x, dtype=complex).ravel()
+    return _unforced_at(nu * x * (x + 2 * k), k + x, x, m=m, k=k, kappa=kappa, nu=nu,
                         component=component) / kappa
 
 
@@ -276,6 +385,76 @@ def modal_residual(beta: complex, *, m: int, k: float, kappa: float, nu: float,
     return complex(det[0]), complex(_four_point(list(det[1:]), h))
 
 
+def _stencil_scale(x: complex, k: float) -> float:
+    """min(|x|, |beta|, max(|Re beta|, 1e-5 min(k, |beta|))) at beta = k + x: the difference
+    stencil of the derivative stays well inside the distance to beta = k (where the roots
+    crowd), to the branch point beta = 0 and, down to 1e-8 k, to the cut Re beta = 0 (on which
+    roots can sit, 1e-6 k from the counting box's edge); nearer the cut it reaches across it
+    onto the continuation (analytic there), so that a root on the cut still has a derivative
+    accurate to ~1e-8."""
+    beta = k + x
+    return min(abs(x), abs(beta), max(abs(beta.real), 1e-5 * min(k, abs(beta))))
+
+
+def modal_residual_shifted(x: complex, *, m: int, k: float, kappa: float, nu: float,
+                           component: str = "coupled") -> tuple[complex, complex]:
+    """:func:`modal_residual` in x = beta - k (:func:`natural_matrix_shifted`): the 4-point
+    derivative with step 1e-3 :func:`_stencil_scale`, so that the roots crowding at x -> 0
+    stay resolved and the stencil does not reach across the cut."""
+    x = complex(x)
+    h = _STEP * _stencil_scale(x, k)
+    points = x + h * np.array([0, 1, -1, 1j, -1j])
+    det = np.linalg.det(natural_matrix_shifted(points, m=m, k=k, kappa=kappa, nu=nu,
+                                               component=component))
+    return complex(det[0]), complex(_four_point(list(det[1:]), h))
+
+
+def modal_residual_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
+                              component: str = "coupled"):
+    """:func:`modal_residual_shifted` in mpmath (:func:`natural_determinant_shifted_mp`), the
+    derivative's step 10^(-dps/3) :func:`_stencil_scale`."""
+    x = mpmath.mpc(x)
+    h = mpmath.mpf(10) ** (-(mpmath.mp.dps // 3)) * _stencil_scale(complex(x), k)
+    det = [natural_determinant_shifted_mp(x + d, m=m, k=k, kappa=kappa, nu=nu,
+                                          component=component)
+           for d in (0, h, -h, 1j * h, -1j * h)]
+    return det[0], _four_point(det[1:], h)
+
+
+#: Relative accuracy of the entries of D (against max |D|), as eps_D = _ENTRY_EPS (1 + m^2/k):
+#: the logarithmic derivatives carry an absolute error ~eps m, which the divided differences Q
+#: over |beta - k| ~ k amplify; measured up to 2e-10 at m = 10, k = 0.01 and 3e-13 at m = 25,
+#: k = 1 against 30-digit mpmath (tests/test_cylinder_modes.py), within this bound.
+_ENTRY_EPS = 128 * 2.220446049250313e-16
+
+
+def _cofactors(D: np.ndarray) -> np.ndarray:
+    """The cofactor matrix of a b x b matrix (b <= 3), d det D/d D_ij, from its minors (defined
+    at a singular D too)."""
+    b = D.shape[0]
+    if b == 1:
+        return np.ones((1, 1), dtype=complex)
+    C = np.empty_like(D)
+    for i in range(b):
+        for j in range(b):
+            minor = np.delete(np.delete(D, i, 0), j, 1)
+            C[i, j] = (-1) ** (i + j) * np.linalg.det(minor)
+    return C
+
+
+def modal_noise_shifted(x: complex, *, m: int, k: float, kappa: float, nu: float,
+                        component: str = "coupled") -> float:
+    """An absolute bound on the error in x of a root at x caused by the rounding of D:
+    eps_D max|D| sum_ij |C_ij| / |d det/dx| (C the cofactors, eps_D the entries' relative
+    accuracy, _ENTRY_EPS (1 + m^2/k)); at least 64 eps |x|."""
+    fixed = {"m": m, "k": k, "kappa": kappa, "nu": nu, "component": component}
+    D = natural_matrix_shifted(np.array([x]), **fixed)[0]
+    _, fp = modal_residual_shifted(x, **fixed)
+    eps_d = _ENTRY_EPS * (1 + m * m / k)
+    spread = eps_d * np.abs(D).max() * np.abs(_cofactors(D)).sum()
+    return float(max(spread / abs(fp), 64 * 2.220446049250313e-16 * abs(x)))
+
+
 def _logderivs_mp(m: int, z) -> tuple:
     """(z I_m'(z)/I_m(z), z K_m'(z)/K_m(z)) in mpmath (DLMF 10.29.2); (m, -m) at z = 0."""
     if z == 0:
@@ -289,21 +468,46 @@ def natural_determinant_mp(beta, *, m: int, k: float, kappa: float, nu: float,
     """det D(gamma)/kappa^b at gamma = nu (beta^2 - k^2) in mpmath at the current precision
     (beta on the physical sheet, gamma != 0): :func:`natural_matrix` with mpmath's Bessel
     functions."""
-    beta, k_, nu_ = mpmath.mpc(beta), mpmath.mpf(k), mpmath.mpf(nu)
-    s = nu_ * (beta * beta - k_ * k_)
-    lam = _logderivs_mp(m, k_)
-    L = _logderivs_mp(m, beta)
-    Z = []
-    for side in range(2):
-        V, T = (mpmath.matrix(a) for a in _interface_entries(m, k_, s, nu_, lam[side], L[side]))
-        Z.append(T * mpmath.inverse(V))
+    return natural_determinant_shifted_mp(mpmath.mpc(beta) - k, m=m, k=k, kappa=kappa, nu=nu,
+                                          component=component)
+
+
+def natural_matrix_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
+                              component: str = "coupled"):
+    """:func:`natural_matrix_shifted` (beta = k + x, x != 0) in mpmath, accurate to about the
+    current precision: the Bessel functions and the divided difference
+    Q = (L - Lambda)/(x (x + 2k)) are evaluated with the digits that the cancellation L - Lambda
+    costs added (log10((1 + k)/|x|)), and the matrix is rounded back to the current precision."""
+    x = mpmath.mpc(x)
+    extra = max(0, int(mpmath.ceil(mpmath.log10((1 + k) / abs(x))))) + 5
     idx = components(m, k, component)
-    E = elastic_matrix(m, k)
     D = mpmath.matrix(len(idx), len(idx))
-    for a, i in enumerate(idx):
-        for c, j in enumerate(idx):
-            D[a, c] = s * (Z[0][i, j] - Z[1][i, j]) * _S[j] / _S[i] / kappa + E[i, j]
-    return mpmath.det(D)
+    with mpmath.extradps(extra):
+        k_, nu_ = mpmath.mpf(k), mpmath.mpf(nu)
+        b2k = x * (x + 2 * k_)
+        s = nu_ * b2k
+        lam = _logderivs_mp(m, k_)
+        L = _logderivs_mp(m, k_ + x)
+        Z = []
+        for side in range(2):
+            Q = (L[side] - lam[side]) / b2k
+            V, T = (mpmath.matrix(a) for a in _interface_entries(m, k_, s, nu_, lam[side],
+                                                                 L[side], Q))
+            Z.append(T * mpmath.inverse(V))
+        E = elastic_matrix(m, k)
+        for a, i in enumerate(idx):
+            for c, j in enumerate(idx):
+                D[a, c] = +(s * (Z[0][i, j] - Z[1][i, j]) * _S[j] / _S[i] / kappa + E[i, j])
+    return D
+
+
+def natural_determinant_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
+                                   component: str = "coupled"):
+    """det of :func:`natural_matrix_shifted_mp`: :func:`natural_determinant_mp` at beta = k + x."""
+    D = natural_matrix_shifted_mp(x, m=m, k=k, kappa=kappa, nu=nu, component=component)
+    with mpmath.extradps(10):
+        det = mpmath.det(D)
+    return +det
 
 
 def modal_residual_mp(beta, *, m: int, k: float, kappa: float, nu: float,
@@ -361,6 +565,19 @@ def _deflated_seeds(m: int, k: float, kappa: float, nu: float, component: str) -
         yield root
 
 
+def _shifted_seeds(*, m: int, k: float, kappa: float, nu: float,
+                   component: str) -> Iterator[complex]:
+    """Starting points x = beta - k of the count-driven finder: the roots of
+    :func:`_deflated_seeds`, then the asymptotic estimates of :func:`_asymptotic_modes`
+    themselves (at large zeta some lie on the cut, the imaginary beta axis, where the modes
+    that have reached it are)."""
+    for beta in _deflated_seeds(m, k, kappa, nu, component):
+        yield beta - k
+    for gamma in _asymptotic_modes(m, k, kappa, nu, component):
+        beta = np.sqrt(complex(gamma) / nu + k * k)
+        yield complex(abs(beta.real), abs(beta.imag)) - k
+
+
 def modal_seeds(*, m: int, k: float, kappa: float, nu: float,
                 component: str = "coupled") -> Iterator[complex]:
     """Starting points beta for the natural modes, best first (lazy).
@@ -384,19 +601,45 @@ def modal_seeds(*, m: int, k: float, kappa: float, nu: float,
                                         component=component), starts, ZETA_START, zeta)
 
 
+#: The counting box's left edge Re beta = _CUT_GAP k (just off the cut, the imaginary beta axis)
+#: and its size in units of the largest asymptotic |beta| (:func:`_counting_box`).
+_CUT_GAP = 1e-6
+_BOX = 3.0
+
+
+def _counting_box(m: int, k: float, kappa: float, nu: float,
+                  component: str) -> tuple[float, float, float]:
+    """The rectangle of x = beta - k in which the count-driven finder counts and finds the modes:
+    _CUT_GAP k <= Re beta <= B, |Im beta| <= B, B = _BOX max(k, |beta| of each asymptotic
+    estimate of :func:`_asymptotic_modes`); a root closer to the cut than _CUT_GAP k is a decay
+    on the cut to working accuracy and is not offered."""
+    gammas = np.array(_asymptotic_modes(m, k, kappa, nu, component))
+    size = _BOX * max(k, float(np.abs(np.sqrt(gammas / nu + k * k)).max()))
+    return (-k + _CUT_GAP * k, size - k, size)
+
+
 def modal_system(*, m: int, k: float, kappa: float, nu: float,
                  component: str = "coupled") -> ModalSystem:
     """Natural modes of the mode (m, k) of the cylinder as a :class:`ModalSystem` in beta.
 
     Notes
     -----
-    x = beta = sqrt(gamma/nu + k^2) (Re beta > 0 on the physical sheet), gamma = nu (beta^2 - k^2),
-    residual det D(gamma)/kappa^b (:func:`modal_residual`, :func:`modal_residual_mp`), seeds
-    :func:`modal_seeds`. n_modes is the number b of components of the set (3 coupled, 2 for the
-    sausage pair (m = 0) and the fibre pair (k = 0), 1 for torsion or axial): one oscillation
-    (gamma -> i lambda0 as nu -> 0) for a set containing X^r, one Stokes-layer relaxation per
-    tangential component. Argument-principle counts of det D over the first beta-quadrant find
-    exactly b roots (tests/test_cylinder_modes.py); at k = 0 the pair is the fibre's.
+    Up to zeta = nu/sqrt(kappa) = 0.05, and at k = 0: x = beta = sqrt(gamma/nu + k^2)
+    (Re beta > 0 on the physical sheet), gamma = nu (beta^2 - k^2), residual det D(gamma)/kappa^b
+    (:func:`modal_residual`, :func:`modal_residual_mp`), seeds :func:`modal_seeds`. n_modes is
+    the number b of components of the set (3 coupled, 2 for the sausage pair (m = 0) and the
+    fibre pair (k = 0), 1 for torsion or axial): one oscillation (gamma -> i lambda0 as
+    nu -> 0) for a set containing X^r, one Stokes-layer relaxation per tangential component.
+    Argument-principle counts of det D over the first beta-quadrant find exactly b roots there
+    (tests/test_cylinder_modes.py); at k = 0 the pair is the fibre's.
+
+    Above zeta = 0.05 with k > 0: x = beta - k, gamma = nu x (x + 2k)
+    (:func:`modal_residual_shifted`: the overdamped modes crowd at beta -> k as zeta grows,
+    gamma ~ 2 nu k x, and x keeps their digits), with a counting ``region``
+    (:func:`_counting_box`): the root finder counts the roots in it by the argument principle and
+    finds that many, so the number of modes is the count's (four at m = 1, k = 2, zeta = 1).
+    Roots nearer the cut than the box (Re beta < 1e-6 k) that the finder meets are reported as
+    on the cut, not counted. Error estimates include :func:`modal_noise_shifted`.
 
     Raises
     ------
@@ -413,7 +656,17 @@ def modal_system(*, m: int, k: float, kappa: float, nu: float,
         raise invalid("zeta", zeta, f"in [{ZETA_MIN:g}, {top:.4g}] for m = {p.m}, k = {p.k:g} "
                       "(zeta = nu/sqrt(kappa): the range over which the mode count is verified)")
     fixed = {"m": p.m, "k": p.k, "kappa": p.kappa, "nu": p.nu, "component": p.component}
-    nu_, k2 = p.nu, p.k * p.k
+    nu_, k_, k2 = p.nu, p.k, p.k * p.k
+    if counted(p.m, p.k) and zeta > ZETA_START_CHECKED:
+        return ModalSystem(
+            name="cylinder", n_modes=len(components(p.m, p.k, p.component)),
+            residual=functools.partial(modal_residual_shifted, **fixed),
+            residual_mp=functools.partial(modal_residual_shifted_mp, **fixed),
+            seeds=functools.partial(_shifted_seeds, **fixed),
+            to_gamma=lambda x: nu_ * x * (x + 2 * k_), sheet_margin=lambda x: x.real + k_,
+            region=_counting_box(p.m, k_, p.kappa, nu_, p.component),
+            determinant=lambda x: np.linalg.det(natural_matrix_shifted(x, **fixed)),
+            noise=functools.partial(modal_noise_shifted, **fixed), branch=-k_)
 
     return ModalSystem(name="cylinder", n_modes=len(components(p.m, p.k, p.component)),
                        residual=functools.partial(modal_residual, **fixed),

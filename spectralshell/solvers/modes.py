@@ -25,6 +25,17 @@ With ``precision`` digits each root is polished by Newton's method in mpmath at
 the error estimate then becomes max(step, 10^-precision |x|) mapped to gamma, and the difference
 between the double and the polished root is reported as ``double_error``.
 
+Count-driven search. A system with a ``region`` (a rectangle of the x plane closed under
+conjugation) has as many modes as the argument principle counts there
+(:func:`~spectralshell.solvers.nonlinear_eigen.count_by_winding` of f on its edge, with the
+``near_zeros`` refinement): deflated Newton's method (each root found and its conjugate divided
+out) runs from the seeds, then, while a rectangle holds fewer roots than it counts, from a grid
+of starts in it and recursively in its four parts, whose counts must add up to it. A root whose
+imaginary part is below its error is tested by Newton's method along the real axis (a real root,
+or a complex pair). Roots met between the cut and the rectangle are reported on the cut, not
+counted. The model's ``noise`` (the residual's own rounding carried to the root) floors each
+error estimate.
+
 Error estimates are absolute in gamma: |gamma(x + e_x) - gamma(x)| (maximised over the real and
 imaginary directions of the perturbation).
 """
@@ -33,6 +44,7 @@ from __future__ import annotations
 
 import cmath
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import mpmath
@@ -56,21 +68,31 @@ class _Root:
     step: float
 
 
-def _newton(system: ModalSystem, x: complex, tol: float, max_iter: int) -> tuple[_Root | None, int]:
-    """Newton's method in double from x; (root, evaluations) or (None, evaluations)."""
+def _newton(system: ModalSystem, x: complex, tol: float, max_iter: int, *,
+            known: Iterable[complex] = (), real: bool = False) -> tuple[_Root | None, int]:
+    """Newton's method in double from x; (root, evaluations) or (None, evaluations).
+
+    The step is capped at |x - system.branch|/2. ``known`` roots r are divided out (the step is
+    that of f/prod(x - r)); ``real``: only the real part of each step is taken (along the real
+    axis, where f is real for a real problem: tells a real root from a complex pair whose
+    imaginary part is below the error)."""
+    known = list(known)
     previous = math.inf
     for k in range(1, max_iter + 1):
         try:
             f, fp = system.residual(x)
         except (ZeroDivisionError, OverflowError, ParameterError):
             return None, k
-        if fp == 0 or not (cmath.isfinite(f) and cmath.isfinite(fp)):
+        g = fp - f * sum(1.0 / (x - r) for r in known)
+        if g == 0 or not (cmath.isfinite(f) and cmath.isfinite(g)):
             return None, k
-        step = f / fp
-        size, scale = abs(step), abs(x)
-        if size > 0.5 * scale:
-            step *= 0.5 * scale / size
-            size = 0.5 * scale
+        step = f / g
+        if real:
+            step = complex(step.real, 0.0)
+        size, cap = abs(step), 0.5 * abs(x - system.branch)
+        if size > cap:
+            step *= cap / size
+            size = cap
         x = x - step
         if x == 0 or not cmath.isfinite(x):
             return None, k
@@ -115,27 +137,15 @@ def polish_root(residual_mp, x: complex, *, precision: int, max_iter: int = 40):
         "sit next to a nearly double root)")
 
 
-def find_modes(system: ModalSystem, *, count: int | None = None, precision: int | None = None,
-               tol: float = 1e-13, max_iter: int = 40, max_seeds: int = 40) -> ModeRoots:
-    """The ``count`` least damped natural modes of a :class:`ModalSystem` (see the module docstring).
-
-    Parameters
-    ----------
-    count : number of modes returned, >= 1 (default, and when it exceeds system.n_modes: all of
-        them; the caller compares with ``len(gamma)`` to flag the shortfall).
-    precision : None (double precision) or digits (>= 16) of an mpmath polish.
-    tol : relative step size at which Newton's method stops in double precision.
-    max_iter : Newton steps per seed; max_seeds : seeds drawn at most.
+def _seeded_roots(system: ModalSystem, tol: float, max_iter: int,
+                  max_seeds: int) -> tuple[list[_Root], int, int]:
+    """system.n_modes distinct modes (Im gamma >= 0, physical sheet or cut) by Newton's method
+    from the seeds; (roots, evaluations, seeds tried).
 
     Raises
     ------
-    ParameterError : count or precision out of range.
-    ConvergenceError : fewer than system.n_modes distinct modes found from the seeds, or a polish
-        that does not converge.
+    ConvergenceError : fewer than system.n_modes found.
     """
-    count = system.n_modes if count is None else require_int_in_range("count", count, 1)
-    if precision is not None:
-        precision = require_int_in_range("precision", precision, 16, PRECISION_MAX)
     found: list[_Root] = []
     evaluations = tried = 0
     for seed in system.seeds():
@@ -154,7 +164,7 @@ def find_modes(system: ModalSystem, *, count: int | None = None, precision: int 
             continue
         if system.sheet_margin(x) < -root.step:
             continue  # a root on the unphysical sheet (a resonance), not a mode
-        found.append(_Root(x, root.step))
+        found.append(_with_noise(system, _Root(x, root.step)))
         if len(found) == system.n_modes:
             break
     if len(found) < system.n_modes:
@@ -163,6 +173,203 @@ def find_modes(system: ModalSystem, *, count: int | None = None, precision: int 
             f"{tried} seeds ({evaluations} residual evaluations): the seeds failed for these "
             "parameters; report them (a continuation in the parameters from a nearby point where "
             "the solver succeeds is the workaround)")
+    return found, evaluations, tried
+
+
+class _ScalarDeterminant:
+    """The 1 x 1 matrix function [f(x)] of a :class:`ModalSystem` with ``region``, in the form
+    :func:`~spectralshell.solvers.nonlinear_eigen.count_by_winding` takes (a StructuredMatrix:
+    batched phases from ``determinant``, f'/f from ``residual``)."""
+
+    def __init__(self, system: ModalSystem) -> None:
+        self.system = system
+
+    def __call__(self, x: complex) -> np.ndarray:
+        return np.array([[self.system.determinant(np.array([x], dtype=complex))[0]]])
+
+    def phases(self, x: np.ndarray) -> np.ndarray:
+        f = np.asarray(self.system.determinant(np.asarray(x, dtype=complex)), dtype=complex)
+        size = np.abs(f)
+        return np.where(size > 0, f / np.where(size > 0, size, 1.0), 0.0)
+
+    def log_derivatives(self, x: np.ndarray) -> np.ndarray:
+        out = []
+        for z in np.asarray(x, dtype=complex):
+            f, fp = self.system.residual(complex(z))
+            out.append(fp / f)
+        return np.array(out, dtype=complex)
+
+
+def _with_noise(system: ModalSystem, root: _Root) -> _Root:
+    """The root with its error estimate raised to the model's noise bound at it."""
+    if system.noise is None:
+        return root
+    return _Root(root.x, max(root.step, float(system.noise(root.x))))
+
+
+#: Sub-rectangles of the count-driven search: deepest level, and Newton starts per side of the
+#: grid tried in each rectangle before it is cut into four (off-centre, so that the real axis, on
+#: which real roots lie, is never an edge).
+_MAX_DEPTH = 8
+_GRID = 3
+_CUTS = (0.45, 0.55, 0.4)
+
+
+def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
+                   max_seeds: int) -> tuple[list[_Root], int, int]:
+    """Every root in ``system.region``, conjugates included: the argument principle counts them
+    (:func:`~spectralshell.solvers.nonlinear_eigen.count_by_winding` of f on the rectangle's
+    edge), deflated Newton's method finds them, first from the seeds, then, while a rectangle
+    holds fewer roots found than counted, from a grid of starts in it and in its four parts
+    (recursively). Returns (roots, roots on the cut, evaluations, seeds tried): the second are
+    the roots met on the way between the cut (sheet margin >= -error) and the box's left edge,
+    one of each conjugate pair, reported (``on_cut``) but not counted.
+
+    Raises
+    ------
+    ConvergenceError : a rectangle holds more roots found than counted, or fewer at the deepest
+        level.
+    """
+    from .nonlinear_eigen import count_by_winding  # one winding counter for every solver
+
+    T = _ScalarDeterminant(system)
+    lo, hi, top = system.region
+    whole = (lo, hi, -top, top)
+    roots: list[_Root] = []
+    cut: list[_Root] = []  # roots met left of the box, on the cut to within its width
+    tally = {"evaluations": 0, "tried": 0}
+
+    def count(box: tuple[float, float, float, float]) -> int:
+        a, b, c, d = box
+        return count_by_winding(T, [complex(a, c), complex(b, c), complex(b, d), complex(a, d)],
+                                dT=T, near_zeros=True)
+
+    def inside(x: complex, box: tuple[float, float, float, float]) -> bool:
+        return box[0] < x.real < box[1] and box[2] < x.imag < box[3]
+
+    def attempt(start: complex) -> None:
+        root, n = _newton(system, start, tol, max_iter, known=[r.x for r in roots])
+        tally["evaluations"] += n
+        if root is None:
+            return
+        if not inside(root.x, whole):
+            if -root.step <= system.sheet_margin(root.x) and root.x.real <= lo and \
+                    abs(root.x.imag) < top:  # between the cut and the box: on the cut
+                x = root.x if root.x.imag >= 0 else complex(system.conjugate(root.x))
+                if not any(abs(x - r.x) <= DUPLICATE_RTOL * abs(x) for r in cut):
+                    cut.append(_with_noise(system, _Root(x, root.step)))
+            return
+        root = _with_noise(system, root)
+        if abs(root.x.imag) <= root.step:  # real to within its error: a real root
+            real, n = _newton(system, complex(root.x.real, 0.0), tol, max_iter,
+                              known=[r.x for r in roots], real=True)
+            tally["evaluations"] += n
+            if real is not None and abs(real.x - root.x) <= 2 * root.step:
+                root = _with_noise(system, real)
+            else:  # (a pair closer than its error would count one more than is found: refused)
+                root = _Root(complex(root.x.real, 0.0), root.step + abs(root.x.imag))
+        if any(abs(root.x - r.x) <= max(DUPLICATE_RTOL * abs(root.x), r.step + root.step)
+               for r in roots):
+            return
+        if root.x.imag == 0:  # a real root is its own conjugate
+            roots.append(root)
+        else:
+            roots.extend([root, _Root(complex(system.conjugate(root.x)), root.step)])
+
+    total = count(whole)
+    for seed in system.seeds():  # with nothing counted, the seeds may still meet the cut's
+        if (total and len(roots) >= total) or tally["tried"] == max_seeds:
+            break
+        tally["tried"] += 1
+        attempt(complex(seed))
+
+    def search(box: tuple[float, float, float, float], n: int, depth: int) -> None:
+        def held() -> int:
+            return sum(inside(r.x, box) for r in roots)
+
+        if held() < n:
+            a, b, c, d = box
+            for i in range(_GRID):
+                for j in range(_GRID):
+                    attempt(complex(a + (b - a) * (i + 0.5) / _GRID,
+                                    c + (d - c) * (j + 0.4) / _GRID))
+                    if held() >= n:
+                        break
+                if held() >= n:
+                    break
+        if held() > n:
+            raise ConvergenceError(
+                f"{held()} roots of {system.name!r} found in the rectangle Re x in [{box[0]:.6g}, "
+                f"{box[1]:.6g}], Im x in [{box[2]:.6g}, {box[3]:.6g}], where the argument "
+                f"principle counts {n}: report the parameters")
+        if held() == n:
+            return
+        if depth == _MAX_DEPTH:
+            raise ConvergenceError(
+                f"found {len(roots)} of the {total} roots of {system.name!r} counted in its "
+                f"region: a rectangle Re x in [{box[0]:.6g}, {box[1]:.6g}], Im x in "
+                f"[{box[2]:.6g}, {box[3]:.6g}] holds {n - held()} more that Newton's method did "
+                "not reach; report the parameters")
+        for cut in _CUTS:  # cut into four; another cut where a root sits on an inner edge
+            re, im = a + cut * (b - a), c + (1 - cut) * (d - c)
+            parts = [(a, re, c, im), (re, b, c, im), (a, re, im, d), (re, b, im, d)]
+            try:
+                counts = [count(part) for part in parts]
+            except ConvergenceError:
+                continue
+            if sum(counts) != n:
+                raise ConvergenceError(
+                    f"the argument-principle counts of {system.name!r} disagree: {n} roots in "
+                    f"Re x in [{a:.6g}, {b:.6g}], Im x in [{c:.6g}, {d:.6g}], {sum(counts)} in "
+                    "its four parts; report the parameters")
+            break
+        else:
+            raise ConvergenceError(f"no cut of the rectangle Re x in [{a:.6g}, {b:.6g}], Im x in "
+                                   f"[{c:.6g}, {d:.6g}] avoids the roots of {system.name!r}")
+        for part, k in zip(parts, counts):
+            if k:
+                search(part, k, depth + 1)
+
+    if len(roots) != total:
+        search(whole, total, 0)
+    return roots, cut, tally["evaluations"], tally["tried"]
+
+
+def find_modes(system: ModalSystem, *, count: int | None = None, precision: int | None = None,
+               tol: float = 1e-13, max_iter: int = 40, max_seeds: int = 40) -> ModeRoots:
+    """The ``count`` least damped natural modes of a :class:`ModalSystem` (see the module docstring).
+
+    Parameters
+    ----------
+    count : number of modes returned, >= 1 (default, and when it exceeds the number of modes:
+        all of them; the caller compares with ``len(gamma)`` to flag the shortfall).
+    precision : None (double precision) or digits (>= 16) of an mpmath polish.
+    tol : relative step size at which Newton's method stops in double precision.
+    max_iter : Newton steps per seed; max_seeds : seeds drawn at most.
+
+    Notes
+    -----
+    With ``system.region`` the number of modes is the argument-principle count of the roots in
+    that rectangle (:func:`_counted_roots`), one of each conjugate pair returned; otherwise it is
+    ``system.n_modes``, found from the seeds.
+
+    Raises
+    ------
+    ParameterError : count or precision out of range.
+    ConvergenceError : fewer modes found than there are (system.n_modes, or the count), or a
+        polish that does not converge.
+    """
+    if count is not None:
+        count = require_int_in_range("count", count, 1)
+    if precision is not None:
+        precision = require_int_in_range("precision", precision, 16, PRECISION_MAX)
+    if system.region is not None:
+        every, cut, evaluations, tried = _counted_roots(system, tol, max_iter, max_seeds)
+        found = [r for r in every if r.x.imag >= 0] + cut
+    else:
+        found, evaluations, tried = _seeded_roots(system, tol, max_iter, max_seeds)
+    if count is None:
+        count = len(found)
     found.sort(key=lambda r: -system.to_gamma(r.x).real)
     found = found[:count]
     xs = [r.x for r in found]

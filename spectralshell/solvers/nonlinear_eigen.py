@@ -235,7 +235,7 @@ def _turn(dz: complex, p: tuple[complex, complex], f: tuple[complex, complex] | 
 def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | None = None,
                      n_start: int = 16, n_max: int = 1024, max_phase: float = 0.5,
                      max_bend: float = 1.0, min_width: float = 1e-14,
-                     pieces: int | None = None) -> int:
+                     pieces: int | None = None, near_zeros: bool = False) -> int:
     """Number of eigenvalues (with multiplicity) inside the closed polygon ``vertices``
     (counter-clockwise) from the winding number of det T along it.
 
@@ -258,6 +258,11 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
     refined into ``pieces`` equal parts, all of a level's new points evaluated together (default
     4 for a :class:`StructuredMatrix`, whose batched phases cost little more than one, so that
     fewer levels reach a nearby eigenvalue; 2, a bisection, otherwise).
+    ``near_zeros`` (with ``dT``): a sub-interval of length h must also have |h tr(T^{-1} T')| <=
+    2 ``max_phase`` (at its midpoint, or at both nodes for a :class:`StructuredMatrix`), the
+    modulus rather than the imaginary part, so that any eigenvalue (or pole) within about h/2 of
+    it forces a refinement: a turn that aliases by 2 pi needs one that close, which the
+    imaginary part alone can miss where the turns of a nearby zero and pole cancel.
     It needs T only continuous up to the contour (and dT only at the midpoints or nodes): an
     edge may run along a branch cut, evaluated as its limit from one side (for
     a principal square root in T, points x + 0j with a positive-zero imaginary part give the limit
@@ -299,10 +304,15 @@ def count_by_winding(T: Matrix, vertices: Iterable[complex], *, dT: Matrix | Non
             for a, b, lo, hi, p, f in pending:
                 if p[0] == 0 or p[1] == 0:
                     raise ConvergenceError(f"det T vanishes on the contour near s = {a + (b - a) * lo!r}")
-                turn = _turn((b - a) * (hi - lo), p, f, max_phase, max_bend)
+                dz = (b - a) * (hi - lo)
+                turn = _turn(dz, p, f, max_phase, max_bend)
                 if turn is not None and dT is not None and not slopes:
-                    estimate = ((b - a) * (hi - lo) * _log_derivative(T, dT, a + (b - a) * 0.5 * (lo + hi))).imag
-                    turn = turn if abs(turn - estimate) <= max_phase / 2 else None
+                    change = dz * _log_derivative(T, dT, a + (b - a) * 0.5 * (lo + hi))
+                    turn = turn if abs(turn - change.imag) <= max_phase / 2 and \
+                        (not near_zeros or abs(change) <= 2 * max_phase) else None
+                if turn is not None and near_zeros and slopes and \
+                        not all(abs(dz * g) <= 2 * max_phase for g in f if np.isfinite(g)):
+                    turn = None
                 if turn is not None:
                     total += turn
                     continue
