@@ -39,7 +39,7 @@ import sys
 import mpmath as mp
 import sympy as sp
 
-from _checks import check, section, summary  # derivations/_checks.py
+from _checks import check, check_singular_at, section, summary  # derivations/_checks.py
 from _radial import interface_jumps, ode_reduce  # derivations/_radial.py
 
 r, th = sp.symbols("r theta", positive=True)
@@ -191,14 +191,9 @@ def part_c():
         return mp.det(H + kap * E)
 
     mode = mp.findroot(det_d, mp.mpc(-0.012, 0.478))
-    R = rows(mm, mode, vv, kap)
-    sv = mp.svd_c(R, compute_uv=False)
-    ratio = min(sv) / max(sv)
-    off = mp.svd_c(rows(mm, mode + mp.mpf("0.01"), vv, kap), compute_uv=False)
-    check("at the Rayleigh mode of m = 3, kappa = 0.02, nu = 2e-4 (det D = 0) the 6 x 6 rows are "
-          "singular, and not 0.01 away from it", ratio < 1e-25 and min(off) / max(off) > 1e-8,
-          f"gamma = {mp.nstr(mode, 12)}, s_min/s_max {mp.nstr(ratio, 3)} there, "
-          f"{mp.nstr(min(off) / max(off), 3)} at gamma + 0.01")
+    check_singular_at("at the Rayleigh mode of m = 3, kappa = 0.02, nu = 2e-4 (det D = 0) the 6 x 6 "
+                      "rows are singular, and not 0.01 away from it",
+                      lambda gamma: rows(mm, gamma, vv, kap), mode)
 
 
 def main() -> int:
