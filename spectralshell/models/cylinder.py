@@ -231,8 +231,9 @@ def unforced(s: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
     """D(s) = H(s) + kappa E on the set ``component``, shape (len(s), b, b); D(0) = kappa E."""
     s = np.asarray(s, dtype=complex).ravel()
     beta = np.sqrt(s / nu + k * k)
-    return _unforced_at(s, beta, (s / nu) / (beta + k), m=m, k=k, kappa=kappa, nu=nu,
-                        component=component)
+    # x = beta - k without the cancellation, = s/(nu (beta + k)); 0 at s = 0 with k = 0
+    x = np.divide(s / nu, beta + k, out=np.zeros_like(beta), where=beta + k != 0)
+    return _unforced_at(s, beta, x, m=m, k=k, kappa=kappa, nu=nu, component=component)
 
 
 def _unforced_at(s: np.ndarray, beta: np.ndarray, x: np.ndarray, *, m: int, k: float,
