@@ -268,7 +268,7 @@ def test_four_modes_for_three_components():
 
 _LARGE_GRID = [(c, m, k, z) for c, m, k in [("coupled", 1, 0.5), ("coupled", 2, 1.0),
                                             ("coupled", 5, 2.0), ("coupled", 10, 5.0),
-                                            ("coupled", 25, 10.0), ("coupled", 25, 0.5),
+                                            ("coupled", 25, 10.0), ("coupled", 25, 1.0),
                                             ("coupled", 1, 10.0), ("coupled", 0, 3.0),
                                             ("torsion", 0, 0.5)]
                for z in (0.06, 0.5, 1.0, 3.0, 10.0, 100.0, 1e3)]
@@ -427,3 +427,14 @@ def test_cli_exponents_cylinder():
     bad = subprocess.run(cmd[:-4] + ["--nu", "2000", "--tau", "0.1"], capture_output=True,
                          text=True, timeout=120)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "zeta" in bad.stderr
+
+
+def test_the_count_driven_range_stops_where_the_slow_grid_failed():
+    """m = 25, k = 0.5: the counts of a box and of its parts disagreed at zeta = 0.5, 1, 3 (slow
+    grid), so only the seeds' range is offered there; m = 1 at k = 0.5 and m = 25 at k = 1 are
+    checked up to zeta = 1e3."""
+    from spectralshell.models.cylinder import zeta_max
+    assert zeta_max(25, 0.5) < 0.5
+    assert zeta_max(1, 0.5) == zeta_max(25, 1.0) == 1e3
+    with pytest.raises(ss.ParameterError, match="zeta"):
+        _modes(m=25, k=0.5, kappa=1.0, nu=0.5)
