@@ -27,7 +27,7 @@ frequency kappa m (m^2 - 1)/2). ``nu = 0`` therefore reuses the Mathieu model.
 Natural modes (tau = 0): det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2) (:func:`modal_system`;
 the cut of D is gamma <= -nu k^2, ``HillSystem.branch_point``), from which the Floquet exponents
 are continued. Up to zeta = nu/sqrt(kappa) = 0.05 (and at k = 0) one mode per component from
-seeds; above it, where :func:`counted` (m <= 25 with 1 <= k <= 10, m <= 1 with 0.5 <= k < 1), as
+seeds; above it, where :func:`counted` (0.5 <= k <= 10, m <= min(25, 2.5 k)), as
 many as an argument-principle count finds in a box of the
 beta plane (a conjugate pair can split into two real decays, so there may be more modes than
 components), solved in x = beta - k, where those decays crowd as zeta grows, up to zeta = 1e3
@@ -310,14 +310,13 @@ _ZETA_TOPS = ((25, 0.3), (60, 0.15))
 #: K_COUNTED[0] <= k <= K_COUNTED[1], m <= M_COUNTED (checked on grids of (m, k, zeta),
 #: tests/test_cylinder_modes.py). Below k = 0.5 its error bounds exceed 1e-10 |gamma| (1.4e-10
 #: at m = 1, k = 0.1: the divided differences over |beta - k| ~ k amplify the Bessel kernels'
-#: rounding), so the seeds' range applies there. For 0.5 <= k < K_SMALL_COUNTED only
-#: m <= M_SMALL_COUNTED is offered: at m = 25, k = 0.5 the counts of a box and of its four parts
-#: disagree at zeta = 0.5, 1 and 3 (a ConvergenceError, found by the slow grid), and the grid
-#: between m = 1 and 25 at these k is not checked.
+#: rounding), so the seeds' range applies there. Large m at small k is not offered either:
+#: m <= M_PER_K k as well (checked up to m = 25 at k = 10, 10 at 5, 5 at 2, 2 at 1, 1 at 0.5); at
+#: m = 25 the counts of a box and of its four parts disagree for k = 0.5 (zeta 0.5, 1, 3) and
+#: k = 1 (zeta 0.5, 1), a ConvergenceError found by the slow grid.
 K_COUNTED = (0.5, 10.0)
 M_COUNTED = 25
-K_SMALL_COUNTED = 1.0
-M_SMALL_COUNTED = 1
+M_PER_K = 2.5
 ZETA_COUNTED = 1e3
 #: Relative step of the 4-point derivative of the determinant in beta (error ~ step^4).
 _STEP = 1e-3
@@ -326,8 +325,8 @@ _STEP = 1e-3
 def zeta_max(m: int, k: float, component: str = "coupled") -> float:
     """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered.
 
-    * m <= 25 with 1 <= k <= 10, and m <= 1 with 0.5 <= k < 1 (:func:`counted`; the
-      count-driven finder above zeta = 0.05,
+    * 0.5 <= k <= 10 with m <= min(25, 2.5 k) (:func:`counted`; the count-driven finder above
+      zeta = 0.05,
       :func:`modal_system`): 1e3. The number of modes is the argument-principle count in a box
       of the beta plane, so it may exceed the number b of components (four at m = 1, k = 2,
       zeta = 1: a conjugate pair of overdamped modes splits into two real decays in
@@ -339,8 +338,8 @@ def zeta_max(m: int, k: float, component: str = "coupled") -> float:
       and at some zeta in 0.1-0.3 for m = 100, 200; beyond 2/k^2 the modes can outnumber the
       components); the fibre pair also stops at :func:`spectralshell.models.fibre.zeta_max`
       (not reached below 0.3). The count-driven grids do not yet cover m > 25; below
-      k = 0.5 its error bounds exceed 1e-10 |gamma|; at m = 25, k = 0.5 its counts disagree
-      for zeta in 0.5..3.
+      k = 0.5 its error bounds exceed 1e-10 |gamma|; at m = 25 its counts disagree for k = 0.5
+      and 1 at zeta in 0.5..3.
     """
     if counted(m, k):
         return ZETA_COUNTED
@@ -354,8 +353,7 @@ def zeta_max(m: int, k: float, component: str = "coupled") -> float:
 
 def counted(m: int, k: float) -> bool:
     """Whether the count-driven finder serves (m, k) above zeta = ZETA_START_CHECKED."""
-    top = M_SMALL_COUNTED if k < K_SMALL_COUNTED else M_COUNTED
-    return m <= top and K_COUNTED[0] <= k <= K_COUNTED[1]
+    return m <= min(M_COUNTED, M_PER_K * k) and K_COUNTED[0] <= k <= K_COUNTED[1]
 
 
 def natural_matrix(beta: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
