@@ -34,7 +34,10 @@ REAL_MIN = 1e-100
 
 def invalid(name: str, value: object, allowed: str) -> ParameterError:
     """The error for ``name`` = ``value`` outside ``allowed``, on one line: a value whose repr is
-    longer than SHOWN characters is cut there."""
+    longer than SHOWN characters is cut there; a numpy scalar is shown as the Python number it
+    holds (0.5, not np.float64(0.5))."""
+    if isinstance(value, numbers.Number) and hasattr(value, "item"):
+        value = value.item()
     shown = repr(value).replace("\n", " ")
     if len(shown) > SHOWN:
         shown = f"{shown[:SHOWN]}... ({len(shown)} characters)"
