@@ -101,7 +101,7 @@ from ..results.records import Exponents
 from .exponents import N_MAX, distance, first_truncation, fold
 from .block_tridiagonal import log_det_phase_and_derivative
 from .marginal import coarser, finer
-from .nonlinear_eigen import Matrix, _phases, continue_roots, count_by_winding, newton
+from .nonlinear_eigen import Matrix, continue_roots, count_by_winding, det_phases, newton
 
 #: Im gamma of the counting region: one period of the exponents, both locking lines inside.
 STRIP = (-0.25, 0.75)
@@ -513,7 +513,7 @@ def _on_lines(system: HillSystem, tau: float, bounds: tuple[float, float], cut_e
         lo = bounds[0] if kind == "subharmonic" else max(bounds[0], cut_end)
         x = np.linspace(lo, bounds[1], LINE_SAMPLES) + 0j
         T, dT = pencil_family(system, kind, n_temporal, dense)(tau)
-        sign = np.sign(_phases(T, x).real)
+        sign = np.sign(det_phases(T, x).real)
         for a, b in zip(x[:-1][sign[1:] != sign[:-1]], x[1:][sign[1:] != sign[:-1]]):
             seed = 0.5 * (a + b)
             shift = 1j * GAMMA[kind]

@@ -176,7 +176,7 @@ def nonlinear_eigenvalues(T: Matrix, dT: Matrix, seeds: Iterable[complex], *, to
                                 singular_ratio=np.array(ratios), seeds_tried=tried, failed=failed)
 
 
-def _phases(T: Matrix, s: np.ndarray) -> np.ndarray:
+def det_phases(T: Matrix, s: np.ndarray) -> np.ndarray:
     """det T(s) / |det T(s)| at each point (the sign of slogdet: no overflow for large b); 0
     where singular."""
     if isinstance(T, StructuredMatrix):
@@ -185,7 +185,7 @@ def _phases(T: Matrix, s: np.ndarray) -> np.ndarray:
 
 
 def _remembered(T: Matrix, slopes: bool = False) -> Callable[[np.ndarray], np.ndarray]:
-    """s -> :func:`_phases` of T at s (with ``slopes``, of a StructuredMatrix: (2, len(s)), the
+    """s -> :func:`det_phases` of T at s (with ``slopes``, of a StructuredMatrix: (2, len(s)), the
     phases and tr(T^{-1} T')), each distinct point (bitwise: +0 and -0 in Im s are two sides of
     a cut) evaluated once however often it is asked for."""
     seen: dict[bytes, np.ndarray] = {}
@@ -196,7 +196,7 @@ def _remembered(T: Matrix, slopes: bool = False) -> Callable[[np.ndarray], np.nd
         new = {k: x for k, x in zip(keys, s) if k not in seen}
         if new:
             points = np.array(list(new.values()), dtype=complex)
-            got = T.phases_and_log_derivatives(points) if slopes else _phases(T, points)[None]
+            got = T.phases_and_log_derivatives(points) if slopes else det_phases(T, points)[None]
             seen.update(zip(new, got.T))
         out = np.array([seen[k] for k in keys], dtype=complex).T
         return out if slopes else out[0]
