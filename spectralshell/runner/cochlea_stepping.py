@@ -179,7 +179,8 @@ def simulate_cochlea(*, kappa: float, nu: float, alpha: float, n_spatial: int | 
     rows /= np.abs(np.diag(rows @ shapes))[:, None]     # q_j = 1 on mode j's shape
     system = _Modal.of(stepping_system(fine_ops, kappa=p.kappa, tau=tau), rows,
                        fine_ops.blocks["membrane"])
-    step, every, steps, t_end = time_grid(dt=dt, rate=abs(leading), tau=tau, t_end=t_end)
+    fastest_mode = float(np.max(np.abs(values[osc])))   # the step resolves every mode
+    step, every, steps, t_end = time_grid(dt=dt, rate=fastest_mode, tau=tau, t_end=t_end)
     price_stepping("cochlea run", size, steps=steps + steps // 2, max_seconds=max_seconds)
     (fine,), (coarse,) = stepped_runs([system], [amplitude * shapes.real.sum(axis=1)], scheme,
                                       step, steps, every, progress)
