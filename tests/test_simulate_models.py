@@ -51,6 +51,8 @@ def check(model, tau, run_keywords, **params):
     assert abs(run.growth_rate - gamma.real) < 1e-6
     assert abs(run.growth_rate - gamma.real) <= run.error_estimate < 1e-5
     assert folded(run.frequency, gamma) < 1e-6
+    print(f"{model} {params} tau = {tau:.6g}: |rate - Re gamma| = "
+          f"{abs(run.growth_rate - gamma.real):.2g}, stated {run.error_estimate:.2g}")
     return run, gamma
 
 

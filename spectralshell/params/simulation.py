@@ -158,7 +158,7 @@ def sphere_scene(keywords: Mapping[str, Any]) -> dict[str, Any]:
                              "shape= (modes 'm:k[:amplitude], ...' or an expression in theta, "
                              "phi)")
     if m is not None:
-        shape = f"{require_int_in_range('m', m, 2, 200)}:0"
+        shape = f"{require_int_in_range('initial degree m', m, 2, 200)}:0"
     tables: dict[str, dict[str, Any]] = {"params": {}, "initial": {"shape": shape},
                                          "simulate": {}}
     for name, value in values.items():

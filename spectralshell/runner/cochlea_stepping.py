@@ -29,12 +29,21 @@ latest) and ends as in ``simulate``.
 
 Time grid, the window's end and the 2 dt check run are those of ``simulate``
 (:func:`.simulate.time_grid`: a whole number of steps per forcing period, DT_FACTOR / |s| at
-most, s the least damped natural mode). The error estimate adds the fit's own sub-window spread,
-the change of the fit at step 2 dt and the vertical error, the largest relative change of an
-oscillatory eigenvalue of the pencil between n_vertical and N_CHECK nodes fewer, times |gamma|.
-Measured against the exponents at kappa = 0.5, nu = 1e-3, alpha = 1, tau = tau_min -+ 0.02:
-1.7e-9 and 5.8e-8 (M = 4), 2.7e-9 and 9.6e-8 (M = 6), 1.1e-7 and 1.3e-7 (M = 8), with stated
-errors 2e-8 .. 8e-7 (tests/test_cochlea_stepping.py).
+most, s the fastest oscillatory natural mode, as the sphere's fastest degree: the M modes are
+the cochlea's degrees). Stepping at the least damped mode's |s| alone left the harmonic tongues
+of kappa = 2 and 2.5 (alpha = 0.5, nu = 1e-3, M = 4: modes up to |s| = 1.5 and 1.8) off by
+1.6e-6 and 1.8e-6, the third-order time error (2.0e-7 at dt / 2); now 4.8e-7 and 3.6e-7. The
+error estimate adds the fit's own sub-window spread, the change of the fit at step 2 dt and the
+vertical error, the largest relative change of an oscillatory eigenvalue of the pencil between
+n_vertical and N_CHECK nodes fewer, times |gamma|. Measured against the exponents at
+kappa = 0.5, nu = 1e-3, alpha = 1, tau = tau_min -+ 0.02: 1.7e-9 and 5.8e-8 (M = 4), 2.7e-9
+and 9.6e-8 (M = 6), 1.1e-7 and 1.3e-7 (M = 8), with stated errors 2e-8 .. 8e-7
+(tests/test_cochlea_stepping.py), and at seven other parameter sets (kappa 0.3 .. 4, nu 1e-3,
+3e-3, alpha 0 .. 1.5, harmonic and subharmonic tongues; tests/test_simulate_models.py): 6e-8 ..
+1.1e-7 on the subharmonic ones.
+
+Public as ``ss.simulate("cochlea", ...)`` (:func:`simulate_cochlea`): the run's series (the
+modal coordinates and the membrane's cosine coefficients) with the fit.
 """
 
 from __future__ import annotations

@@ -14,6 +14,9 @@ the change of the fit at step 2 dt and the radial error, the relative change of 
 oscillatory eigenvalue of the pencil between (n_inner, n_outer) and 8 nodes fewer each, times
 |gamma|. Measured against the exponents: 2e-10 at m = 3, kappa = 0.02, nu = 2e-4, tau = tau_min
 +- 0.02 (tests/test_fibre_stepping.py).
+
+Public as ``ss.simulate("fibre", ...)`` (:func:`simulate_fibre`): the run's X^r and X^theta
+with the fit.
 """
 
 from __future__ import annotations
