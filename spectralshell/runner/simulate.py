@@ -58,8 +58,10 @@ DECAY_WINDOW = 25.0      # e-folds of a decaying mode kept in the fit window
 EXCITED = 1e-3           # coupled runs: modes above this fraction of the largest are fitted
 MIN_PERIODS = 10         # the fibre's and the cochlea's fits need this many forcing periods
 #: Seconds per step per n^2 of a dense system of n unknowns (the implicit solve and the explicit
-#: product; measured on the fibre (n = 226) and the cochlea (M = 4 and 8: n = 388, 776), SBDF3,
-#: one BLAS thread, a shared 2-core machine, the 2 dt check run included: ~1.3e-9 .. 3e-9).
+#: product). Measured, SBDF3 with its 2 dt check run, on a 2-core machine under a load of ~6:
+#: the cochlea at t_end = 40 pi, M = 4 (n = 388) and M = 8 (n = 776), took 8.6 s and 31 s in
+#: all, against estimates (these steps and DENSE_SECONDS per eigenproblem) of 4.9 s and 22 s;
+#: the price is an order of magnitude, enough to refuse a run of hours before it starts.
 STEP_SECONDS = 3e-9
 
 
