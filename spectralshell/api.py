@@ -12,7 +12,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, overload
 
 from .errors import ParameterError
 from .params.registry import models, models_with, parameters_doc
@@ -109,6 +109,15 @@ def open_sweep(path: str | Path) -> xr.Dataset:
     from .runner import open_sweep as load
 
     return load(path)
+
+
+@overload
+def simulate(target: Path | Mapping, *, progress: bool = False) -> Trajectory: ...
+
+
+@overload
+def simulate(target: str, *, progress: bool = False,
+             **keywords: Any) -> Trajectory | SteppedRun: ...
 
 
 def simulate(target: str | Path | Mapping, *, progress: bool = False,
