@@ -214,3 +214,32 @@ def test_cli_flags_tau_above_one_half(capsys):
     assert main(["simulate", "fibre", "--m", "3", "--kappa", "0.02", "--nu", "2e-4", "--tau",
                  "0.6", "--t-end", "70", "--n-inner", "24", "--n-outer", "32"]) == 0
     assert "> 1/2" in capsys.readouterr().err
+
+
+def _keywords_back(*, progress, **keywords):
+    """The stepper of the plug-in below: what simulate passed it."""
+    return {"progress": progress, **keywords}
+
+
+def test_a_plugin_model_offers_simulate_by_its_registration():
+    """What simulate takes for a model is its registered TimeStepping: a model registered with
+    one (here the Mathieu parameters and a stepper of this module) is simulated with the
+    keywords it declares, and refused others; no name is listed anywhere else."""
+    from spectralshell.models import register, unregister
+    from spectralshell.params.registry import TimeStepping, get_model
+
+    stepping = TimeStepping(runner="test_simulate_models:_keywords_back",
+                            keywords={"kappa": None, "nu": None, "tau": (float, "forcing")},
+                            required=("kappa", "nu"))
+    register(dataclasses.replace(get_model("mathieu"), name="twinstep", time_stepping=stepping))
+    try:
+        assert ss.simulate("twinstep", kappa=1.0, nu=0.1, tau=0.2) == {
+            "progress": False, "kappa": 1.0, "nu": 0.1, "tau": 0.2}
+        with pytest.raises(ParameterError, match="n_spatial is not a keyword"):
+            ss.simulate("twinstep", kappa=1.0, nu=0.1, n_spatial=3)
+        with pytest.raises(ParameterError, match="nu= is missing"):
+            ss.simulate("twinstep", kappa=1.0)
+    finally:
+        unregister("twinstep")
+    with pytest.raises(ParameterError, match="'module:function'"):
+        TimeStepping(runner="no_function", keywords={})
