@@ -165,7 +165,8 @@ def simulate(target: str | Path | Mapping, *, progress: bool = False,
     ConvergenceError : the spatial resolution cannot reach the run's tolerance (sphere), no
         oscillatory mode is resolved (fibre, cochlea), or the state blew up.
     """
-    from .runner.simulate import simulate as run, simulate_model  # lazy: keeps `import spectralshell` light
+    # lazy: keeps `import spectralshell` light
+    from .runner.simulate import simulate as run, simulate_model
 
     if isinstance(target, str) and target in models():
         return simulate_model(target, progress=progress, **keywords)

@@ -556,7 +556,8 @@ def _simulation_keywords(args) -> dict[str, Any]:
 
 def _simulation_flags() -> dict[str, str]:
     """Every flag of ``simulate`` (a keyword of some model that can be time-stepped) -> its
-    help: the first model's, and the models that take it when not all do."""
+    help: the one help, with the models that take it when not all do, or each model's where
+    they differ."""
     helps: dict[str, dict[str, str]] = {}
     names = models_with("time_stepping")
     for model in names:

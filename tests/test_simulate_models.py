@@ -1,5 +1,5 @@
-"""`ss.simulate("fibre" | "cochlea", ...)` and `spectralshell simulate fibre | cochlea`, issue 28 §1:
-the public time steppers; above tau_min their fitted growth rate equals Re gamma of the Floquet
+"""`ss.simulate("fibre" | "cochlea", ...)` and `spectralshell simulate fibre | cochlea` (issue 28
+§1): the public time steppers; above tau_min their fitted growth rate equals Re gamma of the Floquet
 exponents to 1e-6.
 
 Oracles: tau_min of ``ss.floquet`` and the leading exponent of ``ss.exponents`` (the Hill system

@@ -209,7 +209,8 @@ def _coupled(sc: SimulationScene, shape: dict, scheme: str, warnings: list[str],
                       provenance=prov, warnings=tuple(warnings))
 
 
-def simulate_model(model: str, *, progress: bool = False, **keywords: Any) -> Trajectory | SteppedRun:
+def simulate_model(model: str, *, progress: bool = False,
+                   **keywords: Any) -> Trajectory | SteppedRun:
     """``ss.simulate(model, **keywords)``: the model's stepper (its registered
     :class:`~spectralshell.params.registry.TimeStepping`), after the keywords are checked
     against the ones it declares.
