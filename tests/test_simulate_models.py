@@ -163,6 +163,17 @@ def test_keywords_need_a_model():
         ss.simulate({"params": {"kappa": 1, "nu": 0.1}}, tau=0.3)
 
 
+def test_a_run_above_the_step_limit_is_refused_before_any_work():
+    """t_end = 1e100 needs more steps than the stepper allows at any step the run may take:
+    refused before the eigenproblems."""
+    started = time.perf_counter()
+    with pytest.raises(ParameterError, match="50,000,000"):
+        ss.simulate("fibre", **FIBRE, t_end=1e100)
+    with pytest.raises(ParameterError, match="50,000,000"):
+        ss.simulate("cochlea", **COCHLEA, n_spatial=4, t_end=1e3, dt=1e-8)
+    assert time.perf_counter() - started < 1.0
+
+
 def test_a_run_above_the_seconds_limit_is_refused_before_any_work():
     """M = 2000 cosine modes: 194,000 unknowns, priced (its dense eigenproblems) and refused in
     one line without building a matrix."""

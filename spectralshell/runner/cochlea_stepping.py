@@ -162,7 +162,8 @@ def simulate_cochlea(*, kappa: float, nu: float, alpha: float, n_spatial: int | 
     if p.n_spatial is None:
         raise ParameterError("n_spatial = None is invalid: the time stepper needs a fixed number "
                              "of cosine modes M >= 1")
-    tau, t_end, amplitude, scheme, warnings = stepped_settings(tau, t_end, amplitude, scheme)
+    tau, t_end, dt, amplitude, scheme, warnings = stepped_settings(tau, t_end, dt, amplitude,
+                                                                   scheme)
     n_vertical = require_int_in_range("n_vertical", n_vertical, N_VERTICAL_MIN + N_CHECK,
                                       N_RADIAL_MAX)
     size = p.n_spatial * (2 * n_vertical + 1)

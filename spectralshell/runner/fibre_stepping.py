@@ -109,7 +109,8 @@ def simulate_fibre(*, m: int, kappa: float, nu: float, forcing: str = "both", ta
     if p.nu == 0.0:
         raise ParameterError("nu = 0 is invalid: must be > 0 for the fibre's radial time stepper "
                              "(the inviscid fibre is the Mathieu equation)")
-    tau, t_end, amplitude, scheme, warnings = stepped_settings(tau, t_end, amplitude, scheme)
+    tau, t_end, dt, amplitude, scheme, warnings = stepped_settings(tau, t_end, dt, amplitude,
+                                                                   scheme)
     n_inner = require_int_in_range("n_inner", n_inner, 4 + N_CHECK, N_RADIAL_MAX)
     n_outer = require_int_in_range("n_outer", n_outer, 6 + N_CHECK, N_RADIAL_MAX)
     size = 2 * (n_inner + n_outer) + 2

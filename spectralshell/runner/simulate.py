@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import require_real
+from .._validate import require_positive, require_real
 from .._version import stamp
 from ..discretise.sphere_stepping import scene_blocks, shape_coefficients
 from ..errors import ParameterError, SpectralShellError
@@ -240,24 +240,27 @@ def simulate_sphere(*, progress: bool = False, **keywords: Any) -> Trajectory:
     return simulate(sphere_scene(keywords), progress=progress)
 
 
-def stepped_settings(tau: Any, t_end: Any, amplitude: Any, scheme: Any
-                     ) -> tuple[float, float, float, str, list[str]]:
-    """(tau, t_end, amplitude, scheme name, warnings) of a run of the fibre or the cochlea,
-    validated: t_end >= MIN_PERIODS forcing periods (the fit's window), amplitude nonzero (a
-    linear system started at 0 stays there), |tau| > 1/2 flagged."""
+def stepped_settings(tau: Any, t_end: Any, dt: Any, amplitude: Any, scheme: Any
+                     ) -> tuple[float, float, float | None, float, str, list[str]]:
+    """(tau, t_end, dt, amplitude, scheme name, warnings) of a run of the fibre or the cochlea,
+    validated: t_end >= MIN_PERIODS forcing periods (the fit's window) and its steps within the
+    stepper's limit at the largest step the run may take (dt, or DT_FACTOR), amplitude nonzero
+    (a linear system started at 0 stays there), |tau| > 1/2 flagged."""
     tau = require_real("tau", tau)
     t_end = require_real("t_end", t_end)
     least = MIN_PERIODS * 2 * np.pi
     if not t_end >= least:
         raise ParameterError(f"t_end = {t_end!r} is invalid: must be >= {least:.6g} "
                              f"({MIN_PERIODS} forcing periods 2 pi; default {STEPPED_T_END:.6g})")
+    dt = None if dt is None else require_positive("dt", dt)
+    time_grid(dt=dt, rate=1.0, tau=tau, t_end=t_end)    # the fewest steps the run may take
     amplitude = require_real("amplitude", amplitude)
     if amplitude == 0.0:
         raise ParameterError("amplitude = 0 is invalid: must be nonzero (the linear system "
                              "started at rest stays there)")
     if not isinstance(scheme, str):
         raise ParameterError(f"scheme = {scheme!r} is invalid: must be a scheme name")
-    return tau, t_end, amplitude, get_scheme(scheme.upper()).name, amplitude_warnings(tau)
+    return tau, t_end, dt, amplitude, get_scheme(scheme.upper()).name, amplitude_warnings(tau)
 
 
 def price_stepping(what: str, size: int, *, eigenproblems: int = 0, steps: int = 0,
