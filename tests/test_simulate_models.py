@@ -99,8 +99,9 @@ COCHLEA_SETS = [(1.0, 1e-3, 0.5, 4, "subharmonic"), (0.3, 3e-3, 1.5, 4, "subharm
 @pytest.mark.slow
 @pytest.mark.parametrize("kappa, nu, alpha, n_spatial, kind", COCHLEA_SETS)
 def test_cochlea_at_other_parameter_sets(kappa, nu, alpha, n_spatial, kind):
-    """tau_min -+ 0.02 of the kind with the smaller tau_min (10 to 60 s a set on the loaded
-    2-core machine). The harmonic sets were off by 1.6e-6 and 1.8e-6 (within their stated
+    """tau_min -+ 0.02 of the kind with the smaller tau_min (13 to 47 s a set on the loaded
+    2-core machine): measured 2.1e-8 .. 1.1e-7 on the subharmonic tongues, 6.5e-8 .. 4.8e-7 on
+    the harmonic ones. The harmonic sets were off by 1.6e-6 and 1.8e-6 (within their stated
     1.1e-5, 1.2e-5) while the step followed the least damped mode alone: the time
     discretisation error (halving dt cut it to 2.0e-7, the third-order rate); the step now
     resolves the fastest oscillatory mode (|s| up to 1.5 there), as the sphere's its fastest
