@@ -12,14 +12,16 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, overload
 
-from .params.registry import parameters_doc
+from .errors import ParameterError
+from .params.registry import models, models_with, parameters_doc
 from .runner.floquet import exponents, floquet, run_scene, stability, tau_map, tongues
 
 if TYPE_CHECKING:  # lazy at run time: xarray costs ~0.35 s to import
     import xarray as xr
 
+    from .results.stepped import SteppedRun
     from .results.trajectory import Trajectory
 
 __all__ = ["floquet", "tongues", "tau_map", "exponents", "stability", "run_scene",
@@ -109,25 +111,71 @@ def open_sweep(path: str | Path) -> xr.Dataset:
     return load(path)
 
 
-def simulate(scene: str | Path | Mapping, *, progress: bool = False) -> Trajectory:
-    """Time-step a sphere scene (TOML path or string, or mapping) -> :class:`Trajectory`.
+@overload
+def simulate(target: Path | Mapping, *, progress: bool = False) -> Trajectory: ...
 
-    The linearised membrane in unsteady Stokes flow inside and outside the unit sphere, one
-    semi-discrete system per degree of the initial shape (radial Chebyshev, reduced to an ODE;
-    :mod:`spectralshell.discretise.sphere_stepping`), stepped with an IMEX scheme of
-    :mod:`spectralshell.solvers.imex`; nu = 0 steps the Mathieu equation per degree. Returns the
-    mode coefficients against time and, per excited mode, the fitted growth rate and frequency
-    with an error estimate (:mod:`spectralshell.runner.simulate`). Scene keys:
-    :mod:`spectralshell.params.simulation`.
+
+@overload
+def simulate(target: str, *, progress: bool = False,
+             **keywords: Any) -> Trajectory | SteppedRun: ...
+
+
+def simulate(target: str | Path | Mapping, *, progress: bool = False,
+             **keywords: Any) -> Trajectory | SteppedRun:
+    """Time-step a model -> its trajectory and the fitted growth rates.
+
+    ``target`` is a model that can be time-stepped (the sphere, the fibre, the cochlea: those
+    registered with a :class:`~spectralshell.params.registry.TimeStepping`) given with its
+    ``keywords``, or a sphere scene (TOML path or string, or mapping; keys in
+    :mod:`spectralshell.params.simulation`)::
+
+        ss.simulate("sphere", m=2, kappa=0.06, nu=0.002, tau=0.25, t_end=200)
+        ss.simulate("fibre", m=3, kappa=0.02, nu=2e-4, tau=0.3)
+        ss.simulate("cochlea", kappa=0.5, nu=1e-3, alpha=1, n_spatial=4, tau=0.42)
+
+    Sphere (keywords: those of a scene's [params], [initial] and [simulate], with ``m`` for an
+    initial (m, 0) shape): the linearised membrane in unsteady Stokes flow inside and outside
+    the unit sphere, one semi-discrete system per degree of the initial shape (radial
+    Chebyshev, reduced to an ODE; :mod:`spectralshell.discretise.sphere_stepping`), stepped
+    with an IMEX scheme of :mod:`spectralshell.solvers.imex`; nu = 0 steps the Mathieu
+    equation per degree. Returns a :class:`Trajectory`: the mode coefficients against time and,
+    per excited mode, the fitted growth rate and frequency with an error estimate
+    (:mod:`spectralshell.runner.simulate`).
+
+    Fibre (m, kappa, nu, forcing, tau; :mod:`spectralshell.runner.fibre_stepping`) and cochlea
+    (kappa, nu, alpha, n_spatial M, tau; :mod:`spectralshell.runner.cochlea_stepping`): the
+    model's second, independent discretisation (radial, resp. vertical, Chebyshev collocation
+    of the fluid; :mod:`spectralshell.discretise.fibre_radial`,
+    :mod:`spectralshell.discretise.cochlea_vertical`), stepped with K(t) for ``t_end`` (default
+    sixty forcing periods, at least ten). Returns a
+    :class:`~spectralshell.results.stepped.SteppedRun`: the series against time and the
+    growth rate and frequency fitted to them with an error estimate, which approximate
+    Re gamma and |Im gamma| of the leading Floquet exponent of ``exponents`` (to 1e-6 in the
+    tests, above and below tau_min). Start: fibre X = amplitude (1, -1/m), the fluid at rest;
+    cochlea: the sum of the real parts of its oscillatory natural modes times ``amplitude``.
+    Run keywords of both: t_end, scheme, dt, amplitude, the resolution (fibre n_inner,
+    n_outer; cochlea n_vertical, vertical_scale) and max_seconds, which raises the limit on
+    the estimated run time (600 s; priced before the work starts). |tau| > 1/2 (negative
+    stiffness during the cycle) is computed and flagged in ``warnings``.
 
     Raises
     ------
-    ParameterError : a scene value out of range.
-    ConvergenceError : the radial resolution cannot reach the scene's tol, or the state blew up.
+    ParameterError : a model that cannot be time-stepped, an unknown or missing keyword, a
+        value out of range, a run above a size limit.
+    ConvergenceError : the spatial resolution cannot reach the run's tolerance (sphere), no
+        oscillatory mode is resolved (fibre, cochlea), or the state blew up.
     """
-    from .runner.simulate import simulate as run  # lazy: keeps `import spectralshell` light
+    # lazy: keeps `import spectralshell` light
+    from .runner.simulate import simulate as run, simulate_model
 
-    return run(scene, progress=progress)
+    if isinstance(target, str) and target in models():
+        return simulate_model(target, progress=progress, **keywords)
+    if keywords:
+        name = sorted(keywords)[0]
+        raise ParameterError(f"{name} is invalid with a scene: keywords need a model name "
+                             f"first ({', '.join(models_with('time_stepping'))}); a scene "
+                             "holds its own values")
+    return run(target, progress=progress)
 
 
 def benchmark(name: str, **params: Any) -> xr.Dataset:

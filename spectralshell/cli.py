@@ -26,7 +26,7 @@ from ._validate import (parse_int, parse_real, require_int_in_range, require_out
 from ._version import __version__
 from .errors import ConvergenceError, ParameterError, SpectralShellError, SweepInterrupted
 from .params.registry import (get_model, load_entry_points, models, models_with, param_fields,
-                              param_help, param_names)
+                              param_help, param_names, stepping_keywords)
 from .params.scene import default_scene, load_scene, plan
 from .params.sweep_grid import is_sweep_scene, sweep_spec
 
@@ -127,9 +127,12 @@ def _params(args: argparse.Namespace, model: str, *, skip: Sequence[str] = (),
 
 def _typed(name: str, text: str, kind: object) -> Any:
     """A flag's text as its parameter's type: str kept, an integer literal for an int field
-    (so that the validator's message repeats what was typed), otherwise a float."""
+    (so that the validator's message repeats what was typed), a number or else the text for
+    (float, str) (an expression), otherwise a float."""
     if kind in (str, "str"):
         return text
+    if kind == (float, str):
+        return text if _is_text(text) else parse_real(name, text)
     if kind in (int, "int"):
         try:
             return parse_int(name, text)
@@ -537,26 +540,38 @@ def cmd_plot(args) -> int:
     return 0
 
 
-def _simulation_flags_scene(args) -> dict:
-    """The scene of ``spectralshell simulate MODEL --m ... --kappa ...`` (a model that can be
-    time-stepped: the sphere)."""
-    if (args.m is None) == (args.shape is None):
-        raise ParameterError("give exactly one of --m (degree of the initial (m, 0) shape) and "
-                             "--shape (modes 'm:k[:amplitude], ...' or an expression in theta, phi)")
-    for flag in ("kappa", "nu", "t_end"):
-        if getattr(args, flag) is None:
-            raise ParameterError(f"--{flag.replace('_', '-')} is required, e.g. --kappa 0.06 "
-                                 "--nu 0.002 --t-end 200")
-    params = {"kappa": args.kappa if _is_text(args.kappa) else parse_real("kappa", args.kappa),
-              "nu": parse_real("nu", args.nu), "tau": parse_real("tau", args.tau or "0")}
-    simulate = {"t_end": parse_real("t_end", args.t_end), "scheme": args.scheme}
-    if args.dt is not None:
-        simulate["dt"] = parse_real("dt", args.dt)
-    if args.n_radial is not None:
-        simulate["n_radial"] = _integer("n_radial", args.n_radial)
-    shape = f"{_integer('m', args.m)}:0" if args.m is not None else args.shape
-    return {"model": args.target, "params": params, "initial": {"shape": shape},
-            "simulate": simulate}
+def _simulation_keywords(args) -> dict[str, Any]:
+    """The keywords of ``spectralshell simulate MODEL --flag ...`` (a model that can be
+    time-stepped), each flag's text as the keyword's type; a flag the model does not take is
+    refused."""
+    known = stepping_keywords(args.target)
+    given = {name: getattr(args, name) for name in _simulation_flags()
+             if getattr(args, name, None) is not None}
+    for name in given:
+        if name not in known:
+            raise ParameterError(f"{_flag(name)} is invalid for model {args.target!r}: "
+                                 f"expected {', '.join(_flag(k) for k in known)}")
+    return {name: _typed(name, text, known[name][0]) for name, text in given.items()}
+
+
+def _simulation_flags() -> dict[str, str]:
+    """Every flag of ``simulate`` (a keyword of some model that can be time-stepped) -> its
+    help: the one help, with the models that take it when not all do, or each model's where
+    they differ."""
+    helps: dict[str, dict[str, str]] = {}
+    names = models_with("time_stepping")
+    for model in names:
+        for name, (_, text) in stepping_keywords(model).items():
+            helps.setdefault(name, {})[model] = text
+    out = {}
+    for name, by_model in helps.items():
+        texts = set(by_model.values())
+        if len(texts) > 1:
+            out[name] = "; ".join(f"{model}: {text}" for model, text in by_model.items())
+        else:
+            out[name] = texts.pop() + ("" if len(by_model) == len(names)
+                                       else f" [{', '.join(by_model)}]")
+    return out
 
 
 def _is_text(value: str) -> bool:
@@ -595,13 +610,15 @@ def _write_simulation(traj, png: str | None, npz: str | None) -> list[str]:
 def cmd_simulate(args) -> int:
     from .params.simulation import simulation_scene
 
-    flags = ("m", "shape", "kappa", "nu", "tau", "t_end", "dt", "n_radial")
     png, npz = args.png, args.npz
-    if args.target in models_with("time_stepping"):
-        scene = _simulation_flags_scene(args)
+    if args.target in models():
+        keywords = _simulation_keywords(args)
         json_path = None
+        if png and not get_model(args.target).time_stepping.figures:
+            raise ParameterError(f"--png is invalid for model {args.target!r}: its run has no "
+                                 "figure (the sphere's has); write the series with --npz")
     else:
-        given = [f"--{f.replace('_', '-')}" for f in flags if getattr(args, f) is not None]
+        given = [_flag(f) for f in _simulation_flags() if getattr(args, f) is not None]
         if given:
             raise ParameterError(f"{given[0]} is invalid with a scene file: set it in the scene")
         scene = load_scene(args.target)
@@ -610,11 +627,13 @@ def cmd_simulate(args) -> int:
         stem = Path(args.target).stem
         png, npz = png or str(out / f"{stem}.png"), npz or str(out / f"{stem}.npz")
         json_path = out / f"{stem}.json"
+        keywords = {}
     for name, path, suffix in (("--png", png, FIGURE_SUFFIXES),
                                ("--png", png and _shape_png(png), FIGURE_SUFFIXES),
                                ("--npz", npz, ".npz"), ("output", json_path, ".json")):
         _check_output(name, path, suffix)
-    traj = _api().simulate(scene, progress=_progress(args))
+    traj = _api().simulate(args.target if json_path is None else scene,
+                           progress=_progress(args), **keywords)
     _warn(traj.warnings)
     written = _write_simulation(traj, png, npz)
     if json_path is not None:
@@ -885,23 +904,18 @@ def build_parser() -> argparse.ArgumentParser:
                         '"uncertified", "out", "seconds"} (exit 1 if uncertified > 0)')
     p.set_defaults(func=cmd_sweep)
 
-    p = sub.add_parser("simulate", help="time-step the sphere (spectral IMEX): mode amplitudes, "
-                       "fitted growth rates and frequencies")
-    p.add_argument("target", help=f"a model that can be time-stepped "
-                   f"({', '.join(models_with('time_stepping'))}; then give the flags below) or a "
-                   "scene TOML file")
-    p.add_argument("--m", help="degree of the initial (m, 0) shape")
-    p.add_argument("--shape", help="initial shape: modes 'm:k[:amplitude], ...' or an expression "
-                   "in theta (polar), phi (azimuth)")
-    for name, text in (("kappa", "stiffness kappa (or an expression in theta, phi)"),
-                       ("nu", "viscosity nu (0: inviscid)"), ("tau", "forcing amplitude (default 0)"),
-                       ("t-end", "end time"), ("dt", "time step (default: from the fastest mode)"),
-                       ("n-radial", "radial nodes per side (default: chosen for 1e-9)")):
-        p.add_argument(f"--{name}", dest=name.replace("-", "_"), metavar="X", help=text)
-    p.add_argument("--scheme", default="SBDF3", help="IMEX scheme (SBDF1-4, CNAB2, MCNAB2, "
-                   "RK111, RK222, RK443; default SBDF3)")
+    stepped = models_with("time_stepping")
+    p = sub.add_parser("simulate", help="time-step a model (spectral IMEX): the time series and "
+                       "fitted growth rates and frequencies",
+                       description="Time-step a model: " + "; ".join(
+                           f"{m} ({', '.join(_flag(k) for k in stepping_keywords(m))})"
+                           for m in stepped) + ".")
+    p.add_argument("target", help=f"a model that can be time-stepped ({', '.join(stepped)}; "
+                   "then give the flags below) or a sphere scene TOML file")
+    for name, text in _simulation_flags().items():
+        p.add_argument(_flag(name), dest=name, metavar="X", help=text)
     p.add_argument("--png", help=f"write mode amplitudes against time to {FIGURE_FILE}, and the "
-                   "membrane shape to NAME_shape with the same suffix")
+                   "membrane shape to NAME_shape with the same suffix [sphere]")
     p.add_argument("--npz", help="write the trajectory to a *.npz file (an existing file is "
                                  "replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")

@@ -31,4 +31,8 @@ CASES = {
                  "response cochlea --omega 800 --n-spatial 32"),
     "trajectory": (lambda: ss.simulate(SIMULATION),
                    "simulate sphere --m 2 --kappa 0.06 --nu 0.002 --t-end 20"),
+    "stepped-run": (lambda: ss.simulate("fibre", m=3, kappa=0.02, nu=2e-4, tau=0.3, t_end=70,
+                                        n_inner=24, n_outer=32),
+                    "simulate fibre --m 3 --kappa 0.02 --nu 2e-4 --tau 0.3 --t-end 70 "
+                    "--n-inner 24 --n-outer 32"),
 }

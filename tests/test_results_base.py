@@ -28,7 +28,8 @@ def _same(a, b) -> bool:
 def test_every_result_type_is_covered(built):
     kinds = {type(built(name)).__name__ for name in CASES}
     assert kinds == {"FloquetResult", "SpatialFloquetResult", "TonguesResult", "ExponentsResult",
-                     "StabilityResult", "NaturalModesResult", "ResponseResult", "Trajectory"}
+                     "StabilityResult", "NaturalModesResult", "ResponseResult", "Trajectory",
+                     "SteppedRun"}
     assert all(isinstance(built(name), Result) for name in CASES)
 
 

@@ -38,6 +38,8 @@ def _key_numbers(res) -> list[str]:
             [f"{g.real:+.12g}" for g in res.gamma])
     if name == "ResponseResult":
         return [f"{res.peak_x:.6g}", f"{res.peak_error:.1e}"]
+    if name == "SteppedRun":
+        return [f"{res.growth_rate:+.10f}", f"{res.frequency:.10f}", f"{res.error_estimate:.1e}"]
     return [f"{f.growth_rate:+.10f}" for f in res.fits] + [f"{f.frequency:.10f}" for f in res.fits]
 
 
@@ -212,6 +214,15 @@ def test_trajectory_dataset_is_the_time_series_and_fits(built):
     assert [(int(m), int(k)) for m, k in zip(ds["m"].values, ds["k"].values)] == list(res.modes)
     np.testing.assert_array_equal(ds["growth_rate"], [f.growth_rate for f in res.fits])
     assert "toroidal" not in ds  # no toroidal mode excited: its empty dimension is left out
+
+
+def test_stepped_run_dataset_is_the_series_and_the_fit(built):
+    res = built("stepped-run")
+    ds = res.to_xarray()
+    assert ds["values"].dims == ("t", "series") and list(ds["series"].values) == ["X^r", "X^theta"]
+    np.testing.assert_array_equal(ds["values"], res.values)
+    np.testing.assert_array_equal(ds["t"], res.times)
+    assert float(ds["growth_rate"]) == res.growth_rate and ds.attrs["fitted"] == "X^r"
 
 
 def test_html_and_a_floquet_result_do_not_import_xarray():

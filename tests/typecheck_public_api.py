@@ -15,6 +15,7 @@ from spectralshell.results.floquet import (ExponentsResult, FloquetResult, Stabi
 from spectralshell.results.modes import NaturalModesResult
 from spectralshell.results.records import MarginalTau
 from spectralshell.results.response import ResponseResult
+from spectralshell.results.stepped import SteppedRun
 from spectralshell.results.trajectory import Trajectory
 
 
@@ -36,6 +37,10 @@ def uses() -> None:
     swept: xr.Dataset = ss.sweep(Path("map.toml"), executor="serial", out="map.zarr")
     again: xr.Dataset = ss.open_sweep("map.zarr")
     run: Trajectory = ss.simulate({"params": {"kappa": 0.06, "nu": 0.002, "tau": 0.25}})
+    stepped = ss.simulate("fibre", m=3, kappa=0.02, nu=2e-4, tau=0.124)
+    if isinstance(stepped, SteppedRun):
+        rate: float = stepped.growth_rate + stepped.error_estimate
+        print(rate, stepped.series, stepped.values.shape)
     c: float = ss.lp_coefficient(2)
     names: tuple[str, ...] = ss.models()
     scene: dict[str, object] = ss.run_scene("scene.toml", workers=1)

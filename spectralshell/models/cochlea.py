@@ -42,6 +42,7 @@ from ..errors import ParameterError
 from ..params.cochlea import CochleaParams
 from ..params.physical import (COCHLEA_MODE_INPUTS, COCHLEA_UNITS, cochlea_mode_scale,
                                cochlea_physical)
+from ..params.simulation import COCHLEA_STEPPING
 from ..params.registry import Model, PhysicalInput, register
 from .base import HillSystem, ModeFamily, ResponseModel
 
@@ -385,4 +386,5 @@ MODEL = register(Model(
     spatial=True,
     physical=PhysicalInput(units=COCHLEA_UNITS, convert=cochlea_physical,
                            note="Table 5.1 defaults for the missing ones; omega required"),
-    mode_inputs=COCHLEA_MODE_INPUTS, mode_scale=cochlea_mode_scale, response=response_model))
+    mode_inputs=COCHLEA_MODE_INPUTS, mode_scale=cochlea_mode_scale, response=response_model,
+    time_stepping=COCHLEA_STEPPING))

@@ -48,6 +48,7 @@ import numpy as np
 from .._validate import require_positive
 from ..errors import ParameterError
 from ..params.fibre import FibreParams
+from ..params.simulation import FIBRE_STEPPING
 from ..params.registry import Model, register
 from ..special.cylindrical import k_continuation, ratio_i, ratio_k
 from . import mathieu
@@ -425,4 +426,5 @@ MODEL = register(Model(
     params=FibreParams, hill_system=_hill_system, modal_system=_modal_system,
     inviscid_modes=_inviscid_modes,
     inviscid_method="closed form lambda0^2 = kappa m (m^2 - 1)/2 "
-                    "(derivations/fibre_linear_result.md, 4a)"))
+                    "(derivations/fibre_linear_result.md, 4a)",
+    time_stepping=FIBRE_STEPPING))

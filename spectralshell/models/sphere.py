@@ -32,6 +32,7 @@ from .._validate import REAL_MAX, REAL_MIN
 from ..errors import ParameterError
 from ..params.physical import SPHERE_MODE_INPUTS, sphere_mode_scale
 from ..params.registry import Model, register
+from ..params.simulation import SPHERE_STEPPING
 from ..params.sphere import SphereParams
 from ..special.spherical import M_MAX, ratio_i, ratio_k, ratio_pair
 from . import mathieu
@@ -182,4 +183,5 @@ MODEL = register(Model(
     summary="spherical membrane in viscous fluid, one degree m (thesis 6-7)",
     params=SphereParams, hill_system=_hill_system, modal_system=_modal_system,
     inviscid_modes=_inviscid_modes, inviscid_method="closed form (7.4)",
-    mode_inputs=SPHERE_MODE_INPUTS, mode_scale=sphere_mode_scale, time_stepping=True))
+    mode_inputs=SPHERE_MODE_INPUTS, mode_scale=sphere_mode_scale,
+    time_stepping=SPHERE_STEPPING))

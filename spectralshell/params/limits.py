@@ -16,9 +16,11 @@ total once the axes are known (tongues: the kappa grid; tau maps: x * y * degree
 [grid] axis, kind included). Result memory is the total times the bytes a point's result takes
 (:data:`RESULT_BYTES`, :data:`SWEEP_BYTES`). Estimated seconds bound the cost of a solve that
 can be predicted from its parameters (the cochlea's spatial and temporal truncations,
-:mod:`spectralshell.solvers.cost`). Integer ranges of a model (degrees m <= 200, spatial modes
-<= 2000) are validity ranges of the model, not limits: they are checked on a range's ends
-(:func:`spectralshell.params.grid.parse_int_range`) and cannot be raised.
+:mod:`spectralshell.solvers.cost`; the dense eigenproblems and steps of a fibre or cochlea
+``simulate``, :func:`spectralshell.runner.simulate.price_stepping`). Integer ranges of a model
+(degrees m <= 200, spatial modes <= 2000) are validity ranges of the model, not limits: they
+are checked on a range's ends (:func:`spectralshell.params.grid.parse_int_range`) and cannot be
+raised.
 """
 
 from __future__ import annotations

@@ -50,6 +50,42 @@ class PhysicalInput:
 
 
 @dataclass(frozen=True, kw_only=True)
+class TimeStepping:
+    """How ``simulate`` time-steps a model: ``ss.simulate(model, **keywords)``.
+
+    Attributes
+    ----------
+    runner : 'module:function' of the stepper, imported on first use (a stepper discretises
+        and solves, stages later than the model's registration, which may not import them);
+        function(*, progress, **keywords) -> a result with the time series and the fitted
+        growth rate.
+    keywords : keyword -> (type, help) of every keyword the stepper takes, in the order the
+        CLI lists them; None in place of (type, help): the model's parameter of that name (its
+        type and help from the parameter metadata). A type (float, str) is a number or else a
+        text (an expression).
+    required : the keywords without a default.
+    initial : the initial state the run starts from (one line, for help and documentation).
+    figures : the result has the figures of ``simulate --png`` (mode amplitudes and shape).
+    """
+
+    runner: str
+    keywords: Mapping[str, tuple[Any, str] | None]
+    required: tuple[str, ...] = ()
+    initial: str = ""
+    figures: bool = False
+
+    def __post_init__(self) -> None:
+        module, _, function = self.runner.partition(":")
+        if not (module and function.isidentifier()):
+            raise ParameterError(f"runner = {self.runner!r} is invalid: must be "
+                                 "'module:function'")
+        missing = [k for k in self.required if k not in self.keywords]
+        if missing:
+            raise ParameterError(f"required keyword {missing[0]!r} is invalid: not among the "
+                                 f"keywords {', '.join(self.keywords)}")
+
+
+@dataclass(frozen=True, kw_only=True)
 class Model:
     """A model plug-in: its parameters, its physics and what it can compute.
 
@@ -76,7 +112,8 @@ class Model:
         cgs values to record).
     response : params -> ResponseModel (:mod:`spectralshell.models.base`), the pure-tone and
         parametric response envelopes along the membrane (``response``).
-    time_stepping : the model can be time-stepped by ``simulate`` (scenes with [initial]).
+    time_stepping : :class:`TimeStepping`, how ``simulate`` time-steps the model (its keywords
+        and stepper), or None.
     """
 
     name: str
@@ -92,7 +129,7 @@ class Model:
     mode_inputs: Mapping[str, str] = field(default_factory=dict)
     mode_scale: Callable[[Any, dict[str, float]], tuple[Any, float, dict[str, Any]]] | None = None
     response: Callable[[Any], Any] | None = None
-    time_stepping: bool = False
+    time_stepping: TimeStepping | None = None
 
     def __post_init__(self) -> None:
         if not (isinstance(self.name, str) and self.name.isidentifier()):
@@ -173,6 +210,21 @@ def require_capability(model: str, what: str, *capabilities: str) -> Model:
         able = ", ".join(repr(n) for n in models_with(*capabilities)) or "none"
         raise ParameterError(f"model = {model!r} is invalid for {what}: must be one of {able}")
     return spec
+
+
+def stepping_keywords(model: str) -> dict[str, tuple[Any, str]]:
+    """keyword -> (type, help) of ``simulate`` for ``model`` (:class:`TimeStepping`; a model
+    parameter's from its field metadata), ParameterError if it cannot be time-stepped."""
+    stepping = require_capability(model, "simulate", "time_stepping").time_stepping
+    fields = {f.name: f for f in param_fields(model)}
+    out = {}
+    for name, entry in stepping.keywords.items():
+        if entry is None:
+            f = fields[name]
+            entry = (f.type if isinstance(f.type, type) else str(f.type).split(" |")[0],
+                     param_help(f))
+        out[name] = entry
+    return out
 
 
 def param_fields(model: str) -> tuple[dataclasses.Field, ...]:

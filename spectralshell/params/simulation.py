@@ -31,6 +31,7 @@ no sympy). They must be finite everywhere on the sphere, and a kappa expression 
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -41,6 +42,7 @@ from .._validate import (parse_int, parse_real, require_choice, require_int_in_r
                          require_nonnegative, require_positive, require_real)
 from ..errors import ParameterError
 from .expression import Expression, parse_expression
+from .registry import TimeStepping
 from .scene import load_scene
 from .stiffness import amplitude_warnings
 
@@ -82,6 +84,88 @@ class SimulationScene:
         """The physical parameters as JSON values."""
         kappa = self.kappa.text if isinstance(self.kappa, Expression) else self.kappa
         return {"kappa": kappa, "nu": self.nu, "tau": self.tau}
+
+
+#: The run keywords every time stepper takes (``ss.simulate(model, ...)``), -> (type, help).
+RUN_KEYWORDS: dict[str, tuple[Any, str]] = {
+    "tau": (float, "forcing amplitude tau: the stiffness times (1 + 2 tau sin t) (default 0)"),
+    "t_end": (float, "end time"),
+    "scheme": (str, "IMEX scheme (SBDF1-4, CNAB2, MCNAB2, RK111, RK222, RK443; default SBDF3)"),
+    "dt": (float, "time step (default: from the fastest mode, a whole number of steps a "
+                  "forcing period)"),
+}
+
+#: The sphere's keywords: those of a scene's [params], [initial] and [simulate] (module
+#: docstring), and m, the degree of an initial (m, 0) shape, in place of ``shape``.
+SPHERE_STEPPING = TimeStepping(
+    runner="spectralshell.runner.simulate:simulate_sphere",
+    keywords={"m": (int, "degree of the initial (m, 0) shape (or give shape)"),
+              "shape": (str, "initial shape: modes 'm:k[:amplitude], ...' or an expression in "
+                             "theta (polar), phi (azimuth)"),
+              "kappa": ((float, str), "stiffness kappa (or an expression in theta, phi)"),
+              "nu": (float, "viscosity nu (0: inviscid)"),
+              **RUN_KEYWORDS,
+              "amplitude": (float, f"amplitude of listed modes without one (default "
+                                   f"{DEFAULT_AMPLITUDE})"),
+              "twist": (str, "initial toroidal displacement, modes 'm:k[:amplitude], ...'"),
+              "n_radial": (int, "radial nodes per side (default: chosen to reach tol)"),
+              "tol": (float, "target relative spatial error (default 1e-9)"),
+              "l_max": (int, f"degree cut-off of expressions (default {L_MAX})")},
+    required=("kappa", "nu", "t_end"),
+    initial="the membrane displaced in the given harmonic modes (or an expression), the fluid "
+            "at rest", figures=True)
+
+
+#: Default run length of the fibre's and the cochlea's steppers: 60 forcing periods.
+STEPPED_T_END = 120 * math.pi
+_STEPPED_RUN = {**RUN_KEYWORDS,
+                "t_end": (float, "end time, >= 20 pi: ten forcing periods (default 120 pi, "
+                                 "sixty)")}
+_MAX_SECONDS = {"max_seconds": (float, "raise the limit on the estimated run time (default "
+                                       "600 s, or $SPECTRALSHELL_MAX_SECONDS)")}
+
+#: The fibre's keywords (:func:`spectralshell.runner.fibre_stepping.simulate_fibre`).
+FIBRE_STEPPING = TimeStepping(
+    runner="spectralshell.runner.fibre_stepping:simulate_fibre",
+    keywords={"m": None, "kappa": None, "nu": None, "forcing": None, **_STEPPED_RUN,
+              "amplitude": (float, "initial X^r (nonzero; X^theta = -X^r/m; default 1)"),
+              "n_inner": (int, "radial unknowns per field inside (default 48)"),
+              "n_outer": (int, "radial unknowns per field outside (default 64)"), **_MAX_SECONDS},
+    required=("m", "kappa", "nu"),
+    initial="X = amplitude (1, -1/m) (the inviscid mode's shape), the fluid at rest")
+
+#: The cochlea's keywords (:func:`spectralshell.runner.cochlea_stepping.simulate_cochlea`).
+COCHLEA_STEPPING = TimeStepping(
+    runner="spectralshell.runner.cochlea_stepping:simulate_cochlea",
+    keywords={"kappa": None, "nu": None, "alpha": None,
+              "n_spatial": (int, "number M of cosine modes (required: a fixed M)"), **_STEPPED_RUN,
+              "amplitude": (float, "scale of the initial state (nonzero; default 1)"),
+              "n_vertical": (int, "vertical unknowns per field and mode (default 48)"),
+              "vertical_scale": (float, "L of the vertical map y = L (1/xi - 1) (default 1)"),
+              **_MAX_SECONDS},
+    required=("kappa", "nu", "alpha", "n_spatial"),
+    initial="the sum of the real parts of every oscillatory natural mode of the stepped system, "
+            "fluid included, each of largest membrane amplitude 1, times amplitude")
+
+
+def sphere_scene(keywords: Mapping[str, Any]) -> dict[str, Any]:
+    """The scene of ``ss.simulate("sphere", **keywords)`` (keywords of :data:`SPHERE_STEPPING`;
+    exactly one of m and shape)."""
+    values = dict(keywords)
+    m, shape = values.pop("m", None), values.pop("shape", None)
+    if (m is None) == (shape is None):
+        raise ParameterError("give exactly one of m= (degree of the initial (m, 0) shape) and "
+                             "shape= (modes 'm:k[:amplitude], ...' or an expression in theta, "
+                             "phi)")
+    if m is not None:
+        shape = f"{require_int_in_range('initial degree m', m, 2, 200)}:0"
+    tables: dict[str, dict[str, Any]] = {"params": {}, "initial": {"shape": shape},
+                                         "simulate": {}}
+    for name, value in values.items():
+        table = ("params" if name in PARAM_KEYS else "initial" if name in INITIAL_KEYS
+                 else "simulate")
+        tables[table][name] = value
+    return {"model": "sphere", **tables}
 
 
 def parse_modes(name: str, spec: Any, amplitude: float) -> dict[tuple[int, int], float]:

@@ -29,19 +29,30 @@ latest) and ends as in ``simulate``.
 
 Time grid, the window's end and the 2 dt check run are those of ``simulate``
 (:func:`.simulate.time_grid`: a whole number of steps per forcing period, DT_FACTOR / |s| at
-most, s the least damped natural mode). The error estimate adds the fit's own sub-window spread,
-the change of the fit at step 2 dt and the vertical error, the largest relative change of an
-oscillatory eigenvalue of the pencil between n_vertical and N_CHECK nodes fewer, times |gamma|.
-Measured against the exponents at kappa = 0.5, nu = 1e-3, alpha = 1, tau = tau_min -+ 0.02:
-1.7e-9 and 5.8e-8 (M = 4), 2.7e-9 and 9.6e-8 (M = 6), 1.1e-7 and 1.3e-7 (M = 8), with stated
-errors 2e-8 .. 8e-7 (tests/test_cochlea_stepping.py).
+most, s the fastest oscillatory natural mode, as the sphere's fastest degree: the M modes are
+the cochlea's degrees). Stepping at the least damped mode's |s| alone left the harmonic tongues
+of kappa = 2 and 2.5 (alpha = 0.5, nu = 1e-3, M = 4: modes up to |s| = 1.5 and 1.8) off by
+1.6e-6 and 1.8e-6, the third-order time error (2.0e-7 at dt / 2); now 4.8e-7 and 3.6e-7. The
+error estimate adds the fit's own sub-window spread, the change of the fit at step 2 dt and the
+vertical error, the largest relative change of an oscillatory eigenvalue of the pencil between
+n_vertical and N_CHECK nodes fewer, times |gamma|. Measured against the exponents at
+kappa = 0.5, nu = 1e-3, alpha = 1, tau = tau_min -+ 0.02: 1.7e-9 and 5.8e-8 (M = 4), 2.7e-9
+and 9.6e-8 (M = 6), 1.1e-7 and 1.3e-7 (M = 8), with stated errors 2e-8 .. 8e-7
+(tests/test_cochlea_stepping.py), and at seven other parameter sets (kappa 0.3 .. 4, nu 1e-3,
+3e-3, alpha 0 .. 1.5, harmonic and subharmonic tongues; tests/test_simulate_models.py):
+2.1e-8 .. 1.1e-7 on the subharmonic tongues, 6.5e-8 .. 4.8e-7 on the harmonic ones, with stated
+errors 1.7e-7 .. 3.4e-6.
+
+Public as ``ss.simulate("cochlea", ...)`` (:func:`simulate_cochlea`): the run's series (the
+modal coordinates and the membrane's cosine coefficients) with the fit.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
+import time
 from collections.abc import Callable
+from typing import Any
 from dataclasses import dataclass
 
 import numpy as np
@@ -54,10 +65,12 @@ from ..discretise.sphere_stepping import OSCILLATORY, oscillatory_leader
 from ..errors import ConvergenceError, ParameterError
 from ..models.cochlea import natural_frequencies
 from ..params.cochlea import CochleaParams
+from ..params.simulation import STEPPED_T_END
 from ..results.records import RateFit
+from ..results.stepped import SteppedRun
 from ..solvers.eigen import finite_eigenvalues
-from ..solvers.rate_fit import fit_rate
-from .simulate import fit_window, stepped_runs, time_grid
+from .simulate import (fit_window, price_stepping, stepped_fit, stepped_result, stepped_runs,
+                       stepped_settings, time_grid)
 
 N_VERTICAL = 48         # default vertical resolution (natural modes to 7e-9 at M = 4, 6, nu = 1e-3)
 VERTICAL_SCALE = 1.0    # L of the map y = L (1/xi - 1): the decay length of the first mode
@@ -100,6 +113,49 @@ def cochlea_rate(*, kappa: float, nu: float, alpha: float, n_spatial: int, tau: 
     ParameterError : a parameter out of range (nu = 0 and n_spatial = None included).
     ConvergenceError : no oscillatory mode resolved.
     """
+    if not require_real("periods", periods) >= 10:
+        raise ParameterError(f"periods = {periods!r} is invalid: must be >= 10")
+    return simulate_cochlea(kappa=kappa, nu=nu, alpha=alpha, n_spatial=n_spatial, tau=tau,
+                            t_end=periods * 2 * math.pi, scheme=scheme, dt=dt,
+                            n_vertical=n_vertical, vertical_scale=vertical_scale).fit
+
+
+def simulate_cochlea(*, kappa: float, nu: float, alpha: float, n_spatial: int | None = None,
+                     tau: float = 0.0, t_end: float = STEPPED_T_END, scheme: str = "SBDF3",
+                     dt: float | None = None, amplitude: float = 1.0,
+                     n_vertical: int = N_VERTICAL, vertical_scale: float = VERTICAL_SCALE,
+                     max_seconds: float | None = None, progress: bool = False) -> SteppedRun:
+    """Time-step the cochlea of M cosine modes and fit the fastest-growing modal coordinate ->
+    :class:`SteppedRun` (``ss.simulate("cochlea", ...)``; module docstring).
+
+    Parameters
+    ----------
+    kappa, nu, alpha, n_spatial : as ``ss.exponents("cochlea", ...)``; nu > 0 and a fixed
+        number M of cosine modes (required).
+    tau : pumping amplitude of K(t) = kappa e^{-alpha x} (1 + 2 tau sin t); |tau| > 1/2 is
+        flagged.
+    t_end : end time, >= 20 pi (ten forcing periods; default sixty).
+    scheme, dt : IMEX scheme and step (None: :func:`.simulate.time_grid`'s).
+    amplitude : the start (the sum of the real parts of the oscillatory natural modes of the
+        stepped pencil, each of largest membrane amplitude 1) times ``amplitude`` (nonzero).
+    n_vertical : vertical unknowns per field and mode (>= 6 + N_CHECK).
+    vertical_scale : L of the vertical map y = L (1/xi - 1).
+    max_seconds : raise the limit on the estimated run time (default 600 s or
+        $SPECTRALSHELL_MAX_SECONDS), priced before the eigenproblems and before the steps.
+
+    Returns
+    -------
+    SteppedRun with series q1, ..., (the modal coordinates) and h1, ..., hM (the membrane's
+    cosine coefficients); the fit is that of the modal coordinate growing fastest: growth_rate
+    approximates Re gamma of the leading Floquet exponent, frequency its |Im gamma|.
+
+    Raises
+    ------
+    ParameterError : a parameter out of range (nu = 0 and n_spatial = None included), a run
+        priced above the limit.
+    ConvergenceError : no oscillatory mode resolved.
+    """
+    started = time.perf_counter()
     p = CochleaParams(kappa=kappa, nu=nu, alpha=alpha, n_spatial=n_spatial)
     if p.nu == 0.0:
         raise ParameterError("nu = 0 is invalid: must be > 0 for the cochlea's vertical time "
@@ -107,11 +163,12 @@ def cochlea_rate(*, kappa: float, nu: float, alpha: float, n_spatial: int, tau: 
     if p.n_spatial is None:
         raise ParameterError("n_spatial = None is invalid: the time stepper needs a fixed number "
                              "of cosine modes M >= 1")
-    tau = require_real("tau", tau)
-    if not require_real("periods", periods) >= 10:
-        raise ParameterError(f"periods = {periods!r} is invalid: must be >= 10")
+    tau, t_end, dt, amplitude, scheme, warnings = stepped_settings(tau, t_end, dt, amplitude,
+                                                                   scheme)
     n_vertical = require_int_in_range("n_vertical", n_vertical, N_VERTICAL_MIN + N_CHECK,
                                       N_RADIAL_MAX)
+    size = p.n_spatial * (2 * n_vertical + 1)
+    price_stepping("cochlea run", size, eigenproblems=4, max_seconds=max_seconds)
     floor = FLOOR * float(natural_frequencies(p.kappa, p.alpha, np.arange(1, p.n_spatial + 1))[0])
     fine_ops, coarse_ops = (
         cochlea_vertical_operators(n_spatial=p.n_spatial, nu=p.nu, alpha=p.alpha,
@@ -131,23 +188,30 @@ def cochlea_rate(*, kappa: float, nu: float, alpha: float, n_spatial: int, tau: 
     left = left_vectors[:, [int(np.argmin(np.abs(left_values - values[i]))) for i in osc]]
     rows = left.T @ fine_ops.M                          # u_j^T M: q_j(v) = Re(rows_j v)
     rows /= np.abs(np.diag(rows @ shapes))[:, None]     # q_j = 1 on mode j's shape
-    system = _Modal.of(stepping_system(fine_ops, kappa=p.kappa, tau=tau), rows)
-    step, every, steps, t_end = time_grid(dt=dt, rate=abs(leading), tau=tau,
-                                          t_end=periods * 2 * math.pi)
-    (fine,), (coarse,) = stepped_runs([system], [shapes.real.sum(axis=1)], scheme, step, steps,
-                                      every, progress=False)
+    system = _Modal.of(stepping_system(fine_ops, kappa=p.kappa, tau=tau), rows,
+                       fine_ops.blocks["membrane"])
+    fastest_mode = float(np.max(np.abs(values[osc])))   # the step resolves every mode
+    step, every, steps, t_end = time_grid(dt=dt, rate=fastest_mode, tau=tau, t_end=t_end)
+    price_stepping("cochlea run", size, steps=steps + steps // 2, max_seconds=max_seconds)
+    (fine,), (coarse,) = stepped_runs([system], [amplitude * shapes.real.sum(axis=1)], scheme,
+                                      step, steps, every, progress)
     forced = tau != 0.0
     t_a, t_b = fit_window(t_end, leading, forced)
     fastest = float(np.max(-values[osc].real))
     window = (max(t_a, min(TRANSIENT_EFOLDS / fastest, MAX_SKIP * t_end)), t_b)
-    period = 2 * math.pi if forced else None
-    fits = [[fit_rate(run.times, run.values[:, j], period=period, window=window) for j in
-             range(osc.size)] for run in (fine, coarse)]
-    j = int(np.argmax([fit.growth_rate for fit in fits[0]]))
-    f, c = fits[0][j], fits[1][j]
-    time_error = max(abs(f.growth_rate - c.growth_rate), abs(f.frequency - c.frequency))
-    space_error = vertical * abs(complex(f.growth_rate, f.frequency))
-    return dataclasses.replace(f, error_estimate=f.error_estimate + time_error + space_error)
+    column, fit = stepped_fit(fine, coarse, range(osc.size), window, forced, vertical)
+    params: dict[str, Any] = {"kappa": p.kappa, "nu": p.nu, "alpha": p.alpha,
+                              "n_spatial": p.n_spatial, "tau": tau, "amplitude": amplitude}
+    resolution = {"n_vertical": n_vertical, "vertical_scale": vertical_scale,
+                  "spatial_error": vertical,
+                  "natural_modes": [[g.real, g.imag] for g in values[osc]]}
+    series = (*(f"q{j + 1}" for j in range(osc.size)),
+              *(f"h{k}" for k in range(1, p.n_spatial + 1)))
+    return stepped_result("cochlea", params, fine, series, column, fit, scheme=scheme,
+                          every=every, method="IMEX time stepping of the vertical Chebyshev "
+                          "system per cosine mode (discretise/cochlea_vertical.py), the fit on "
+                          "the modal coordinates q_j", resolution=resolution, warnings=warnings,
+                          started=started)
 
 
 def _peaks(membrane: np.ndarray) -> np.ndarray:
@@ -159,17 +223,20 @@ def _peaks(membrane: np.ndarray) -> np.ndarray:
 class _Modal:
     """The system M dv/dt = L v + f(t) N v of a :class:`.cochlea_vertical.CochleaStepping`
     observed through its modal coordinates: ``displacement`` (what
-    :func:`.simulate.stepped_runs` records) returns Re(rows v)."""
+    :func:`.simulate.stepped_runs` records) returns Re(rows v), then the membrane's cosine
+    coefficients v[membrane]."""
 
     M: np.ndarray
     L: np.ndarray
     N: np.ndarray | None
     forcing: Callable[[float], float] | None
     rows: np.ndarray
+    membrane: slice
 
     @classmethod
-    def of(cls, system: CochleaStepping, rows: np.ndarray) -> _Modal:
-        return cls(M=system.M, L=system.L, N=system.N, forcing=system.forcing, rows=rows)
+    def of(cls, system: CochleaStepping, rows: np.ndarray, membrane: slice) -> _Modal:
+        return cls(M=system.M, L=system.L, N=system.N, forcing=system.forcing, rows=rows,
+                   membrane=membrane)
 
     def displacement(self, v: np.ndarray) -> np.ndarray:
-        return (self.rows @ v).real
+        return np.concatenate([(self.rows @ v).real, v[self.membrane]])

@@ -24,17 +24,28 @@ and fits every mode reaching ``EXCITED`` times the largest amplitude.
 
 from __future__ import annotations
 
+import dataclasses
+import importlib
 import time
 from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from .._validate import require_positive, require_real
 from .._version import stamp
 from ..discretise.sphere_stepping import scene_blocks, shape_coefficients
 from ..errors import ParameterError, SpectralShellError
-from ..params.simulation import Expression, SimulationScene, simulation_scene
+from ..params.limits import SECONDS
+from ..params.registry import get_model, stepping_keywords
+from ..params.simulation import (STEPPED_T_END, Expression, SimulationScene, simulation_scene,
+                                 sphere_scene)
+from ..params.stiffness import amplitude_warnings
+from ..results.records import RateFit
+from ..results.stepped import SteppedRun
 from ..results.trajectory import ModeFit, Trajectory
+from ..solvers.cost import DENSE_SECONDS
 from ..solvers.imex import scheme as get_scheme
 from ..solvers.rate_fit import fit_rate
 from ..solvers.stepper import MAX_STEPS, Run, integrate
@@ -45,6 +56,13 @@ SAMPLES_PER_PERIOD = 32
 TRANSIENT_PERIODS = 2.0
 DECAY_WINDOW = 25.0      # e-folds of a decaying mode kept in the fit window
 EXCITED = 1e-3           # coupled runs: modes above this fraction of the largest are fitted
+MIN_PERIODS = 10         # the fibre's and the cochlea's fits need this many forcing periods
+#: Seconds per step per n^2 of a dense system of n unknowns (the implicit solve and the explicit
+#: product). Measured, SBDF3 with its 2 dt check run, on a 2-core machine under a load of ~6:
+#: the cochlea at t_end = 40 pi, M = 4 (n = 388) and M = 8 (n = 776), took 8.6 s and 31 s in
+#: all, against estimates (these steps and DENSE_SECONDS per eigenproblem) of 4.9 s and 22 s;
+#: the price is an order of magnitude, enough to refuse a run of hours before it starts.
+STEP_SECONDS = 3e-9
 
 
 def time_grid(*, dt: float | None, rate: float, tau: float, t_end: float) -> tuple[float, int, int, float]:
@@ -189,6 +207,103 @@ def _coupled(sc: SimulationScene, shape: dict, scheme: str, warnings: list[str],
                       times=fine.times, modes=system.modes, radial=radial, tangential=tangential,
                       toroidal_modes=system.toroidal_modes, toroidal=toroidal, fits=tuple(fits),
                       provenance=prov, warnings=tuple(warnings))
+
+
+def simulate_model(model: str, *, progress: bool = False,
+                   **keywords: Any) -> Trajectory | SteppedRun:
+    """``ss.simulate(model, **keywords)``: the model's stepper (its registered
+    :class:`~spectralshell.params.registry.TimeStepping`), after the keywords are checked
+    against the ones it declares.
+
+    Raises
+    ------
+    ParameterError : the model cannot be time-stepped, an unknown or missing keyword.
+    """
+    known = stepping_keywords(model)
+    unknown = sorted(set(keywords) - set(known))
+    if unknown:
+        raise ParameterError(f"{unknown[0]} is not a keyword of simulate for model {model!r}: "
+                             f"expected {', '.join(known)}")
+    stepping = get_model(model).time_stepping
+    missing = [k for k in stepping.required if keywords.get(k) is None]
+    if missing:
+        raise ParameterError(f"{missing[0]}= is missing: simulate of model {model!r} needs "
+                             f"{', '.join(k + '=' for k in stepping.required)}")
+    module, _, function = stepping.runner.partition(":")
+    run = getattr(importlib.import_module(module), function)
+    return run(progress=progress, **{k: v for k, v in keywords.items() if v is not None})
+
+
+def simulate_sphere(*, progress: bool = False, **keywords: Any) -> Trajectory:
+    """``ss.simulate("sphere", **keywords)``: the scene of the keywords
+    (:func:`spectralshell.params.simulation.sphere_scene`) simulated."""
+    return simulate(sphere_scene(keywords), progress=progress)
+
+
+def stepped_settings(tau: Any, t_end: Any, dt: Any, amplitude: Any, scheme: Any
+                     ) -> tuple[float, float, float | None, float, str, list[str]]:
+    """(tau, t_end, dt, amplitude, scheme name, warnings) of a run of the fibre or the cochlea,
+    validated: t_end >= MIN_PERIODS forcing periods (the fit's window) and its steps within the
+    stepper's limit at the largest step the run may take (dt, or DT_FACTOR), amplitude nonzero
+    (a linear system started at 0 stays there), |tau| > 1/2 flagged."""
+    tau = require_real("tau", tau)
+    t_end = require_real("t_end", t_end)
+    least = MIN_PERIODS * 2 * np.pi
+    if not t_end >= least:
+        raise ParameterError(f"t_end = {t_end!r} is invalid: must be >= {least:.6g} "
+                             f"({MIN_PERIODS} forcing periods 2 pi; default {STEPPED_T_END:.6g})")
+    dt = None if dt is None else require_positive("dt", dt)
+    time_grid(dt=dt, rate=1.0, tau=tau, t_end=t_end)    # the fewest steps the run may take
+    amplitude = require_real("amplitude", amplitude)
+    if amplitude == 0.0:
+        raise ParameterError("amplitude = 0 is invalid: must be nonzero (the linear system "
+                             "started at rest stays there)")
+    if not isinstance(scheme, str):
+        raise ParameterError(f"scheme = {scheme!r} is invalid: must be a scheme name")
+    return tau, t_end, dt, amplitude, get_scheme(scheme.upper()).name, amplitude_warnings(tau)
+
+
+def price_stepping(what: str, size: int, *, eigenproblems: int = 0, steps: int = 0,
+                   max_seconds: float | None = None) -> float:
+    """Refuse a run of a dense system of ``size`` unknowns above the limit on estimated
+    seconds (:data:`spectralshell.params.limits.SECONDS`): ``eigenproblems`` dense
+    eigenproblems (DENSE_SECONDS n^3 each) and ``steps`` steps (STEP_SECONDS n^2 each, the
+    2 dt check run's half as many included by the caller). Returns the estimate."""
+    seconds = DENSE_SECONDS * eigenproblems * size ** 3 + STEP_SECONDS * steps * size ** 2
+    work = f"{eigenproblems} dense eigenproblems" if eigenproblems else f"{steps:,} steps"
+    SECONDS.check(f"{what} ({work} of {size} unknowns)", seconds, max_seconds,
+                  "lower the resolution, or t_end, or give a larger dt")
+    return seconds
+
+
+def stepped_fit(fine: Run, coarse: Run, columns: range | list[int], window: tuple[float, float],
+                forced: bool, relative_space_error: float) -> tuple[int, RateFit]:
+    """(the column, its fit) of the fastest-growing of ``columns`` of the run at dt, with the
+    error estimate: the fit's own, plus its change in the 2 dt run, plus
+    ``relative_space_error`` times |gamma|."""
+    period = 2 * np.pi if forced else None
+    fits = [[fit_rate(run.times, run.values[:, j], period=period, window=window)
+             for j in columns] for run in (fine, coarse)]
+    best = int(np.argmax([fit.growth_rate for fit in fits[0]]))
+    f, c = fits[0][best], fits[1][best]
+    time_error = max(abs(f.growth_rate - c.growth_rate), abs(f.frequency - c.frequency))
+    space_error = relative_space_error * abs(complex(f.growth_rate, f.frequency))
+    return list(columns)[best], dataclasses.replace(
+        f, error_estimate=float(f.error_estimate + time_error + space_error))
+
+
+def stepped_result(model: str, params: dict[str, Any], fine: Run, series: tuple[str, ...],
+                   column: int, fit: RateFit, *, scheme: str, every: int, method: str,
+                   resolution: dict[str, Any], warnings: list[str], started: float) -> SteppedRun:
+    """The :class:`SteppedRun` of a stepped fibre or cochlea (``params``: the model's and the
+    run's settings; ``resolution``: the discretisation and its error, for the provenance)."""
+    prov = {**stamp(), "scheme": scheme, "dt": fine.dt, "steps": fine.steps,
+            "samples_every": every, "method": method, **resolution,
+            "seconds": time.perf_counter() - started}
+    return SteppedRun(model=model, params={**params, "t_end": float(fine.times[-1]),
+                                           "scheme": scheme, "dt": fine.dt},
+                      times=fine.times, series=series, values=np.asarray(fine.values),
+                      fitted=series[column], fit=fit, provenance=prov, warnings=tuple(warnings))
 
 
 def simulate(scene: str | Path | Mapping | SimulationScene, *, progress: bool = False) -> Trajectory:
