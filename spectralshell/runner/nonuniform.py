@@ -44,13 +44,14 @@ from ..params.expression import parse_expression
 from ..params.limits import SECONDS
 from ..params.sphere import NonUniformSphereParams
 from ..params.stiffness import threshold_warnings
+from .floquet import CERTIFIED
 from .progress import progress_bar
 from ..results.floquet import certification_warnings, provenance, resolution_warnings
 from ..results.nonuniform import NonUniformFloquetResult
 from ..results.records import Exponents, MarginalTau
 from ..solvers.exponents import distance
 from ..solvers.hill_exponents import hill_exponents, pencil_family
-from ..solvers.marginal import finer, marginal_tau
+from ..solvers.marginal import empty_not_certified, finer, marginal_tau
 from ..solvers.marginal_mode import marginal_mode, marginal_sensitivity
 from ..solvers.cost import duration, solve_seconds, temporal_schedule
 from ..solvers.nonlinear_eigen import newton
@@ -62,23 +63,95 @@ SHARE_FLOOR = 1e-4     # smallest share of a mode listed in a result's content
 DERIVATIVE_STEP = 1e-6  # relative step of D'(s) in the natural modes' Newton iteration
 
 
-def sector_minimum(systems: tuple[HillSystem, ...], kind: str, options: dict[str, Any],
+def sector_minimum(sphere: NonUniformSphere, kind: str, options: dict[str, Any],
                    bar=None) -> tuple[MarginalTau, int | None]:
-    """(the MarginalTau of the sector with the smallest tau_min, its index; None: no sector has
-    a tau <= tau_max): each sector solved with tau_max lowered to the smallest tau_min so far;
-    ``bar`` (a progress bar) moves by one per sector."""
+    """(the MarginalTau of the kind: that of the sector with the smallest tau_min, with the
+    kind's ``complete_to``; that sector's index, None: no sector has a tau <= tau_max).
+
+    The sectors are solved in turn, each below the smallest tau_min so far (``options`` go to
+    ``marginal_tau``; with ``certify_empty`` a sector's empty answer is proved by the zero count
+    at both truncations of its pair, :func:`sector_taus`). ``complete_to`` of the kind (every
+    real tau of the kind up to it is in its ``tau``, the critical sector's list) is the smallest
+    of what each sector proves:
+
+    * the critical sector: its own complete_to, at most the bound it was solved below;
+    * a sector with no tau below its bound c: min(c, its complete_to) -- c where the count
+      proves it empty, 0 where it cannot ('mark', or a fixed N);
+    * a sector with a tau_min t no smaller than the kind's (one a later sector undercut, or an
+      equal one): min(t, its complete_to) (its list is not the kind's).
+
+    An empty kind is thus proved empty below complete_to, and a tau_min proved the smallest
+    where complete_to >= tau_min. ``bar`` (a progress bar) moves by one per sector.
+
+    Raises
+    ------
+    ConvergenceError : a sector's solve did not converge, or its empty answer could not be
+        proved (certify_empty True, N not fixed); the message names the sector.
+    """
     cap = options.get("tau_max") or math.inf
-    best, where = None, None
-    for i, system in enumerate(systems):
-        found = marginal_tau(system, kind, **{**options, "tau_max": cap})
+    best, where, own, proved = None, None, math.inf, math.inf
+    for i in range(len(sphere.systems)):
+        found, bound = sector_taus(sphere, i, kind, options, cap)
         if bar is not None:
             bar.update(1)
-        if found.tau_min is not None and (best is None or best.tau_min is None
-                                          or found.tau_min < best.tau_min):
-            best, where, cap = found, i, found.tau_min
-        elif best is None:
-            best = found
-    return best, where
+        if found.tau_min is None:
+            proved = min(proved, bound, found.complete_to)
+            best = found if best is None else best
+        elif where is None or found.tau_min < best.tau_min:
+            if where is not None:
+                proved = min(proved, best.tau_min, own)
+            best, where, own, cap = found, i, min(bound, found.complete_to), found.tau_min
+        else:
+            proved = min(proved, found.tau_min, found.complete_to)
+    return dataclasses.replace(best, complete_to=min(proved, own)), where
+
+
+#: A sector solved below another sector's tau_min whose empty answer the zero count cannot
+#: prove is solved again below this much more (relative): the count fails where a real tau
+#: lies at the bound, e.g. the same tau_min in two sectors that no symmetry identifies (the
+#: asymmetric kappa 0.02 (1 + 0.2 sin(theta) cos(phi) + 0.1 cos(theta)) at l_max = 4: 0.3563731
+#: in both of its sectors).
+RAISE = 1e-2
+
+
+def sector_taus(sphere: NonUniformSphere, i: int, kind: str, options: dict[str, Any],
+                cap: float) -> tuple[MarginalTau, float]:
+    """(marginal_tau of sector ``i`` below ``cap``, the bound it was solved below).
+
+    With ``certify_empty`` in ``options`` an empty answer the zero count cannot prove
+    (complete_to < the bound) is solved again below min(tau_max, cap (1 + RAISE)) where ``cap``
+    lies below tau_max; if that does not prove it either, certify_empty True raises (N not
+    fixed), else the answer is kept with what it proves (complete_to, 0: nothing).
+
+    Raises
+    ------
+    ConvergenceError : naming the sector: its solve did not converge, or as above.
+    """
+    tau_max = options.get("tau_max") or math.inf
+    certify = options.get("certify_empty", False)
+    bounds = (cap,) if not certify or cap >= tau_max else (cap, min(tau_max, cap * (1 + RAISE)))
+    for bound in bounds:
+        try:
+            found = marginal_tau(sphere.systems[i], kind, **{
+                **options, "tau_max": bound, "certify_empty": "mark" if certify else False})
+        except ConvergenceError as exc:
+            raise ConvergenceError(f"{_sector_name(sphere, i, kind)}: {exc}") from None
+        if found.tau_min is not None or found.complete_to >= bound:
+            return found, bound
+    if certify is True and options.get("n_temporal") is None:
+        below = (f" ({bound:.6g} lies {RAISE:.0%} above {cap:.6g}, the smallest tau_min of "
+                 "the sectors before it)" if cap < tau_max else "")
+        raise ConvergenceError(f"{_sector_name(sphere, i, kind)}: " + str(empty_not_certified(
+            kind, found.n_previous, found.n_temporal, bound)) + below)
+    return found, bound
+
+
+def _sector_name(sphere: NonUniformSphere, i: int, kind: str) -> str:
+    """'harmonic, sector 2 of 12 at l_max = 6 (degrees 2, 4, 6)'."""
+    sector = sphere.sectors[i]
+    return (f"{kind}, sector {i + 1} of {len(sphere.sectors)} at l_max = {sphere.l_max} "
+            f"(degrees {', '.join(map(str, sector.degrees))}"
+            f"{', toroidal' if sector.toroidal else ''})")
 
 
 def mode_content(sector: Sector, coefficients: np.ndarray) -> list[dict[str, Any]]:
@@ -104,7 +177,7 @@ def solve_truncation(sphere: NonUniformSphere, kinds: tuple[str, ...], options: 
     with progress_bar(len(sphere.systems) * len(kinds),
                       f"sphere, degrees <= {sphere.l_max} ({price.describe()})", "sector",
                       progress, leave=False) as bar:
-        return {k: sector_minimum(sphere.systems, k, options, bar) for k in kinds}
+        return {k: sector_minimum(sphere, k, options, bar) for k in kinds}
 
 
 @dataclass(frozen=True)
@@ -192,13 +265,14 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
     tol_spatial = require_positive("tol_spatial", TOL_DEGREES if tol_spatial is None
                                    else tol_spatial)
     cap = options.get("tau_max") or math.inf
+    solving = {**CERTIFIED, **options}     # a sweep's 'mark' overrides
     fine_l = l_max if not auto else start_degree(_mean(expr.function))
     priced = functools.partial(priced_sphere, expr.function, nu, kinds=kinds, options=options,
                                max_seconds=max_seconds)
     sphere = priced(fine_l)
-    coarse = solve_truncation(priced(fine_l - 2), kinds, options, progress)
+    coarse = solve_truncation(priced(fine_l - 2), kinds, solving, progress)
     while True:
-        fine = solve_truncation(sphere, kinds, options, progress)
+        fine = solve_truncation(sphere, kinds, solving, progress)
         change = {k: spatial_change(fine[k][0], coarse[k][0], cap) for k in kinds}
         if not auto or all(c is not None and c <= tol_spatial for c in change.values()):
             break
@@ -209,11 +283,12 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
                 "give l_max")
         fine_l, coarse = fine_l + 2, fine
         sphere = priced(fine_l)
-    res = {k: spatial_error(fine[k][0], change[k]) for k in kinds}
+    res = {k: spatial_error(both_proved(fine[k][0], coarse[k][0]), change[k]) for k in kinds}
     content = {k: _content(sphere, k, *fine[k]) for k in kinds if fine[k][1] is not None}
     multiplicity = {k: sphere.sectors[fine[k][1]].copies for k in content}
-    warnings = list(sphere.field.warnings) + threshold_warnings(
-        {k: [m.tau_min] for k, m in res.items()}) + certification_warnings(res)
+    warnings = (list(sphere.field.warnings)
+                + threshold_warnings({k: [m.tau_min] for k, m in res.items()})
+                + certification_warnings(res, options.get("tau_max")))
     opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
     result = NonUniformFloquetResult(
         model="sphere", params=dataclasses.asdict(p),
@@ -223,6 +298,15 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
         multiplicity=multiplicity, sectors=len(sphere.sectors))
     notes = resolution_warnings(res, options["tol"], result.error_reason)
     return dataclasses.replace(result, warnings=result.warnings + tuple(notes))
+
+
+def both_proved(fine: MarginalTau, coarse: MarginalTau) -> MarginalTau:
+    """The kind's answer at l_max (``fine``), whose empty answer also at l_max - 2 (``coarse``)
+    is proved only as far as both are (the smaller complete_to): the pair in degree rests on
+    both being empty."""
+    if fine.tau_min is not None or coarse.tau_min is not None:
+        return fine
+    return dataclasses.replace(fine, complete_to=min(fine.complete_to, coarse.complete_to))
 
 
 def tau_min_sensitivity(*, kappa: str, direction: str, nu: float, kind: str, l_max: int,
@@ -240,7 +324,7 @@ def tau_min_sensitivity(*, kappa: str, direction: str, nu: float, kind: str, l_m
     expr = parse_expression("kappa", kappa, positive=True)
     w = parse_expression("direction", direction)
     sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
-    found, where = sector_minimum(sphere.systems, kind, {"tol": tol, "n_temporal": None})
+    found, where = sector_minimum(sphere, kind, {"tol": tol, "n_temporal": None, **CERTIFIED})
     if where is None:
         raise ConvergenceError(f"no {kind} tau_min to differentiate")
     g = dealiased_grid(l_max)
@@ -306,7 +390,7 @@ def critical_exponent(*, kappa: str, nu: float, kind: str, tau: float, l_max: in
     l_max = NonUniformSphereParams(kappa=kappa, nu=nu, l_max=l_max).l_max
     expr = parse_expression("kappa", kappa, positive=True)
     sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
-    found, where = sector_minimum(sphere.systems, kind, {"tol": tol, "n_temporal": None})
+    found, where = sector_minimum(sphere, kind, {"tol": tol, "n_temporal": None, **CERTIFIED})
     if where is None:
         raise ConvergenceError(f"no {kind} tau_min: no exponent crosses Re gamma = 0")
     values = []
