@@ -191,3 +191,25 @@ def test_a_sweep_marks_unproved_points(monkeypatch, tmp_path):
                         "--executor", "serial", "--json"])
     assert rc == 1 and json.loads(out)["uncertified"] == 2
     assert len(err.strip().splitlines()) == 1 and "2 of 2 points" in err
+
+
+ASYMMETRIC = "0.02*(1 + 0.2*sin(theta)*cos(phi) + 0.1*cos(theta))"
+
+
+@pytest.mark.slow
+def test_two_sectors_with_one_tau_min_are_proved():
+    """The asymmetric kappa at l_max = 4 has two sectors (30 and 33 slots) that no symmetry
+    identifies, with the same subharmonic tau_min 0.3563731 (QZ of each): the second, solved
+    below the first's, cannot be proved empty there, is solved again 1 % higher, and the kind
+    is proved up to tau_min (without the second solve, the failed count refused the answer)."""
+    res = ss.floquet("sphere", kappa=ASYMMETRIC, nu=0.006, l_max=4, kind="subharmonic",
+                     tau_max=0.5, tol=1e-10)
+    m = res.subharmonic
+    assert m.tau_min == pytest.approx(0.35637312578, abs=1e-10)
+    assert m.tau_min <= m.complete_to <= m.tau_min * (1 + 1e-12)   # the other sector's value
+    truncation = nonuniform_sphere(
+        kappa=parse_expression("kappa", ASYMMETRIC, positive=True).function, nu=0.006, l_max=4)
+    assert len(truncation.systems) == 2
+    for system in truncation.systems:
+        tau = np.sort(qz_real_below(system, "subharmonic", m.n_temporal, 0.5))
+        assert tau[0] == pytest.approx(m.tau_min, rel=1e-9)

@@ -6,6 +6,16 @@ each a Hill system. Per kind, tau_min is the smallest over the sectors: the sect
 turn (lowest degrees first), each with tau_max lowered to the smallest tau_min found so far, so a
 sector only has to prove it has nothing below it (:func:`sector_minimum`).
 
+What an answer proves (issue 23, section 2): a sector's empty answer is proved by the argument
+principle's zero count at both truncations of its pair (``marginal_tau(certify_empty=...)``,
+as for the uniform viscous models), the bound being tau_max or the smallest tau_min of the
+sectors before it; where the count fails at another sector's tau_min (a real tau of this sector
+at that bound: two sectors with the same tau_min) the sector is solved again 1 % higher
+(:func:`sector_taus`). The kind's ``complete_to`` is what its sectors prove together, and an
+empty kind at both l_max - 2 and l_max is proved as far as both are (:func:`both_proved`).
+``floquet`` refuses an answer it cannot prove (ConvergenceError naming the sector); a fixed
+n_temporal keeps it with complete_to 0 and a warning; sweeps keep it marked (``'mark'``).
+
 Truncation in degree (``l_max = 'auto'``, the default): l_max = start, start + 2, ... (a step of
 2 adds a degree of each parity) until every kind's tau_min changes by at most ``tol_spatial``
 between l_max - 2 and l_max (as the cochlea's M, :mod:`spectralshell.solvers.spatial_refinement`,
@@ -185,7 +195,17 @@ class Price:
     """Estimated cost of the sector solves of one truncation (:mod:`spectralshell.solvers.cost`:
     each distinct sector priced as dense truncations of its block size up to the N its
     frequencies need): ``seconds``, the largest coupled block ``block`` (slots) and the largest
-    truncation N ``n_temporal`` of the priced schedules."""
+    truncation N ``n_temporal`` of the priced schedules.
+
+    The price includes the zero count that proves a sector empty (``solve_seconds`` adds
+    :func:`~spectralshell.solvers.cost.certify_seconds` at the last pair of each kind, as if
+    every sector were empty). Measured (one BLAS thread, CPU time, 2 cores under a load of
+    8-9): the asymmetric kappa 0.02 (1 + 0.2 sin(theta) cos(phi) + 0.1 cos(theta)) at
+    l_max = 4 (blocks of 30 and 33 slots) priced its counts at 0.98 s and spent 0.83 s in them;
+    for blocks of 1-8 slots (kappa = 0.02 (1 + 0.3 cos^2 theta)) a count walks ~17 nodes at
+    ~1 ms each (Python's per-block LU calls, which the M^3 price does not see): at l_max = 8,
+    2.7 s of 4.2 s profiled, the solve 0.4 s before the certificate and 1.8-2.0 s with it
+    (``auto``, l_max = 6, 8: 0.9 s and 2.4-2.6 s), still far below any limit."""
 
     seconds: float
     block: int
@@ -250,10 +270,15 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
         $SPECTRALSHELL_MAX_SECONDS): each truncation is priced (:class:`Price`) before it is
         solved, and refused above the limit.
 
+    Each sector's empty answer is proved by the zero count (``certify_empty`` True unless
+    ``options`` say otherwise: a sweep's 'mark'); each kind's ``complete_to`` states what the
+    sectors of both degree truncations prove (:func:`sector_minimum`, :func:`both_proved`).
+
     Raises
     ------
     ParameterError : an argument out of range; a truncation estimated above the limit.
-    ConvergenceError : tau_min did not settle in l_max by L_MAX_LIMIT, or in N.
+    ConvergenceError : tau_min did not settle in l_max by L_MAX_LIMIT, or in N; a sector's
+        empty answer could not be proved (N not fixed; the message names the sector).
     """
     expr = parse_expression("kappa", p.kappa, positive=True)
     nu, l_max = p.nu, p.l_max
