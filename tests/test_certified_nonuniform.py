@@ -4,8 +4,6 @@ pair, or the answer is refused (floquet; CLI exit 1) or marked (complete_to 0: a
 n_temporal, the sweeps); the kind's complete_to is what its sectors prove together. Checked
 against dense QZ of both truncations of every sector, at both degree truncations."""
 
-import contextlib
-import io
 import json
 import math
 from types import SimpleNamespace
@@ -14,7 +12,6 @@ import numpy as np
 import pytest
 
 import spectralshell as ss
-from spectralshell.cli import main
 from spectralshell.discretise.sphere_nonuniform import nonuniform_sphere
 from spectralshell.errors import UncertifiedWarning
 from spectralshell.params.expression import parse_expression
@@ -25,7 +22,7 @@ from spectralshell.runner.nonuniform import RAISE, sector_minimum, sector_taus
 from spectralshell.runner.sweep import run_sweep
 from spectralshell.solvers import marginal
 
-from test_certified_empty import qz_in_strip, qz_real_below
+from test_certified_empty import qz_in_strip, qz_real_below, run
 
 KAPPA = "0.02*(1 + 0.3*cos(theta)**2)"
 #: The subharmonic tau_min at l_max = 4 (nu = 0.006), in the sector of degrees 3 and 4 (l, k)
@@ -135,13 +132,6 @@ def test_kind_proves_what_its_sectors_prove(monkeypatch, answers, tau_min, compl
     fake = _scripted(monkeypatch, answers)
     found, at = sector_minimum(fake, "harmonic", {"tau_max": 0.5})
     assert (found.tau_min, found.complete_to, at) == (tau_min, complete_to, where)
-
-
-def run(argv):
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        rc = main(argv)
-    return rc, out.getvalue(), err.getvalue()
 
 
 def test_unproved_empty_sectors_are_refused_or_marked(monkeypatch):
