@@ -339,11 +339,13 @@ def tau_min_sensitivity(*, kappa: str, direction: str, nu: float, kind: str, l_m
     """(tau_min, d tau_min / d eps) of ``kind`` for the stiffness kappa + eps w at eps = 0, w the
     expression ``direction`` (any sign; e.g. kappa0 P_2(cos theta)), at the degree truncation
     l_max, from the eigenvector formula of
-    :func:`spectralshell.solvers.marginal_mode.marginal_sensitivity` in the critical sector.
+    :func:`spectralshell.solvers.marginal_mode.marginal_sensitivity` in the critical sector
+    (every other sector proved to have nothing below its tau_min, :func:`sector_minimum`).
 
     Raises
     ------
-    ParameterError : an argument out of range. ConvergenceError : no tau_min (or not simple).
+    ParameterError : an argument out of range. ConvergenceError : no tau_min (or not simple);
+        a sector not proved to have nothing below it.
     """
     l_max = NonUniformSphereParams(kappa=kappa, nu=nu, l_max=l_max).l_max
     expr = parse_expression("kappa", kappa, positive=True)
@@ -374,11 +376,13 @@ def p2_branches(*, kappa0: float, nu: float, eps: np.ndarray, l_max: int = 8,
     """Marginal tau of every sector against eps for kappa = kappa0 (1 + eps P_2(cos theta)):
     rows {"eps", "kind", "l", "k", "tau_min"}, one per eps, kind and sector with a tau_min
     <= tau_max, the branch named by the dominant mode (l, |k|) of its critical solution (the
-    orders of a degree split; eps = 0, where they are degenerate, belongs to no sector).
+    orders of a degree split; eps = 0, where they are degenerate, belongs to no sector). A
+    sector left out is proved to have no tau <= tau_max by the zero count (``certify_empty``).
 
     Raises
     ------
     ParameterError : eps = 0, or an argument out of range.
+    ConvergenceError : a sector did not converge, or its empty answer could not be proved.
     """
     rows = []
     for e in np.asarray(eps, dtype=float):
@@ -389,7 +393,7 @@ def p2_branches(*, kappa0: float, nu: float, eps: np.ndarray, l_max: int = 8,
         sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
         for sector, system in zip(sphere.sectors, sphere.systems):
             for kind in ("harmonic", "subharmonic"):
-                m = marginal_tau(system, kind, tol=tol, tau_max=tau_max)
+                m = marginal_tau(system, kind, tol=tol, tau_max=tau_max, **CERTIFIED)
                 if m.tau_min is None:
                     continue
                 mode = marginal_mode(system, kind, m.tau_min, m.n_temporal)
@@ -406,11 +410,13 @@ def critical_exponent(*, kappa: str, nu: float, kind: str, tau: float, l_max: in
     degree truncation l_max: Newton's method on the truncated Hill determinant
     (:mod:`spectralshell.solvers.hill_exponents`) from g = 0, gamma = g + i GAMMA[kind]; the
     error estimate is its change from the truncation N to the next. For tau near tau_min (the
-    exponent near the locking line; the time stepper's growth rate is Re gamma).
+    exponent near the locking line; the time stepper's growth rate is Re gamma). The critical
+    sector is that of :func:`sector_minimum` (the others proved to have nothing below it).
 
     Raises
     ------
-    ConvergenceError : no tau_min, or Newton's method did not converge.
+    ConvergenceError : no tau_min, or Newton's method did not converge; a sector not proved to
+        have nothing below the tau_min.
     """
     l_max = NonUniformSphereParams(kappa=kappa, nu=nu, l_max=l_max).l_max
     expr = parse_expression("kappa", kappa, positive=True)
