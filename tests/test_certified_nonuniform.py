@@ -165,7 +165,8 @@ SCENE = {"model": "sphere", "params": {"kappa": KAPPA, "l_max": 4}, "grid": {"nu
 def test_a_sweep_marks_unproved_points(monkeypatch, tmp_path):
     """A sweep of the non-uniform sphere with the count failing keeps its points, with
     complete_to 0: the empty harmonic one and the subharmonic tau_min (not proved the
-    smallest) are uncertified, the API warns, the CLI's sweep writes them and exits 1."""
+    smallest) are uncertified (the plots mark them by it), the API warns (sweep and tau_map),
+    the CLI's sweep writes them and exits 1."""
     no_count(monkeypatch)
     done = run_sweep(SCENE, executor="serial")
     ds = done.dataset
@@ -174,6 +175,10 @@ def test_a_sweep_marks_unproved_points(monkeypatch, tmp_path):
     assert done.uncertified == 2 and uncertified(ds).values.all()
     with pytest.warns(UncertifiedWarning, match=r"2 of 2 points .*tau_max"):
         ss.sweep(SCENE, executor="serial")
+    with pytest.warns(UncertifiedWarning, match=r"1 of 1 points .*tau_max"):
+        mapped = ss.tau_map("sphere", kappa=KAPPA, x=("nu", [0.006]), y=("l_max", [4]),
+                            kind="harmonic", workers=1)
+    assert uncertified(mapped).values.all() and float(mapped["complete_to"].max()) == 0.0
     scene = tmp_path / "s.toml"
     scene.write_text(f'model = "sphere"\nask = ["tau_min"]\n[params]\nkappa = "{KAPPA}"\n'
                      'l_max = 4\n[grid]\nnu = [0.006]\n[tau_min]\ntol = 1e-8\n')
