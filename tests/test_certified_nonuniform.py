@@ -208,3 +208,18 @@ def test_two_sectors_with_one_tau_min_are_proved():
     for system in truncation.systems:
         tau = np.sort(qz_real_below(system, "subharmonic", m.n_temporal, 0.5))
         assert tau[0] == pytest.approx(m.tau_min, rel=1e-9)
+
+
+def test_the_price_includes_the_count():
+    """A truncation's price (before any solve) holds the zero count of every sector of more
+    than 2 slots at the last pair of each kind, as if each were empty, beside its dense
+    truncations."""
+    from spectralshell.runner.nonuniform import Price
+    from spectralshell.solvers.cost import certify_seconds, temporal_schedule, truncation_seconds
+
+    truncation = sphere(6)
+    dense = sum(truncation_seconds(s.block_size, n) for s in truncation.systems
+                for n in temporal_schedule(s))
+    count = sum(certify_seconds(s, temporal_schedule(s)[-2:]) for s in truncation.systems)
+    assert count > 0.1 * dense
+    assert Price.of(truncation, 2, None).seconds == pytest.approx(2 * (dense + count), rel=1e-12)
