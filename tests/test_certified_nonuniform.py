@@ -105,15 +105,19 @@ def test_a_sector_with_a_tau_at_its_bound_is_solved_again_above_it(monkeypatch):
         sector_taus(truncation, where, "subharmonic", {**OPTIONS, "tau_max": 0.5}, 0.3)
 
 
+def answer(tau_min, complete_to):
+    """A harmonic MarginalTau with this tau_min (None: empty) and complete_to."""
+    tau = np.empty(0) if tau_min is None else np.array([tau_min])
+    return MarginalTau(kind="harmonic", tau=tau, tau_min=tau_min, n_temporal=20, n_previous=14,
+                       error_estimate=None if tau_min is None else 1e-12, method="structured",
+                       complete_to=complete_to)
+
+
 def _scripted(monkeypatch, answers):
     """sector_taus replaced by ``answers`` (tau_min, complete_to) in sector order, each
     solved below the bound it was given."""
     def fake(sphere, i, kind, options, cap):
-        tau_min, complete_to = answers[i]
-        tau = np.empty(0) if tau_min is None else np.array([tau_min])
-        return MarginalTau(kind=kind, tau=tau, tau_min=tau_min, n_temporal=20, n_previous=14,
-                           error_estimate=None if tau_min is None else 1e-12,
-                           method="structured", complete_to=complete_to), cap
+        return answer(*answers[i]), cap
     monkeypatch.setattr(nonuniform, "sector_taus", fake)
     return SimpleNamespace(systems=[None] * len(answers))
 
@@ -223,3 +227,14 @@ def test_the_price_includes_the_count():
     count = sum(certify_seconds(s, temporal_schedule(s)[-2:]) for s in truncation.systems)
     assert count > 0.1 * dense
     assert Price.of(truncation, 2, None).seconds == pytest.approx(2 * (dense + count), rel=1e-12)
+
+
+@pytest.mark.parametrize("fine, coarse, expected", [
+    ((None, 0.5), (None, 0.0), 0.0),      # empty at both l_max: proved as far as both are
+    ((None, 0.5), (None, 0.5), 0.5),
+    ((None, 0.5), (0.49, 0.49), 0.5),     # the coarse has a tau: the fine answer's own
+    ((0.3, 0.3), (None, 0.0), 0.3),
+])
+def test_an_empty_kind_at_both_degree_truncations_is_proved_as_far_as_both(fine, coarse,
+                                                                         expected):
+    assert nonuniform.both_proved(answer(*fine), answer(*coarse)).complete_to == expected
