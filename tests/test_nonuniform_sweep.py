@@ -54,6 +54,21 @@ def test_a_sweep_equals_floquet_at_every_point(clean):
     assert (ds["critical_l"].values[:, 1] == 3).all()
 
 
+def test_a_sweep_stores_what_each_point_proves(clean):
+    """Every point stores complete_to, floquet's at the point capped at tau_max (issue 23,
+    section 2): the empty harmonic points proved up to 1/2, each subharmonic tau_min proved
+    the smallest of its sectors (complete_to = tau_min); none is uncertified."""
+    from spectralshell.results.maps import uncertified
+
+    ds = clean.dataset
+    assert clean.uncertified == 0 and not uncertified(ds).any()
+    np.testing.assert_array_equal(ds["complete_to"].values[:, 0], 0.5)
+    np.testing.assert_array_equal(ds["complete_to"].values[:, 1], ds["tau_min"].values[:, 1])
+    res = ss.floquet("sphere", kappa=KAPPA, nu=NUS[0], l_max=4, tol=1e-8, tau_max=0.5)
+    assert (res.harmonic.complete_to, res.subharmonic.complete_to) == \
+        tuple(ds["complete_to"].values[0])
+
+
 def test_a_resumed_sweep_equals_a_clean_run(clean, tmp_path):
     out = tmp_path / "nonuniform.zarr"
     interrupted(SCENE, out, 1)

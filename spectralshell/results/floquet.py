@@ -49,12 +49,20 @@ def marginal_dict(m: MarginalTau) -> dict[str, Any]:
             "complete_to": None if np.isinf(m.complete_to) else float(m.complete_to)}
 
 
-def certification_warnings(res: Mapping[str, MarginalTau]) -> list[str]:
-    """A flag for each kind whose list is not proved complete up to its tau_min (possible only
-    with a fixed n_temporal: the converging loop raises instead)."""
-    return [f"{kind} tau_min = {m.tau_min:.6g} is not certified: a smaller real tau is excluded "
-            f"only below complete_to = {m.complete_to:.4g} at this truncation"
-            for kind, m in res.items() if m.tau_min is not None and m.complete_to < m.tau_min]
+def certification_warnings(res: Mapping[str, MarginalTau],
+                           tau_max: float | None = None) -> list[str]:
+    """A flag for each kind whose list is not proved complete up to its tau_min, or, with
+    ``tau_max``, whose empty answer is not proved up to tau_max (complete_to below it: the zero
+    count could not prove it at a fixed n_temporal; the converging loop raises instead)."""
+    out = [f"{kind} tau_min = {m.tau_min:.6g} is not certified: a smaller real tau is excluded "
+           f"only below complete_to = {m.complete_to:.4g} at this truncation"
+           for kind, m in res.items() if m.tau_min is not None and m.complete_to < m.tau_min]
+    if tau_max is not None:
+        out += [f"{kind}: no marginal tau <= {tau_max:g} was found, but none is proved only "
+                f"below complete_to = {m.complete_to:.4g} at this truncation (the zero count "
+                "could not prove it): leave n_temporal unset to have it proved or refused"
+                for kind, m in res.items() if m.tau_min is None and m.complete_to < tau_max]
+    return out
 
 
 #: Why a converged tau_min has an error estimate above tol: the truncation has converged

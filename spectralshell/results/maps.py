@@ -38,11 +38,13 @@ def category_label(ds: xr.Dataset, cats: list[str], index: tuple[int, ...]) -> s
 
 def uncertified(ds: xr.Dataset) -> xr.DataArray:
     """The points of a sweep ``ds`` (over every dim of tau_min) whose empty answer is not
-    proved: computed, no tau found (``has_tau`` false) and ``complete_to`` below the point's
-    bound -- tau_max, or the smallest tau_min of the other kinds at the point where one has a
-    tau (a minimum needs the other kinds proved empty only below it). The zero count could not
-    exclude a real tau there (issue 23): such a point is no "none", and a larger n_temporal
-    or another tau_max may settle it. All false for a Dataset without ``complete_to``."""
+    proved: computed, and either no tau found (``has_tau`` false) with ``complete_to`` below
+    the point's bound -- tau_max, or the smallest tau_min of the other kinds at the point where
+    one has a tau (a minimum needs the other kinds proved empty only below it) -- or a tau_min
+    with ``complete_to`` below it (nothing smaller is proved absent: the non-uniform sphere's
+    sectors solved below it, or a fixed n_temporal). The zero count could not exclude a real
+    tau there (issue 23): such a point is no "none", and a larger n_temporal or another tau_max
+    may settle it. All false for a Dataset without ``complete_to``."""
     import xarray as xr  # lazy: ~0.35 s to import
 
     empty = ds["computed"] & ~ds["has_tau"]
@@ -52,14 +54,15 @@ def uncertified(ds: xr.Dataset) -> xr.DataArray:
     if "kind" in ds["tau_min"].dims:
         found = ds["tau_min"].where(ds["has_tau"] & ds["computed"]).min("kind")
         bound = bound.where(~(found < bound), found)
-    return (empty & (ds["complete_to"] < bound)).transpose(*ds["tau_min"].dims)
+    unproved = ds["computed"] & ds["has_tau"] & (ds["complete_to"] < ds["tau_min"])
+    return ((empty & (ds["complete_to"] < bound)) | unproved).transpose(*ds["tau_min"].dims)
 
 
 def uncertified_note(count: int, points: int, tau_max: float) -> str:
     """One line on ``count`` uncertified points of ``points`` (:func:`uncertified`) and what to
     change: the API's warning and the CLI's exit-1 line."""
-    return (f"{count} of {points} points found no marginal tau <= {tau_max:g}, but the zero "
-            "count cannot prove that none exists there (kept as uncertified: complete_to below "
+    return (f"{count} of {points} points found no marginal tau <= {tau_max:g} (or none below "
+            "their tau_min), but the zero count cannot prove that none exists there (kept as uncertified: complete_to below "
             "the bound, drawn hatched, never as 'none'); rerun with a smaller or larger "
             "tau_max, or a fixed n_temporal")
 

@@ -16,7 +16,10 @@ class NonUniformFloquetResult(FloquetResult):
     sectors, at a truncation in degree l_max, with the change from l_max - 2 in the error.
 
     The attributes of :class:`FloquetResult` (each kind's ``tau`` lists the marginal tau of the
-    critical sector, the one attaining tau_min), and these:
+    critical sector, the one attaining tau_min; its ``complete_to`` is what all the sectors
+    prove together, :func:`spectralshell.runner.nonuniform.sector_minimum`: tau_max for a
+    proved empty kind, at least tau_min for a tau_min no sector undercuts, 0 where the zero
+    count could not prove a sector empty at a fixed n_temporal), and these:
 
     Attributes
     ----------

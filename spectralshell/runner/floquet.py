@@ -135,7 +135,7 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     warnings = threshold_warnings({k: [m.tau_min] for k, m in res.items()})
     if n_temporal is None:
         warnings += resolution_warnings(res, options["tol"])
-    warnings += certification_warnings(res)
+    warnings += certification_warnings(res, options.get("tau_max"))
     return FloquetResult(model=model, params=dataclasses.asdict(p), harmonic=res.get("harmonic"),
                          subharmonic=res.get("subharmonic"),
                          provenance=provenance({"kind": kind, **options}), warnings=tuple(warnings))

@@ -6,6 +6,16 @@ each a Hill system. Per kind, tau_min is the smallest over the sectors: the sect
 turn (lowest degrees first), each with tau_max lowered to the smallest tau_min found so far, so a
 sector only has to prove it has nothing below it (:func:`sector_minimum`).
 
+What an answer proves (issue 23, section 2): a sector's empty answer is proved by the argument
+principle's zero count at both truncations of its pair (``marginal_tau(certify_empty=...)``,
+as for the uniform viscous models), the bound being tau_max or the smallest tau_min of the
+sectors before it; where the count fails at another sector's tau_min (a real tau of this sector
+at that bound: two sectors with the same tau_min) the sector is solved again 1 % higher
+(:func:`sector_taus`). The kind's ``complete_to`` is what its sectors prove together, and an
+empty kind at both l_max - 2 and l_max is proved as far as both are (:func:`both_proved`).
+``floquet`` refuses an answer it cannot prove (ConvergenceError naming the sector); a fixed
+n_temporal keeps it with complete_to 0 and a warning; sweeps keep it marked (``'mark'``).
+
 Truncation in degree (``l_max = 'auto'``, the default): l_max = start, start + 2, ... (a step of
 2 adds a degree of each parity) until every kind's tau_min changes by at most ``tol_spatial``
 between l_max - 2 and l_max (as the cochlea's M, :mod:`spectralshell.solvers.spatial_refinement`,
@@ -44,13 +54,14 @@ from ..params.expression import parse_expression
 from ..params.limits import SECONDS
 from ..params.sphere import NonUniformSphereParams
 from ..params.stiffness import threshold_warnings
+from .floquet import CERTIFIED
 from .progress import progress_bar
 from ..results.floquet import certification_warnings, provenance, resolution_warnings
 from ..results.nonuniform import NonUniformFloquetResult
 from ..results.records import Exponents, MarginalTau
 from ..solvers.exponents import distance
 from ..solvers.hill_exponents import hill_exponents, pencil_family
-from ..solvers.marginal import finer, marginal_tau
+from ..solvers.marginal import empty_not_certified, finer, marginal_tau
 from ..solvers.marginal_mode import marginal_mode, marginal_sensitivity
 from ..solvers.cost import duration, solve_seconds, temporal_schedule
 from ..solvers.nonlinear_eigen import newton
@@ -62,23 +73,95 @@ SHARE_FLOOR = 1e-4     # smallest share of a mode listed in a result's content
 DERIVATIVE_STEP = 1e-6  # relative step of D'(s) in the natural modes' Newton iteration
 
 
-def sector_minimum(systems: tuple[HillSystem, ...], kind: str, options: dict[str, Any],
+def sector_minimum(sphere: NonUniformSphere, kind: str, options: dict[str, Any],
                    bar=None) -> tuple[MarginalTau, int | None]:
-    """(the MarginalTau of the sector with the smallest tau_min, its index; None: no sector has
-    a tau <= tau_max): each sector solved with tau_max lowered to the smallest tau_min so far;
-    ``bar`` (a progress bar) moves by one per sector."""
+    """(the MarginalTau of the kind: that of the sector with the smallest tau_min, with the
+    kind's ``complete_to``; that sector's index, None: no sector has a tau <= tau_max).
+
+    The sectors are solved in turn, each below the smallest tau_min so far (``options`` go to
+    ``marginal_tau``; with ``certify_empty`` a sector's empty answer is proved by the zero count
+    at both truncations of its pair, :func:`sector_taus`). ``complete_to`` of the kind (every
+    real tau of the kind up to it is in its ``tau``, the critical sector's list) is the smallest
+    of what each sector proves:
+
+    * the critical sector: its own complete_to, at most the bound it was solved below;
+    * a sector with no tau below its bound c: min(c, its complete_to) -- c where the count
+      proves it empty, 0 where it cannot ('mark', or a fixed N);
+    * a sector with a tau_min t no smaller than the kind's (one a later sector undercut, or an
+      equal one): min(t, its complete_to) (its list is not the kind's).
+
+    An empty kind is thus proved empty below complete_to, and a tau_min proved the smallest
+    where complete_to >= tau_min. ``bar`` (a progress bar) moves by one per sector.
+
+    Raises
+    ------
+    ConvergenceError : a sector's solve did not converge, or its empty answer could not be
+        proved (certify_empty True, N not fixed); the message names the sector.
+    """
     cap = options.get("tau_max") or math.inf
-    best, where = None, None
-    for i, system in enumerate(systems):
-        found = marginal_tau(system, kind, **{**options, "tau_max": cap})
+    best, where, own, proved = None, None, math.inf, math.inf
+    for i in range(len(sphere.systems)):
+        found, bound = sector_taus(sphere, i, kind, options, cap)
         if bar is not None:
             bar.update(1)
-        if found.tau_min is not None and (best is None or best.tau_min is None
-                                          or found.tau_min < best.tau_min):
-            best, where, cap = found, i, found.tau_min
-        elif best is None:
-            best = found
-    return best, where
+        if found.tau_min is None:
+            proved = min(proved, bound, found.complete_to)
+            best = found if best is None else best
+        elif where is None or found.tau_min < best.tau_min:
+            if where is not None:
+                proved = min(proved, best.tau_min, own)
+            best, where, own, cap = found, i, min(bound, found.complete_to), found.tau_min
+        else:
+            proved = min(proved, found.tau_min, found.complete_to)
+    return dataclasses.replace(best, complete_to=min(proved, own)), where
+
+
+#: A sector solved below another sector's tau_min whose empty answer the zero count cannot
+#: prove is solved again below this much more (relative): the count fails where a real tau
+#: lies at the bound, e.g. the same tau_min in two sectors that no symmetry identifies (the
+#: asymmetric kappa 0.02 (1 + 0.2 sin(theta) cos(phi) + 0.1 cos(theta)) at l_max = 4: 0.3563731
+#: in both of its sectors).
+RAISE = 1e-2
+
+
+def sector_taus(sphere: NonUniformSphere, i: int, kind: str, options: dict[str, Any],
+                cap: float) -> tuple[MarginalTau, float]:
+    """(marginal_tau of sector ``i`` below ``cap``, the bound it was solved below).
+
+    With ``certify_empty`` in ``options`` an empty answer the zero count cannot prove
+    (complete_to < the bound) is solved again below min(tau_max, cap (1 + RAISE)) where ``cap``
+    lies below tau_max; if that does not prove it either, certify_empty True raises (N not
+    fixed), else the answer is kept with what it proves (complete_to, 0: nothing).
+
+    Raises
+    ------
+    ConvergenceError : naming the sector: its solve did not converge, or as above.
+    """
+    tau_max = options.get("tau_max") or math.inf
+    certify = options.get("certify_empty", False)
+    bounds = (cap,) if not certify or cap >= tau_max else (cap, min(tau_max, cap * (1 + RAISE)))
+    for bound in bounds:
+        try:
+            found = marginal_tau(sphere.systems[i], kind, **{
+                **options, "tau_max": bound, "certify_empty": "mark" if certify else False})
+        except ConvergenceError as exc:
+            raise ConvergenceError(f"{_sector_name(sphere, i, kind)}: {exc}") from None
+        if found.tau_min is not None or found.complete_to >= bound:
+            return found, bound
+    if certify is True and options.get("n_temporal") is None:
+        below = (f" ({bound:.6g} lies {RAISE:.0%} above {cap:.6g}, the smallest tau_min of "
+                 "the sectors before it)" if cap < tau_max else "")
+        raise ConvergenceError(f"{_sector_name(sphere, i, kind)}: " + str(empty_not_certified(
+            kind, found.n_previous, found.n_temporal, bound)) + below)
+    return found, bound
+
+
+def _sector_name(sphere: NonUniformSphere, i: int, kind: str) -> str:
+    """'harmonic, sector 2 of 12 at l_max = 6 (degrees 2, 4, 6)'."""
+    sector = sphere.sectors[i]
+    return (f"{kind}, sector {i + 1} of {len(sphere.sectors)} at l_max = {sphere.l_max} "
+            f"(degrees {', '.join(map(str, sector.degrees))}"
+            f"{', toroidal' if sector.toroidal else ''})")
 
 
 def mode_content(sector: Sector, coefficients: np.ndarray) -> list[dict[str, Any]]:
@@ -104,7 +187,7 @@ def solve_truncation(sphere: NonUniformSphere, kinds: tuple[str, ...], options: 
     with progress_bar(len(sphere.systems) * len(kinds),
                       f"sphere, degrees <= {sphere.l_max} ({price.describe()})", "sector",
                       progress, leave=False) as bar:
-        return {k: sector_minimum(sphere.systems, k, options, bar) for k in kinds}
+        return {k: sector_minimum(sphere, k, options, bar) for k in kinds}
 
 
 @dataclass(frozen=True)
@@ -112,7 +195,17 @@ class Price:
     """Estimated cost of the sector solves of one truncation (:mod:`spectralshell.solvers.cost`:
     each distinct sector priced as dense truncations of its block size up to the N its
     frequencies need): ``seconds``, the largest coupled block ``block`` (slots) and the largest
-    truncation N ``n_temporal`` of the priced schedules."""
+    truncation N ``n_temporal`` of the priced schedules.
+
+    The price includes the zero count that proves a sector empty (``solve_seconds`` adds
+    :func:`~spectralshell.solvers.cost.certify_seconds` at the last pair of each kind, as if
+    every sector were empty). Measured (one BLAS thread, CPU time, 2 cores under a load of
+    8-9): the asymmetric kappa 0.02 (1 + 0.2 sin(theta) cos(phi) + 0.1 cos(theta)) at
+    l_max = 4 (blocks of 30 and 33 slots) priced its counts at 0.98 s and spent 0.83 s in them;
+    for blocks of 1-8 slots (kappa = 0.02 (1 + 0.3 cos^2 theta)) a count walks ~17 nodes at
+    ~1 ms each (Python's per-block LU calls, which the M^3 price does not see): at l_max = 8,
+    2.7 s of 4.2 s profiled, the solve 0.4 s before the certificate and 1.8-2.0 s with it
+    (``auto``, l_max = 6, 8: 0.9 s and 2.4-2.6 s), still far below any limit."""
 
     seconds: float
     block: int
@@ -177,10 +270,15 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
         $SPECTRALSHELL_MAX_SECONDS): each truncation is priced (:class:`Price`) before it is
         solved, and refused above the limit.
 
+    Each sector's empty answer is proved by the zero count (``certify_empty`` True unless
+    ``options`` say otherwise: a sweep's 'mark'); each kind's ``complete_to`` states what the
+    sectors of both degree truncations prove (:func:`sector_minimum`, :func:`both_proved`).
+
     Raises
     ------
     ParameterError : an argument out of range; a truncation estimated above the limit.
-    ConvergenceError : tau_min did not settle in l_max by L_MAX_LIMIT, or in N.
+    ConvergenceError : tau_min did not settle in l_max by L_MAX_LIMIT, or in N; a sector's
+        empty answer could not be proved (N not fixed; the message names the sector).
     """
     expr = parse_expression("kappa", p.kappa, positive=True)
     nu, l_max = p.nu, p.l_max
@@ -192,13 +290,14 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
     tol_spatial = require_positive("tol_spatial", TOL_DEGREES if tol_spatial is None
                                    else tol_spatial)
     cap = options.get("tau_max") or math.inf
+    solving = {**CERTIFIED, **options}     # a sweep's 'mark' overrides
     fine_l = l_max if not auto else start_degree(_mean(expr.function))
     priced = functools.partial(priced_sphere, expr.function, nu, kinds=kinds, options=options,
                                max_seconds=max_seconds)
     sphere = priced(fine_l)
-    coarse = solve_truncation(priced(fine_l - 2), kinds, options, progress)
+    coarse = solve_truncation(priced(fine_l - 2), kinds, solving, progress)
     while True:
-        fine = solve_truncation(sphere, kinds, options, progress)
+        fine = solve_truncation(sphere, kinds, solving, progress)
         change = {k: spatial_change(fine[k][0], coarse[k][0], cap) for k in kinds}
         if not auto or all(c is not None and c <= tol_spatial for c in change.values()):
             break
@@ -209,11 +308,12 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
                 "give l_max")
         fine_l, coarse = fine_l + 2, fine
         sphere = priced(fine_l)
-    res = {k: spatial_error(fine[k][0], change[k]) for k in kinds}
+    res = {k: spatial_error(both_proved(fine[k][0], coarse[k][0]), change[k]) for k in kinds}
     content = {k: _content(sphere, k, *fine[k]) for k in kinds if fine[k][1] is not None}
     multiplicity = {k: sphere.sectors[fine[k][1]].copies for k in content}
-    warnings = list(sphere.field.warnings) + threshold_warnings(
-        {k: [m.tau_min] for k, m in res.items()}) + certification_warnings(res)
+    warnings = (list(sphere.field.warnings)
+                + threshold_warnings({k: [m.tau_min] for k, m in res.items()})
+                + certification_warnings(res, options.get("tau_max")))
     opts = {"kind": kind, **options, "tol_spatial": tol_spatial if auto else None}
     result = NonUniformFloquetResult(
         model="sphere", params=dataclasses.asdict(p),
@@ -225,22 +325,33 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
     return dataclasses.replace(result, warnings=result.warnings + tuple(notes))
 
 
+def both_proved(fine: MarginalTau, coarse: MarginalTau) -> MarginalTau:
+    """The kind's answer at l_max (``fine``), whose empty answer also at l_max - 2 (``coarse``)
+    is proved only as far as both are (the smaller complete_to): the pair in degree rests on
+    both being empty."""
+    if fine.tau_min is not None or coarse.tau_min is not None:
+        return fine
+    return dataclasses.replace(fine, complete_to=min(fine.complete_to, coarse.complete_to))
+
+
 def tau_min_sensitivity(*, kappa: str, direction: str, nu: float, kind: str, l_max: int,
                         tol: float = 1e-10) -> tuple[float, float]:
     """(tau_min, d tau_min / d eps) of ``kind`` for the stiffness kappa + eps w at eps = 0, w the
     expression ``direction`` (any sign; e.g. kappa0 P_2(cos theta)), at the degree truncation
     l_max, from the eigenvector formula of
-    :func:`spectralshell.solvers.marginal_mode.marginal_sensitivity` in the critical sector.
+    :func:`spectralshell.solvers.marginal_mode.marginal_sensitivity` in the critical sector
+    (every other sector proved to have nothing below its tau_min, :func:`sector_minimum`).
 
     Raises
     ------
-    ParameterError : an argument out of range. ConvergenceError : no tau_min (or not simple).
+    ParameterError : an argument out of range. ConvergenceError : no tau_min (or not simple);
+        a sector not proved to have nothing below it.
     """
     l_max = NonUniformSphereParams(kappa=kappa, nu=nu, l_max=l_max).l_max
     expr = parse_expression("kappa", kappa, positive=True)
     w = parse_expression("direction", direction)
     sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
-    found, where = sector_minimum(sphere.systems, kind, {"tol": tol, "n_temporal": None})
+    found, where = sector_minimum(sphere, kind, {"tol": tol, "n_temporal": None, **CERTIFIED})
     if where is None:
         raise ConvergenceError(f"no {kind} tau_min to differentiate")
     g = dealiased_grid(l_max)
@@ -265,11 +376,13 @@ def p2_branches(*, kappa0: float, nu: float, eps: np.ndarray, l_max: int = 8,
     """Marginal tau of every sector against eps for kappa = kappa0 (1 + eps P_2(cos theta)):
     rows {"eps", "kind", "l", "k", "tau_min"}, one per eps, kind and sector with a tau_min
     <= tau_max, the branch named by the dominant mode (l, |k|) of its critical solution (the
-    orders of a degree split; eps = 0, where they are degenerate, belongs to no sector).
+    orders of a degree split; eps = 0, where they are degenerate, belongs to no sector). A
+    sector left out is proved to have no tau <= tau_max by the zero count (``certify_empty``).
 
     Raises
     ------
     ParameterError : eps = 0, or an argument out of range.
+    ConvergenceError : a sector did not converge, or its empty answer could not be proved.
     """
     rows = []
     for e in np.asarray(eps, dtype=float):
@@ -280,7 +393,7 @@ def p2_branches(*, kappa0: float, nu: float, eps: np.ndarray, l_max: int = 8,
         sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
         for sector, system in zip(sphere.sectors, sphere.systems):
             for kind in ("harmonic", "subharmonic"):
-                m = marginal_tau(system, kind, tol=tol, tau_max=tau_max)
+                m = marginal_tau(system, kind, tol=tol, tau_max=tau_max, **CERTIFIED)
                 if m.tau_min is None:
                     continue
                 mode = marginal_mode(system, kind, m.tau_min, m.n_temporal)
@@ -297,16 +410,18 @@ def critical_exponent(*, kappa: str, nu: float, kind: str, tau: float, l_max: in
     degree truncation l_max: Newton's method on the truncated Hill determinant
     (:mod:`spectralshell.solvers.hill_exponents`) from g = 0, gamma = g + i GAMMA[kind]; the
     error estimate is its change from the truncation N to the next. For tau near tau_min (the
-    exponent near the locking line; the time stepper's growth rate is Re gamma).
+    exponent near the locking line; the time stepper's growth rate is Re gamma). The critical
+    sector is that of :func:`sector_minimum` (the others proved to have nothing below it).
 
     Raises
     ------
-    ConvergenceError : no tau_min, or Newton's method did not converge.
+    ConvergenceError : no tau_min, or Newton's method did not converge; a sector not proved to
+        have nothing below the tau_min.
     """
     l_max = NonUniformSphereParams(kappa=kappa, nu=nu, l_max=l_max).l_max
     expr = parse_expression("kappa", kappa, positive=True)
     sphere = nonuniform_sphere(kappa=expr.function, nu=nu, l_max=l_max)
-    found, where = sector_minimum(sphere.systems, kind, {"tol": tol, "n_temporal": None})
+    found, where = sector_minimum(sphere, kind, {"tol": tol, "n_temporal": None, **CERTIFIED})
     if where is None:
         raise ConvergenceError(f"no {kind} tau_min: no exponent crosses Re gamma = 0")
     values = []

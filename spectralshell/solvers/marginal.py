@@ -739,7 +739,7 @@ def _empty_certified(pencils: Pencils, pair: tuple[tuple[Truncation, int], ...],
                or none_up_to(pencils.pencil(n, "two-sided"), tau_max) for found, n in pair)
 
 
-def _empty_not_certified(kind: str, n_prev: int, n: int, tau_max: float) -> ConvergenceError:
+def empty_not_certified(kind: str, n_prev: int, n: int, tau_max: float) -> ConvergenceError:
     """The error of an empty answer the zero count could not prove (:func:`marginal_tau`)."""
     return ConvergenceError(
         f"{kind}: no marginal tau <= tau_max={tau_max:g} at n_temporal={n_prev} and {n}, but "
@@ -855,7 +855,7 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         if _passes(found, previous, tol, tau_max, bound, every):
             bound = proved(found, previous, n, n_prev, bound)
             if bound is None and certify_empty != "mark":
-                raise _empty_not_certified(kind, n_prev, n, tau_max)
+                raise empty_not_certified(kind, n_prev, n, tau_max)
             return _result(kind, found, previous, n, n_prev, tol, tau_max,
                            0.0 if bound is None else bound)
         if n >= n_max:
