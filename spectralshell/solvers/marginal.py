@@ -150,6 +150,7 @@ is reported as one tau = 0 whose uncertainty is its largest magnitude (:func:`qz
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import functools
 import math
 from collections.abc import Callable
@@ -747,6 +748,34 @@ def _empty_not_certified(kind: str, n_prev: int, n: int, tau_max: float) -> Conv
         f"{STRIPS[-1]:g} tau_max^2 of the real axis, or the count's node budget): the "
         "truncations' near-axis complex eigenvalues could hide one; give a smaller or larger "
         "tau_max=, or fix n_temporal= to get the values with what is proved (complete_to)")
+
+
+def certify_empty_answer(system: HillSystem, kind: str, answer: MarginalTau, tau_max: float,
+                         certify_empty: bool | str) -> MarginalTau:
+    """``answer`` (of :func:`marginal_tau` with ``n_temporal=None`` and no ``certify_empty``,
+    at ``tau_max``) as ``certify_empty`` would have given it: an empty answer that needs the
+    zero count (a viscous model, finite tau_max) gets ``complete_to`` min(its own, tau_max)
+    where both truncations of its pair are proved empty (:func:`_empty_certified`), else 0
+    with ``'mark'``, else the ConvergenceError of :func:`marginal_tau`; other answers are
+    returned as they are. For a caller that keeps only some answers (a refinement in M keeps
+    the finest): the proof is paid for those alone. Without ``n_temporal`` an empty answer
+    means both truncations of the pair are empty (:func:`converged_pair`), which the proof
+    needs (with ``n_temporal`` given, pass ``certify_empty`` to :func:`marginal_tau`
+    instead)."""
+    if not certify_empty or answer.tau_min is not None or not answer.n_temporal \
+            or system.polynomial is not None or not math.isfinite(tau_max):
+        return answer
+    pencils = Pencils(system, kind)
+    pencils.reserve = answer.n_temporal
+    previous = Truncation(tau=np.empty(0), method="", complete_to=0.0)  # nothing proved yet
+    found = Truncation(tau=np.empty(0), method=answer.method,
+                       complete_to=tau_max if answer.method == "contour" else 0.0)
+    if _empty_certified(pencils, ((found, answer.n_temporal), (previous, answer.n_previous)),
+                        tau_max):
+        return dataclasses.replace(answer, complete_to=min(answer.complete_to, tau_max))
+    if certify_empty != "mark":
+        raise _empty_not_certified(kind, answer.n_previous, answer.n_temporal, tau_max)
+    return dataclasses.replace(answer, complete_to=0.0)
 
 
 def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
