@@ -61,7 +61,10 @@ O(K M^3) (about 45 K M^3 flops), against O((K M)^3) for the dense eig; the same 
 MAX_BLOCK_NODES, along the upper half of each contour as for 2 x 2 blocks: the cochlea's g
 takes conjugate values at conjugate points too, in both bipartite forms (real blocks in the
 real form, the reality condition in the two-sided one). Counts are checked against QZ, and
-that symmetry on the cochlea, in tests/test_contour_blocks.py.
+that symmetry on the cochlea, in tests/test_contour_blocks.py. Before counting, a disk free of
+eigenvalues may prove the same (:func:`_free_disk`: from the block norms of W, no count
+needed); it does where every eigenvalue lies well beyond tau_max, as on the Fig 5.18 cells
+whose one kind has nothing below the other's tau_min (tests/test_free_radius.py).
 
 The value agrees with the dense eig of W (tests/test_contour.py: to 1e-10 relative, in practice
 ~1e-14, on Fig 6.13 cells); what differs is that only tau_min and ``complete_to`` are reported,

@@ -349,6 +349,8 @@ def free_radius(hill: HillMatrices) -> float:
     if not hill.bipartite:
         raise ValueError("free_radius needs a bipartite pencil (no self-coupling in B)")
     K = len(hill.diag)
+    if K == 1:  # B = 0: no finite eigenvalue
+        return np.inf
     solve = _coupled_solves(hill)
     norms = {"diag": [], "up": [], "low": []}  # each entry (1-norm, inf-norm)
 
