@@ -229,3 +229,36 @@ def test_coarser_m_tau_min_is_the_next_m_hint_and_changes_nothing_but_speed(monk
     leader = next(k for k in KINDS if hinted.taus[k].tau_min == low)
     qz = _qz_taus(factory(hinted.n_spatial), leader, OPTIONS["n_temporal"])
     assert qz[0] == pytest.approx(low, rel=1e-9)
+
+
+def test_empty_answers_proved_at_the_finest_m_only(monkeypatch):
+    """certify_empty with a converging N: the other kind's empty answer is proved by the zero
+    count (or its disk) for the finest M only, with the answer marginal_tau gives there with
+    certify_empty itself (the former path: complete_to = its cap, the same truncation pair);
+    where the proof fails it is marked (complete_to 0), or refused with certify_empty=True."""
+    from spectralshell.solvers import marginal
+
+    factory = _factory(600.0, 1e9)
+    options = {"tol": 1e-4, "tau_max": 0.5, "certify_empty": "mark"}
+    proved = []
+    count = marginal.none_up_to
+    monkeypatch.setattr(marginal, "none_up_to",
+                        lambda hill, tau_max: proved.append(hill.diag.shape[1])
+                        or count(hill, tau_max))
+    joint = sr.refine_minimum(factory, KINDS, options=options, tol_spatial=0.05)
+    other = joint.taus["subharmonic"]
+    cap = joint.caps["subharmonic"]
+    assert joint.converged and other.tau_min is None and cap < 0.5
+    assert joint.n_spatial > sr.SPATIAL_START  # a coarser M was solved, and not proved
+    assert proved and set(proved) == {joint.n_spatial}
+    former = marginal.marginal_tau(factory(joint.n_spatial), "subharmonic", tol=1e-4,
+                                   tau_max=cap, certify_empty="mark")
+    assert other.complete_to == former.complete_to == cap
+    assert (other.n_temporal, other.n_previous) == (former.n_temporal, former.n_previous)
+    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max: False)
+    marked = sr.refine_minimum(factory, KINDS, options=options, tol_spatial=0.05)
+    assert marked.taus["subharmonic"].complete_to == 0.0
+    assert marked.taus["harmonic"].tau_min == joint.taus["harmonic"].tau_min
+    with pytest.raises(ConvergenceError, match="zero count cannot prove"):
+        sr.refine_minimum(factory, KINDS, options={**options, "certify_empty": True},
+                          tol_spatial=0.05)

@@ -61,7 +61,10 @@ O(K M^3) (about 45 K M^3 flops), against O((K M)^3) for the dense eig; the same 
 MAX_BLOCK_NODES, along the upper half of each contour as for 2 x 2 blocks: the cochlea's g
 takes conjugate values at conjugate points too, in both bipartite forms (real blocks in the
 real form, the reality condition in the two-sided one). Counts are checked against QZ, and
-that symmetry on the cochlea, in tests/test_contour_blocks.py.
+that symmetry on the cochlea, in tests/test_contour_blocks.py. Before counting, a disk free of
+eigenvalues may prove the same (:func:`_free_disk`: from the block norms of W, no count
+needed); it does where every eigenvalue lies well beyond tau_max, as on the Fig 5.18 cells
+whose one kind has nothing below the other's tau_min (tests/test_free_radius.py).
 
 The value agrees with the dense eig of W (tests/test_contour.py: to 1e-10 relative, in practice
 ~1e-14, on Fig 6.13 cells); what differs is that only tau_min and ``complete_to`` are reported,
@@ -156,6 +159,7 @@ from scipy.linalg.lapack import zgetrf as _getrf, zgetrs as _getrs
 from .._threads import one_blas_thread
 from ..discretise.hill import HillMatrices
 from . import _schur
+from .half_product import free_radius
 
 #: Half-heights (and left margins) of the counting rectangle, relative to tau_max^2, tried in
 #: turn until one holds no zero (:func:`_zeros_below`).
@@ -183,6 +187,9 @@ MAX_BEND = 1.0
 HINT_STEPS = (1e-7, 1e-5, 1e-3, 1e-2, 0.05)
 #: Real-axis grid over [0, tau_max^2] when no hint brackets a zero and the count finds one.
 SCAN_POINTS = 48
+#: Margin on the bound of :func:`_free_disk`: its radius counts for FREE_MARGIN times itself
+#: (the bound's rounding, relative <~ M eps COND_LIMIT <~ 1e-5, lies far inside).
+FREE_MARGIN = 0.9
 #: Relative step at which the first Newton solve of the root stops (the second one, inside
 #: the root's dyadic cell, runs to rounding).
 ROOT_RTOL = 1e-13
@@ -374,9 +381,35 @@ def none_up_to(hill: HillMatrices, tau_max: float) -> bool:
     """Whether the count proves that one bipartite truncation has no real tau <= tau_max: no
     zero of g in a thin rectangle around [0, tau_max^2 (1 + 1e-6)] (:func:`_zeros_below`).
     False where it cannot (a complex eigenvalue within 1e-6 tau_max^2 of the real axis, a real
-    one, a zero pivot, the node budget)."""
+    one, a zero pivot, the node budget). For blocks larger than 2 x 2 a disk free of
+    eigenvalues that holds every rectangle the count would walk (:func:`_free_disk`) proves it
+    first, at a few per cent of a count's cost."""
     z_max = tau_max * tau_max
-    return _zeros_below(LogDet(hill), z_max * (1 + 1e-6), z_max) == 0
+    right = z_max * (1 + 1e-6)
+    if hill.diag.shape[1] > 2 and _free_disk(hill, math.hypot(right, max(BLOCK_STRIPS) * z_max)):
+        return True
+    return _zeros_below(LogDet(hill), right, z_max) == 0
+
+
+def _free_disk(hill: HillMatrices, reach: float) -> bool:
+    """Whether the disk |z| <= ``reach`` holds no zero of g, proved by the bound of
+    :func:`~spectralshell.solvers.half_product.free_radius` (no eigenvalue with |tau| < r) with
+    the margin FREE_MARGIN on r.
+
+    Notes
+    -----
+    A zero-free disk holds every rectangle of :func:`_zeros_below` inside it, so the count
+    there is zero in each strip: the same claim as the count's, and a stronger one (no
+    eigenvalue at all, real or complex, with |tau|^2 <= reach). It succeeds where every
+    eigenvalue lies well beyond tau_max (on the Fig 5.18 cells whose kind has nothing below the
+    other kind's tau_min, the nearest |tau| is 4-14 tau_max and the bound 2-3 tau_max at
+    M = 64..256), and costs about 3.7 K M^3 complex flops (one LU and one solve per block of
+    A, two block products), against about 96 K M^3 for a count of 17 nodes; where it fails the
+    count runs as before. Issue 25 (measured in the Cost notes of
+    :mod:`spectralshell.solvers.marginal`)."""
+    with one_blas_thread():  # M x M blocks: BLAS threads only cost (_threads.py)
+        radius = free_radius(hill)
+    return (FREE_MARGIN * radius) ** 2 > reach
 
 
 def smallest_real_tau(hill: HillMatrices, tau_max: float,

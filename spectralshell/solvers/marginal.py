@@ -100,6 +100,37 @@ truncation:
   needs N <= 175), even with its block elimination replaced by a band LU (35x cheaper
   products; ARPACK's own work then dominates), so the threshold stands for b = 2.
 
+Cost of the empty answers' proofs (issue 25). Since the maps' empty answers are proved or
+marked (``certify_empty``, issue 23), the same 20 cells of the seeded Fig 5.18 sample cost 6x
+the 59.2 s above: the zero count of the kind that has nothing below the other kind's tau_min
+(17 nodes of a block LU sweep each, ~96 K M^3 complex flops, at both truncations of every M)
+took ~85 % of their time (cProfile), 19.6 s of the 25.8 s CPU of one cell that ends at
+M = 256 (human, 8.35 kHz, sigma = 5.7e8).
+Two changes, each proving the same claim: (1) a disk free of eigenvalues from the block norms
+of W (:func:`~spectralshell.solvers.half_product.free_radius`, tried by
+:func:`~spectralshell.solvers.contour.none_up_to` before its count; ~3.7 K M^3 flops) proves
+the strip empty where every eigenvalue lies far beyond the cap: on those cells the nearest
+|tau| is 4-14 times the cap and the bound's radius 2-2.4 times it at M = 64..256, so no count
+is walked; (2) a refinement in M proves only the finest M's empty answers, the ones it
+returns (:mod:`spectralshell.solvers.spatial_refinement`), so the counts that must still run
+(real tau crowding towards 1/2, where the bound fails) are not paid at coarser M. Measured on
+those 20 cells (every 5th of the seeded 100, each alone in its own process by
+``run_sweep(executor="serial")`` as validation/bench_sweep.py does, one BLAS thread, CPU time,
+the code before and after alternately per cell, 2 cores under a load of 9-12): 360.8 s before,
+91.8 s after (3.9x); every cell's tau_min, error estimate, complete_to, has_tau, n_temporal
+and n_spatial bitwise equal. Per cell: the six ending at M = 256 21.4-23.6 s -> 2.6-3.3 s,
+the one at M = 512 (gerbil, 35.5 kHz, sigma = 1.54e8) 147.7 -> 12.8 s, the crowded one
+(human, 63.6 Hz, sigma = 1.85e9: its subharmonic empty below the harmonic 0.4943 is proved
+by counts of 133-156 nodes at M = 64) 47.0 -> 39.5 s, the rest within the load's noise.
+Projected as mean x 80 000 cells / 16 workers: 25 h before, 6.4 h after for both panels; the
+crowded cell is now 43 % of the sample (cProfile: its counts at the finest M ~46 %, the
+shift-invert covers ~42 %, of which their block solves ~23 % and ARPACK's own work ~10 %, the
+dense eig ~8 %), the M = 256, 512 cells' Krylov runs on W, block inverses and the disk's bound
+(~0.75 s at M = 256) the next share. Tried and dropped: the shift-invert solves with
+S_j^{-1} U_j and S_j^{-1} L_j kept from the factorisation (3 block products per block instead
+of 4, the same tau_min bitwise): 44.2 s against 38.0 and 40.0 s on the crowded cell, no gain
+measurable under that load.
+
 What an answer proves
 ---------------------
 Each truncation states ``complete_to``: its list of real tau is complete up to it (for the
@@ -150,6 +181,7 @@ is reported as one tau = 0 whose uncertainty is its largest magnitude (:func:`qz
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import functools
 import math
 from collections.abc import Callable
@@ -747,6 +779,34 @@ def empty_not_certified(kind: str, n_prev: int, n: int, tau_max: float) -> Conve
         f"{STRIPS[-1]:g} tau_max^2 of the real axis, or the count's node budget): the "
         "truncations' near-axis complex eigenvalues could hide one; give a smaller or larger "
         "tau_max=, or fix n_temporal= to get the values with what is proved (complete_to)")
+
+
+def certify_empty_answer(system: HillSystem, kind: str, answer: MarginalTau, tau_max: float,
+                         certify_empty: bool | str) -> MarginalTau:
+    """``answer`` (of :func:`marginal_tau` with ``n_temporal=None`` and no ``certify_empty``,
+    at ``tau_max``) as ``certify_empty`` would have given it: an empty answer that needs the
+    zero count (a viscous model, finite tau_max) gets ``complete_to`` min(its own, tau_max)
+    where both truncations of its pair are proved empty (:func:`_empty_certified`), else 0
+    with ``'mark'``, else the ConvergenceError of :func:`marginal_tau`; other answers are
+    returned as they are. For a caller that keeps only some answers (a refinement in M keeps
+    the finest): the proof is paid for those alone. Without ``n_temporal`` an empty answer
+    means both truncations of the pair are empty (:func:`converged_pair`), which the proof
+    needs (with ``n_temporal`` given, pass ``certify_empty`` to :func:`marginal_tau`
+    instead)."""
+    if not certify_empty or answer.tau_min is not None or not answer.n_temporal \
+            or system.polynomial is not None or not math.isfinite(tau_max):
+        return answer
+    pencils = Pencils(system, kind)
+    pencils.reserve = answer.n_temporal
+    previous = Truncation(tau=np.empty(0), method="", complete_to=0.0)  # nothing proved yet
+    found = Truncation(tau=np.empty(0), method=answer.method,
+                       complete_to=tau_max if answer.method == "contour" else 0.0)
+    if _empty_certified(pencils, ((found, answer.n_temporal), (previous, answer.n_previous)),
+                        tau_max):
+        return dataclasses.replace(answer, complete_to=min(answer.complete_to, tau_max))
+    if certify_empty != "mark":
+        raise _empty_not_certified(kind, answer.n_previous, answer.n_temporal, tau_max)
+    return dataclasses.replace(answer, complete_to=0.0)
 
 
 def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,

@@ -1,0 +1,89 @@
+"""The eigenvalue-free disk of a bipartite Hill pencil from block norms of W
+(half_product.free_radius) and the count it stands in for (contour.none_up_to, issue 25):
+checked against dense QZ of the same truncations and against the count itself."""
+
+import numpy as np
+import pytest
+
+from spectralshell.solvers import contour
+from spectralshell.solvers.half_product import free_radius
+from spectralshell.solvers.marginal import Pencils, TruncationSchedule, finer, marginal_tau
+
+from test_contour_blocks import cochlea, qz_squares, random_pencil
+
+
+def smallest_modulus(hill) -> float:
+    """min |tau| over the finite eigenvalues (dense QZ)."""
+    return float(np.sqrt(np.abs(qz_squares(hill)).min()))
+
+
+@pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
+@pytest.mark.parametrize("n_spatial, n_temporal, frequency", [(8, 12, 116.9), (16, 6, 3000.0)])
+def test_free_radius_below_every_eigenvalue_cochlea(kind, n_spatial, n_temporal, frequency):
+    """Gerbil cochlea truncations (two-sided form): no QZ eigenvalue has |tau| below the
+    radius, and the bound is not trivially small: within a factor 10 of the nearest one (4.3 at
+    116.9 Hz, the subharmonic kind)."""
+    hill = Pencils(cochlea(n_spatial, frequency), kind).pencil(n_temporal, "two-sided")
+    radius, nearest = free_radius(hill), smallest_modulus(hill)
+    assert nearest / 10 < radius <= nearest
+
+
+def test_free_radius_real_form_and_random():
+    """The harmonic real form (real blocks, the n = 0 row's own coupling) and random complex
+    pencils: the radius never exceeds the smallest |tau| of QZ."""
+    hill = Pencils(cochlea(8), "harmonic").pencil(12, "real")
+    assert hill.bipartite
+    assert 0 < free_radius(hill) <= smallest_modulus(hill)
+    for seed in range(6):
+        hill = random_pencil(7, 4, seed)
+        assert 0 < free_radius(hill) <= smallest_modulus(hill)
+
+
+def test_free_radius_declines_on_a_singular_block():
+    """A singular or ill-conditioned block of A gives no bound (0)."""
+    hill = random_pencil(5, 4, 1)
+    diag = hill.diag.copy()
+    diag[2, :, 0] = diag[2, :, 1] * (1 + 1e-12)
+    bad = type(hill)(kind=hill.kind, form=hill.form, n_temporal=hill.n_temporal, diag=diag,
+                     lower=hill.lower, upper=hill.upper, self_coupling=None)
+    assert free_radius(bad) == 0.0
+
+
+@pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
+def test_disk_proof_agrees_with_count(kind):
+    """Where the disk proves a truncation empty up to tau_max, the count (the former path)
+    proves it too and QZ has no eigenvalue of |tau| <= tau_max; above the smallest real tau
+    neither claims it."""
+    hill = Pencils(cochlea(8), kind).pencil(12, "two-sided")
+    radius = free_radius(hill)
+    tau_max = 0.8 * radius
+    z_max = tau_max * tau_max
+    assert contour._free_disk(hill, np.hypot(z_max * (1 + 1e-6), 1e-4 * z_max))
+    assert contour._zeros_below(contour.LogDet(hill), z_max * (1 + 1e-6), z_max) == 0
+    assert contour.none_up_to(hill, tau_max)
+    assert smallest_modulus(hill) > tau_max
+    z = qz_squares(hill)
+    real = np.sqrt(z[np.abs(z.imag) <= 1e-9 * np.abs(z)].real.min())
+    assert not contour.none_up_to(hill, 1.01 * real)
+
+
+@pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
+def test_certified_empty_equals_count_only(kind, monkeypatch):
+    """A certified empty answer of the viscous cochlea (M = 16, tau_max well below the first
+    eigenvalue): the same MarginalTau with the disk as with the count alone (the former
+    path, the disk disabled), and the disk was used."""
+    system = cochlea(16, 3000.0)
+    first = TruncationSchedule.of(system).first  # an empty pair stops at (first, finer(first))
+    pencils = Pencils(system, kind)
+    tau_max = 0.5 * min(free_radius(pencils.pencil(n, "two-sided")) for n in (first, finer(first)))
+    used = []
+    disk = contour._free_disk
+    monkeypatch.setattr(contour, "_free_disk", lambda *a: used.append(disk(*a)) or used[-1])
+    fast = marginal_tau(system, kind, tol=1e-4, tau_max=tau_max, certify_empty=True)
+    assert used and all(used)
+    monkeypatch.setattr(contour, "_free_disk", lambda *a: False)
+    counted = marginal_tau(system, kind, tol=1e-4, tau_max=tau_max, certify_empty=True)
+    assert fast.tau_min is None and counted.tau_min is None
+    assert fast.complete_to == counted.complete_to == tau_max
+    assert (fast.n_temporal, fast.n_previous) == (counted.n_temporal, counted.n_previous)
+    assert (fast.n_previous, fast.n_temporal) == (first, finer(first))
