@@ -344,7 +344,10 @@ def test_four_modes_for_three_components():
 
 _LARGE_GRID = [(c, m, k, z) for c, m, k in [("coupled", 1, 0.5), ("coupled", 2, 1.0),
                                             ("coupled", 25, 0.5), ("coupled", 25, 1.0),
-                                            ("coupled", 10, 0.5),
+                                            ("coupled", 10, 0.5), ("coupled", 35, 0.5),
+                                            ("coupled", 50, 1.0), ("coupled", 60, 5.0),
+                                            ("coupled", 60, 20.0), ("coupled", 1, 20.0),
+                                            ("coupled", 10, 20.0),
                                             ("coupled", 5, 2.0), ("coupled", 10, 5.0),
                                             ("coupled", 25, 10.0),
                                             ("coupled", 1, 10.0), ("coupled", 0, 3.0),
@@ -360,7 +363,10 @@ def test_large_zeta_mode_count_over_the_grid(component, m, k, zeta):
 
 
 @pytest.mark.parametrize("m,k,zeta", [(1, 2.0, 3.0), (25, 10.0, 300.0), (5, 10.0, 1e3),
-                                      (2, 1.0, 0.5)])
+                                      (2, 1.0, 0.5),
+                                      pytest.param(50, 1.0, 10.0, marks=pytest.mark.slow),
+                                      pytest.param(35, 0.5, 10.0, marks=pytest.mark.slow),
+                                      pytest.param(60, 20.0, 1e3, marks=pytest.mark.slow)])
 def test_large_zeta_roots_against_30_digit_roots(m, k, zeta):
     """Former failures: m = 1, k = 2, zeta = 3 (an error estimate below the true error),
     m = 25 at zeta = 300 (at k = 10; at k = 1 the polish once did not converge), m = 5,
@@ -509,12 +515,14 @@ def test_cli_exponents_cylinder():
 
 
 def test_the_count_driven_range_is_where_the_slow_grid_passed():
-    """0.5 <= k <= 10, m <= 25 up to zeta = 1e3 (m = 25 at k = 0.5 and 1 included since the
-    count's f'/f guard and D at the branch point were repaired; slow grid); m = 26 and k outside
-    [0.5, 10] keep the seeds' range, and a zeta above it is refused with that range."""
+    """0.5 <= k <= 20, m <= min(60, 50 sqrt(k)) up to zeta = 1e3 (m = 25 at k = 0.5 and 1
+    included since the count's f'/f guard and D at the branch point were repaired; the corners
+    (35, 0.5), (50, 1), (60, 5), (60, 20), (1, 20) on the slow grid); beyond it the seeds' range
+    applies, and a zeta above that is refused with the range."""
     from spectralshell.models.cylinder import zeta_max
     assert zeta_max(25, 0.5) == zeta_max(25, 1.0) == zeta_max(1, 0.5) == 1e3
-    assert zeta_max(25, 10.0) == zeta_max(5, 2.0) == 1e3
-    assert zeta_max(26, 5.0) < 0.5 and zeta_max(2, 0.45) < 0.5 and zeta_max(2, 10.5) < 0.5
+    assert zeta_max(35, 0.5) == zeta_max(50, 1.0) == zeta_max(60, 2.0) == zeta_max(60, 20.0) == 1e3
+    for m, k in [(36, 0.5), (51, 1.0), (61, 5.0), (2, 20.5), (2, 0.45)]:
+        assert zeta_max(m, k) < 0.5
     with pytest.raises(ss.ParameterError, match=r"^zeta = 0\.5 is invalid"):  # a plain number
-        _modes(m=26, k=5.0, kappa=1.0, nu=0.5)
+        _modes(m=61, k=5.0, kappa=1.0, nu=0.5)
