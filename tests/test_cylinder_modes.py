@@ -169,12 +169,12 @@ def test_out_of_range_is_refused_with_the_range():
         _modes(m=2, k=1.0, kappa=1.0, nu=1001.0)
     with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 1000\] for m = 3, k = 10 "):
         _modes(m=3, k=10.0, kappa=1e-2, nu=200.0)
-    with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.05\] for m = 3, k = 20 "):
-        _modes(m=3, k=20.0, kappa=1.0, nu=0.06)
+    with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.05\] for m = 3, k = 21 "):
+        _modes(m=3, k=21.0, kappa=1.0, nu=0.06)  # above k = 20: the seeds' range
     with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.05\] for m = 100, k = 1 "):
         _modes(m=100, k=1.0, kappa=1.0, nu=0.06)
-    with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.15\] for m = 40, k = 1 "):
-        _modes(m=40, k=1.0, kappa=1.0, nu=0.2)
+    with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.15\] for m = 60, k = 1 "):
+        _modes(m=60, k=1.0, kappa=1.0, nu=0.2)  # m > 50 sqrt(k): the seeds' range
     with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.3\] for m = 3, k = 0.2 "):
         _modes(m=3, k=0.2, kappa=1.0, nu=0.4)  # below k = 0.5: the seeds' range
     with pytest.raises(ParameterError, match=r"zeta = .* \[1e-08, 0.3\] for m = 2, k = 0 "):
