@@ -27,7 +27,7 @@ frequency kappa m (m^2 - 1)/2). ``nu = 0`` therefore reuses the Mathieu model.
 Natural modes (tau = 0): det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2) (:func:`modal_system`;
 the cut of D is gamma <= -nu k^2, ``HillSystem.branch_point``), from which the Floquet exponents
 are continued. Up to zeta = nu/sqrt(kappa) = 0.05 (and at k = 0) one mode per component from
-seeds; above it, where :func:`counted` (0.5 <= k <= 20, m <= min(60, 50 sqrt(k))), as
+seeds; above it, where :func:`counted` (0.5 <= k <= 40, m <= min(25, 25 sqrt(k))), as
 many as an argument-principle count finds in a box of the
 beta plane (a conjugate pair can split into two real decays, so there may be more modes than
 components), solved in x = beta - k, where those decays crowd as zeta grows, up to zeta = 1e3
@@ -360,16 +360,17 @@ ZETA_START_CHECKED = 0.05
 _ZETA_TOPS = ((25, 0.3), (60, 0.15))
 #: Where the count-driven finder offers zeta above ZETA_START_CHECKED up to ZETA_COUNTED:
 #: K_COUNTED[0] <= k <= K_COUNTED[1], m <= M_COUNTED and m^2 <= M2_PER_K k (checked on grids of
-#: (m, k, zeta), tests/test_cylinder_modes.py). The error bounds grow like m^2/k
-#: (:data:`_ENTRY_EPS`): with m^2 <= 2500 k they stay below 1e-10 |gamma| (7.4e-11 at m = 35,
-#: k = 0.5 and m = 50, k = 1; 2.1e-10 at m = 60, k = 0.5, where the count itself still passes);
-#: below k = 0.5 they exceed it (1.4e-10 at m = 1, k = 0.1: the divided differences over
-#: |beta - k| ~ k amplify the Bessel kernels' rounding), so the seeds' range applies there.
-#: (m = 25 at k = 0.5 and 1 failed until the count's f'/f guard was restored and D made
-#: accurate at the branch point beta = 0.)
-K_COUNTED = (0.5, 20.0)
-M_COUNTED = 60
-M2_PER_K = 2500.0
+#: (m, k, zeta), tests/test_cylinder_modes.py). The counts pass well beyond (up to m = 100 at
+#: k = 4 and 40, m = 60 at k = 0.5), but the error bounds grow with m^2/k (:data:`_ENTRY_EPS`)
+#: and exceed 1e-10 |gamma| near zeta ~ 0.1-0.3 there (1.3e-10 at m = 20, k = 0.5; 2.6e-10 at
+#: m = 60, k = 1.44; 2.0e-10 at m = 100, k = 8); with m <= 25 sqrt(k) they stay below (5.9e-11
+#: at m = 20, k = 0.64, 24 zetas per check). Below k = 0.5 they exceed it too (1.4e-10 at m = 1,
+#: k = 0.1: the divided differences over |beta - k| ~ k amplify the Bessel kernels' rounding),
+#: so the seeds' range applies there. (m = 25 at k = 0.5 and 1 failed to count until the count's
+#: f'/f guard was restored and D made accurate at the branch point beta = 0.)
+K_COUNTED = (0.5, 40.0)
+M_COUNTED = 25
+M2_PER_K = 625.0
 ZETA_COUNTED = 1e3
 #: Relative step of the 4-point derivative of the determinant in beta (error ~ step^4).
 _STEP = 1e-3
@@ -378,7 +379,7 @@ _STEP = 1e-3
 def zeta_max(m: int, k: float, component: str = "coupled") -> float:
     """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered.
 
-    * 0.5 <= k <= 20 with m <= min(60, 50 sqrt(k)) (:func:`counted`; the count-driven finder
+    * 0.5 <= k <= 40 with m <= min(25, 25 sqrt(k)) (:func:`counted`; the count-driven finder
       above zeta = 0.05, :func:`modal_system`): 1e3. The number of modes is the argument-principle count in a box
       of the beta plane, so it may exceed the number b of components (four at m = 1, k = 2,
       zeta = 1: a conjugate pair of overdamped modes splits into two real decays in
@@ -389,8 +390,8 @@ def zeta_max(m: int, k: float, component: str = "coupled") -> float:
       and 0.05 above (the continuation loses a mode near the cut at zeta 0.2-0.3 for m = 35..60
       and at some zeta in 0.1-0.3 for m = 100, 200; beyond 2/k^2 the modes can outnumber the
       components); the fibre pair also stops at :func:`spectralshell.models.fibre.zeta_max`
-      (not reached below 0.3). The count-driven grids do not yet cover m > 60 or k > 20; below
-      k = 0.5, and beyond m = 50 sqrt(k), its error bounds exceed 1e-10 |gamma|.
+      (not reached below 0.3). Below k = 0.5, and beyond m = 25 sqrt(k) or m = 25, the
+      count-driven finder's error bounds exceed 1e-10 |gamma| (its counts pass up to m = 100).
     """
     if counted(m, k):
         return ZETA_COUNTED
