@@ -204,6 +204,8 @@ class ModalSystem:
         then counts the roots inside by the argument principle and finds that many, so the
         number of modes is the count's, not a fixed n_modes.
     determinant : with ``region``, x (complex array) -> f(x) (the residual's f, vectorised).
+    residuals : None, or x (complex array) -> (f, fp) arrays: the residual at many points in one
+        batch (with ``region``, the argument-principle count's f'/f at its nodes).
     noise : None, or x -> an absolute bound on the error of a root at x that the residual's
         own rounding causes (|error of f| / |f'|); the root's error estimate is at least this.
     branch : the x of the branch point (beta = 0): a root finder's Newton step is capped at
@@ -221,6 +223,7 @@ class ModalSystem:
     conjugate: Callable[[Any], Any] = _conjugate
     region: tuple[float, float, float] | None = None
     determinant: Callable[[np.ndarray], np.ndarray] | None = None
+    residuals: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]] | None = None
     noise: Callable[[complex], float] | None = None
     branch: float = 0.0
 

@@ -27,7 +27,7 @@ frequency kappa m (m^2 - 1)/2). ``nu = 0`` therefore reuses the Mathieu model.
 Natural modes (tau = 0): det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2) (:func:`modal_system`;
 the cut of D is gamma <= -nu k^2, ``HillSystem.branch_point``), from which the Floquet exponents
 are continued. Up to zeta = nu/sqrt(kappa) = 0.05 (and at k = 0) one mode per component from
-seeds; above it, where :func:`counted` (0.5 <= k <= 10, m <= min(25, 2.5 k)), as
+seeds; above it, where :func:`counted` (0.5 <= k <= 40, m <= min(25, 25 sqrt(k))), as
 many as an argument-principle count finds in a box of the
 beta plane (a conjugate pair can split into two real decays, so there may be more modes than
 components), solved in x = beta - k, where those decays crowd as zeta grows, up to zeta = 1e3
@@ -47,7 +47,8 @@ from .._validate import invalid
 from ..errors import ParameterError
 from ..params.cylinder import CYLINDER_UNITS, CylinderParams, cylinder_physical
 from ..params.registry import Model, PhysicalInput, register
-from ..special.cylindrical import logderiv_i, logderiv_k, logderiv_k_continued
+from ..special.cylindrical import (logderiv_i, logderiv_k, logderiv_k_continued, ratio_i,
+                                   ratio_k)
 from . import fibre, mathieu
 from .base import (HillSystem, ModalSystem, boundary_layer, continued_roots, damped_newton)
 
@@ -179,6 +180,52 @@ def _divided_difference(m: int, k: float, side: int, lam: float, L: np.ndarray,
     return closed + out / (beta + k)
 
 
+#: |beta| below which (in units of k, m >= 1, physical sheet) the pressure's column of V, T is
+#: recombined with the vortical ones (:func:`_origin_column`).
+_ORIGIN = 0.5
+
+
+def _excess_over(m: int, side: int, z: np.ndarray) -> np.ndarray:
+    """rho = (y(z) - +-m)/z^2 in closed form, y the logarithmic derivative of I_m (side 0, +m) or
+    K_m (side 1, -m, m >= 1): I_{m+1}(z)/(z I_m(z)) and -K_{m-1}(z)/(z K_m(z)) (DLMF 10.29.2)."""
+    z = np.asarray(z, dtype=complex)
+    if side == 0:
+        return np.asarray(ratio_i(m, z), dtype=complex) / z
+    return -1.0 / (z * np.asarray(ratio_k(m - 1, z), dtype=complex))
+
+
+def _origin_column(m: int, k: float, side: int, beta: np.ndarray, L: np.ndarray, Q: np.ndarray,
+                   nu: float) -> tuple[np.ndarray, np.ndarray]:
+    """The pressure's column of V and T (shape (len(beta), 3)) replaced by
+    (c_0 - (i m/L) c_1 - i k c_2)/beta^2 (c_j the columns of :func:`_interface_entries`), for
+    m >= 1 and |beta| < k/2 on the physical sheet.
+
+    Notes
+    -----
+    As beta -> 0 (the branch point gamma = -nu k^2) the columns of V become dependent:
+    det V = (k^2 (L^2 - m^2) - beta^2 (Lambda L - m^2))/(beta^2 - k^2) = O(beta^2), and
+    T V^-1 lost digits like eps (k/beta)^2 (measured 4e-10 at beta = 0.01 k, 5e-4 at 1e-5 k,
+    m = 25, k = 0.5, against 30-digit mpmath). With w = (1, -i m/L, -i k), V w = (beta^2 v, 0, 0)
+    and T w = beta^2 (-nu (2v + 1), i m nu (2v + 1/L), i k nu (Q + v)), where
+
+        v = (s m k^2 (2 rho - rho_k) - s m beta^2 rho + k^2 beta^2 rho (rho - rho_k))
+            / (L (beta^2 - k^2)),
+
+    s = +1 inside, -1 outside, rho = (L - s m)/beta^2 and rho_k = (Lambda - s m)/k^2 in closed form
+    (:func:`_excess_over`), so that nothing cancels. A change of columns leaves T V^-1 unchanged.
+    """
+    sign = 1 - 2 * side
+    b2 = beta * beta
+    rho = _excess_over(m, side, beta)
+    rho_k = complex(_excess_over(m, side, np.array([k]))[0]).real
+    v = (sign * m * k * k * (2 * rho - rho_k) - sign * m * b2 * rho
+         + k * k * b2 * rho * (rho - rho_k)) / (L * (b2 - k * k))
+    zero = np.zeros_like(v)
+    V = np.stack([v, zero, zero], -1)
+    T = np.stack([-nu * (2 * v + 1), 1j * m * nu * (2 * v + 1 / L), 1j * k * nu * (Q + v)], -1)
+    return V, T
+
+
 def fluid_load(s: np.ndarray, *, m: int, k: float, nu: float) -> np.ndarray:
     """H(s) (shape (len(s), 3, 3), s != 0): the fluid's load on (X^r, X^theta, X^z) in the real basis.
 
@@ -220,6 +267,11 @@ def _fluid_load_at(s: np.ndarray, beta: np.ndarray, x: np.ndarray, *, m: int, k:
         Q_in, Q_out = (L_in - lam_in) / (s / nu), (L_out - lam_out) / (s / nu)
     Vi, Ti = _interface(m, k, s, nu, lam_in, L_in, Q_in)
     Vo, To = _interface(m, k, s, nu, lam_out, L_out, Q_out)
+    origin = (np.abs(beta) < _ORIGIN * k) & ~second if m >= 1 else np.zeros(beta.shape, bool)
+    if origin.any():  # the branch point beta = 0: the columns recombined (_origin_column)
+        for side, V, T, L, Q in ((0, Vi, Ti, L_in, Q_in), (1, Vo, To, L_out, Q_out)):
+            V[origin, :, 0], T[origin, :, 0] = _origin_column(m, k, side, beta[origin],
+                                                              L[origin], Q[origin], nu)
     # Z = T V^-1 on each side, as (V^T)^-1 T^T transposed
     Z = (np.linalg.solve(np.swapaxes(Vi, 1, 2), np.swapaxes(Ti, 1, 2))
          - np.linalg.solve(np.swapaxes(Vo, 1, 2), np.swapaxes(To, 1, 2)))
@@ -307,16 +359,18 @@ ZETA_START_CHECKED = 0.05
 #: k = 0 (the fibre pair, axial): (largest m of a tier, its upper end of zeta), checked on grids.
 _ZETA_TOPS = ((25, 0.3), (60, 0.15))
 #: Where the count-driven finder offers zeta above ZETA_START_CHECKED up to ZETA_COUNTED:
-#: K_COUNTED[0] <= k <= K_COUNTED[1], m <= M_COUNTED (checked on grids of (m, k, zeta),
-#: tests/test_cylinder_modes.py). Below k = 0.5 its error bounds exceed 1e-10 |gamma| (1.4e-10
-#: at m = 1, k = 0.1: the divided differences over |beta - k| ~ k amplify the Bessel kernels'
-#: rounding), so the seeds' range applies there. Large m at small k is not offered either:
-#: m <= M_PER_K k as well (checked up to m = 25 at k = 10, 10 at 5, 5 at 2, 2 at 1, 1 at 0.5); at
-#: m = 25 the counts of a box and of its four parts disagree for k = 0.5 (zeta 0.5, 1, 3) and
-#: k = 1 (zeta 0.5, 1), a ConvergenceError found by the slow grid.
-K_COUNTED = (0.5, 10.0)
+#: K_COUNTED[0] <= k <= K_COUNTED[1], m <= M_COUNTED and m^2 <= M2_PER_K k (checked on grids of
+#: (m, k, zeta), tests/test_cylinder_modes.py). The counts pass well beyond (up to m = 100 at
+#: k = 4 and 40, m = 60 at k = 0.5), but the error bounds grow with m^2/k (:data:`_ENTRY_EPS`)
+#: and exceed 1e-10 |gamma| near zeta ~ 0.1-0.3 there (1.3e-10 at m = 20, k = 0.5; 2.6e-10 at
+#: m = 60, k = 1.44; 2.0e-10 at m = 100, k = 8); with m <= 25 sqrt(k) they stay below (5.9e-11
+#: at m = 20, k = 0.64, 24 zetas per check). Below k = 0.5 they exceed it too (1.4e-10 at m = 1,
+#: k = 0.1: the divided differences over |beta - k| ~ k amplify the Bessel kernels' rounding),
+#: so the seeds' range applies there. (m = 25 at k = 0.5 and 1 failed to count until the count's
+#: f'/f guard was restored and D made accurate at the branch point beta = 0.)
+K_COUNTED = (0.5, 40.0)
 M_COUNTED = 25
-M_PER_K = 2.5
+M2_PER_K = 625.0
 ZETA_COUNTED = 1e3
 #: Relative step of the 4-point derivative of the determinant in beta (error ~ step^4).
 _STEP = 1e-3
@@ -325,9 +379,8 @@ _STEP = 1e-3
 def zeta_max(m: int, k: float, component: str = "coupled") -> float:
     """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered.
 
-    * 0.5 <= k <= 10 with m <= min(25, 2.5 k) (:func:`counted`; the count-driven finder above
-      zeta = 0.05,
-      :func:`modal_system`): 1e3. The number of modes is the argument-principle count in a box
+    * 0.5 <= k <= 40 with m <= min(25, 25 sqrt(k)) (:func:`counted`; the count-driven finder
+      above zeta = 0.05, :func:`modal_system`): 1e3. The number of modes is the argument-principle count in a box
       of the beta plane, so it may exceed the number b of components (four at m = 1, k = 2,
       zeta = 1: a conjugate pair of overdamped modes splits into two real decays in
       -nu k^2 < gamma < 0). Checked on grids of m, k and zeta in {0.06, ..., 1e3} against counts
@@ -337,9 +390,8 @@ def zeta_max(m: int, k: float, component: str = "coupled") -> float:
       and 0.05 above (the continuation loses a mode near the cut at zeta 0.2-0.3 for m = 35..60
       and at some zeta in 0.1-0.3 for m = 100, 200; beyond 2/k^2 the modes can outnumber the
       components); the fibre pair also stops at :func:`spectralshell.models.fibre.zeta_max`
-      (not reached below 0.3). The count-driven grids do not yet cover m > 25; below
-      k = 0.5 its error bounds exceed 1e-10 |gamma|; at m = 25 its counts disagree for k = 0.5
-      and 1 at zeta in 0.5..3.
+      (not reached below 0.3). Below k = 0.5, and beyond m = 25 sqrt(k) or m = 25, the
+      count-driven finder's error bounds exceed 1e-10 |gamma| (its counts pass up to m = 100).
     """
     if counted(m, k):
         return ZETA_COUNTED
@@ -353,7 +405,7 @@ def zeta_max(m: int, k: float, component: str = "coupled") -> float:
 
 def counted(m: int, k: float) -> bool:
     """Whether the count-driven finder serves (m, k) above zeta = ZETA_START_CHECKED."""
-    return m <= min(M_COUNTED, M_PER_K * k) and K_COUNTED[0] <= k <= K_COUNTED[1]
+    return m <= M_COUNTED and m * m <= M2_PER_K * k and K_COUNTED[0] <= k <= K_COUNTED[1]
 
 
 def natural_matrix(beta: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
@@ -401,7 +453,8 @@ def _stencil_scale(x: complex, k: float) -> float:
     onto the continuation (analytic there), so that a root on the cut still has a derivative
     accurate to ~1e-8."""
     beta = k + x
-    return min(abs(x), abs(beta), max(abs(beta.real), 1e-5 * min(k, abs(beta))))
+    return np.minimum(np.minimum(abs(x), abs(beta)),
+                      np.maximum(abs(beta.real), 1e-5 * np.minimum(k, abs(beta))))
 
 
 def modal_residual_shifted(x: complex, *, m: int, k: float, kappa: float, nu: float,
@@ -409,12 +462,20 @@ def modal_residual_shifted(x: complex, *, m: int, k: float, kappa: float, nu: fl
     """:func:`modal_residual` in x = beta - k (:func:`natural_matrix_shifted`): the 4-point
     derivative with step 1e-3 :func:`_stencil_scale`, so that the roots crowding at x -> 0
     stay resolved and the stencil does not reach across the cut."""
-    x = complex(x)
+    f, fp = modal_residuals_shifted(np.array([x], dtype=complex), m=m, k=k, kappa=kappa, nu=nu,
+                                    component=component)
+    return complex(f[0]), complex(fp[0])
+
+
+def modal_residuals_shifted(x: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
+                            component: str = "coupled") -> tuple[np.ndarray, np.ndarray]:
+    """:func:`modal_residual_shifted` at each of the points x (one batch of matrices)."""
+    x = np.asarray(x, dtype=complex).ravel()
     h = _STEP * _stencil_scale(x, k)
-    points = x + h * np.array([0, 1, -1, 1j, -1j])
-    det = np.linalg.det(natural_matrix_shifted(points, m=m, k=k, kappa=kappa, nu=nu,
-                                               component=component))
-    return complex(det[0]), complex(_four_point(list(det[1:]), h))
+    points = x[:, None] + h[:, None] * np.array([0, 1, -1, 1j, -1j])[None, :]
+    det = np.linalg.det(natural_matrix_shifted(points.ravel(), m=m, k=k, kappa=kappa, nu=nu,
+                                               component=component)).reshape(points.shape)
+    return det[:, 0], _four_point([det[:, j] for j in range(1, 5)], h)
 
 
 def modal_residual_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
@@ -485,9 +546,13 @@ def natural_matrix_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
     """:func:`natural_matrix_shifted` (beta = k + x, x != 0) in mpmath, accurate to about the
     current precision: the Bessel functions and the divided difference
     Q = (L - Lambda)/(x (x + 2k)) are evaluated with the digits that the cancellation L - Lambda
-    costs added (log10((1 + k)/|x|)), and the matrix is rounded back to the current precision."""
+    costs added (log10((1 + k)/|x|)) and, as beta -> 0, those that the near-dependence of V's
+    columns costs (2 log10(k/|beta|), :func:`_origin_column`); the matrix is rounded back to
+    the current precision."""
     x = mpmath.mpc(x)
     extra = max(0, int(mpmath.ceil(mpmath.log10((1 + k) / abs(x))))) + 5
+    if abs(k + x) < k:  # the columns' dependence at the branch point beta = 0 (_origin_column)
+        extra += int(mpmath.ceil(2 * mpmath.log10(k / abs(k + x))))
     idx = components(m, k, component)
     D = mpmath.matrix(len(idx), len(idx))
     with mpmath.extradps(extra):
@@ -646,8 +711,16 @@ def modal_system(*, m: int, k: float, kappa: float, nu: float,
     gamma ~ 2 nu k x, and x keeps their digits), with a counting ``region``
     (:func:`_counting_box`): the root finder counts the roots in it by the argument principle and
     finds that many, so the number of modes is the count's (four at m = 1, k = 2, zeta = 1).
-    Roots nearer the cut than the box (Re beta < 1e-6 k) that the finder meets are reported as
-    on the cut, not counted. Error estimates include :func:`modal_noise_shifted`.
+    Roots nearer the cut than the box (Re beta < 1e-6 k) that the finder meets are listed,
+    flagged ``uncounted`` (on the cut to within their error, or resolved on the physical sheet
+    within 1e-6 k of it); the other modes are exactly the counted roots. The count stops short
+    of the cut because det D has poles on it as well as zeros: at large m it is real on the
+    imaginary beta axis to within |J_m(b)/Y_m(b)| (K_m(i b) ~ Y_m(b) for b < m), so both sit on
+    the axis to any working precision (m = 25, k = 0.5, zeta = 0.5: three decays on the cut at
+    beta = 5.001i, 5.056i, 7.211i, poles next to the zeros of J_25 at 30.78, 35.56, 39.76, and a
+    winding number of -2 over |Re beta| <= 1e-6 k, 0.005 <= Im beta <= 39.9); a count across
+    the cut would need the poles counted apart. Error estimates include
+    :func:`modal_noise_shifted`.
 
     Raises
     ------
@@ -674,6 +747,7 @@ def modal_system(*, m: int, k: float, kappa: float, nu: float,
             to_gamma=lambda x: nu_ * x * (x + 2 * k_), sheet_margin=lambda x: x.real + k_,
             region=_counting_box(p.m, k_, p.kappa, nu_, p.component),
             determinant=lambda x: np.linalg.det(natural_matrix_shifted(x, **fixed)),
+            residuals=functools.partial(modal_residuals_shifted, **fixed),
             noise=functools.partial(modal_noise_shifted, **fixed), branch=-k_)
 
     return ModalSystem(name="cylinder", n_modes=len(components(p.m, p.k, p.component)),

@@ -24,6 +24,10 @@ ON_CUT = ("mode(s) {} lie on the branch cut to within their error (|Re beta| <= 
 FEWER = ("count = {} asks for more modes than the dispersion relation has: all {} are returned (on "
          "the physical sheet it has no others; the rest of the spectrum is continuous, along the "
          "branch cut gamma <= 0)")
+UNCOUNTED = ("mode(s) {} lie between the counted region and the branch cut (within its gap, "
+             "|Re beta| <= 1e-6 k for the cylinder): found on the way, outside the "
+             "argument-principle count, so the list may miss others there; the remaining modes "
+             "are exactly the counted ones")
 UNPHYSICAL = ("mode(s) {} lie on the unphysical sheet (Re beta < 0): roots of the dispersion relation "
               "whose exterior field grows at infinity, not decaying modes")
 #: Im gamma/|Re gamma| below which a mode is labelled overdamped in practice: it then decays by
@@ -82,6 +86,9 @@ class NaturalModesResult(Result, Plottable):
         cut = [i for i, c in enumerate(roots.on_cut) if c]
         if cut:
             warnings.append(ON_CUT.format(", ".join(str(i) for i in cut)))
+        if roots.uncounted is not None and roots.uncounted.any():
+            warnings.append(UNCOUNTED.format(", ".join(str(i) for i, u in
+                                                       enumerate(roots.uncounted) if u)))
         bad = [i for i, (p, c) in enumerate(zip(roots.principal_sheet, roots.on_cut)) if not p and not c]
         if bad:
             warnings.append(UNPHYSICAL.format(", ".join(str(i) for i in bad)))

@@ -201,6 +201,9 @@ class ModeRoots(Record):
     double_error : with precision, |gamma_double - gamma_polished| of each mode.
     evaluations : residual evaluations in double precision (all seeds tried).
     seeds_tried : number of seeds drawn.
+    uncounted : None, or (count-driven search) True for each mode met between the counting
+        region and the branch cut, outside the argument-principle count (the others are exactly
+        the counted roots, one of each conjugate pair).
     """
 
     x: np.ndarray
@@ -213,6 +216,7 @@ class ModeRoots(Record):
     double_error: np.ndarray | None
     evaluations: int
     seeds_tried: int
+    uncounted: np.ndarray | None = None
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -28,13 +28,17 @@ between the double and the polished root is reported as ``double_error``.
 Count-driven search. A system with a ``region`` (a rectangle of the x plane closed under
 conjugation) has as many modes as the argument principle counts there
 (:func:`~spectralshell.solvers.nonlinear_eigen.count_by_winding` of f on its edge, with the
-``near_zeros`` refinement): deflated Newton's method (each root found and its conjugate divided
+``near_zeros`` refinement, each sampled turn checked against f'/f from the model's residual:
+``residuals``, one batch per refinement level, where given): deflated Newton's method (each root found and its conjugate divided
 out) runs from the seeds, then, while a rectangle holds fewer roots than it counts, from a grid
 of starts in it and recursively in its four parts, whose counts must add up to it. A root whose
 imaginary part is below its error is tested by Newton's method along the real axis (a real root,
-or a complex pair). Roots met between the cut and the rectangle are reported on the cut, not
-counted. The model's ``noise`` (the residual's own rounding carried to the root) floors each
-error estimate.
+or a complex pair). Roots met between the cut and the rectangle (sheet margin >= -error) are
+listed too, flagged ``uncounted`` (a warning names them): the others are exactly the counted
+ones. The count does not reach across the cut: there the determinant has poles as well as zeros
+(the cylinder's, at large m, along the imaginary beta axis), so a winding number across it
+counts zeros minus poles. The model's ``noise`` (the residual's own rounding carried to the
+root) floors each error estimate.
 
 Error estimates are absolute in gamma: |gamma(x + e_x) - gamma(x)| (maximised over the real and
 imaginary directions of the perturbation).
@@ -178,8 +182,9 @@ def _seeded_roots(system: ModalSystem, tol: float, max_iter: int,
 
 class _ScalarDeterminant:
     """The 1 x 1 matrix function [f(x)] of a :class:`ModalSystem` with ``region``, in the form
-    :func:`~spectralshell.solvers.nonlinear_eigen.count_by_winding` takes (a StructuredMatrix:
-    batched phases from ``determinant``, f'/f from ``residual``)."""
+    :func:`~spectralshell.solvers.nonlinear_eigen.count_by_winding` takes (a StructuredMatrix,
+    so that the count's turns are guarded by f'/f: batched phases from ``determinant``, f and
+    f'/f from ``residuals`` in one batch, or ``residual`` point by point)."""
 
     def __init__(self, system: ModalSystem) -> None:
         self.system = system
@@ -188,16 +193,27 @@ class _ScalarDeterminant:
         return np.array([[self.system.determinant(np.array([x], dtype=complex))[0]]])
 
     def phases(self, x: np.ndarray) -> np.ndarray:
-        f = np.asarray(self.system.determinant(np.asarray(x, dtype=complex)), dtype=complex)
-        size = np.abs(f)
-        return np.where(size > 0, f / np.where(size > 0, size, 1.0), 0.0)
+        return _unit(self.system.determinant(np.asarray(x, dtype=complex)))
 
     def log_derivatives(self, x: np.ndarray) -> np.ndarray:
-        out = []
-        for z in np.asarray(x, dtype=complex):
-            f, fp = self.system.residual(complex(z))
-            out.append(fp / f)
-        return np.array(out, dtype=complex)
+        return self.phases_and_log_derivatives(x)[1]
+
+    def phases_and_log_derivatives(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=complex)
+        if self.system.residuals is not None:
+            f, fp = (np.asarray(a, dtype=complex) for a in self.system.residuals(x))
+        else:
+            pairs = [self.system.residual(complex(z)) for z in x]
+            f = np.array([p[0] for p in pairs], dtype=complex)
+            fp = np.array([p[1] for p in pairs], dtype=complex)
+        return np.stack([_unit(f), fp / np.where(f != 0, f, 1.0)])
+
+
+def _unit(f: np.ndarray) -> np.ndarray:
+    """f/|f| (0 where f = 0)."""
+    f = np.asarray(f, dtype=complex)
+    size = np.abs(f)
+    return np.where(size > 0, f / np.where(size > 0, size, 1.0), 0.0)
 
 
 def _with_noise(system: ModalSystem, root: _Root) -> _Root:
@@ -223,7 +239,7 @@ def _counted_roots(system: ModalSystem, tol: float, max_iter: int,
     holds fewer roots found than counted, from a grid of starts in it and in its four parts
     (recursively). Returns (roots, roots on the cut, evaluations, seeds tried): the second are
     the roots met on the way between the cut (sheet margin >= -error) and the box's left edge,
-    one of each conjugate pair, reported (``on_cut``) but not counted.
+    one of each conjugate pair, listed (``uncounted``) but not counted.
 
     Raises
     ------
@@ -366,14 +382,17 @@ def find_modes(system: ModalSystem, *, count: int | None = None, precision: int 
     if system.region is not None:
         every, cut, evaluations, tried = _counted_roots(system, tol, max_iter, max_seeds)
         found = [r for r in every if r.x.imag >= 0] + cut
+        outside = {id(r) for r in cut}
     else:
         found, evaluations, tried = _seeded_roots(system, tol, max_iter, max_seeds)
+        outside = None
     if count is None:
         count = len(found)
     found.sort(key=lambda r: -system.to_gamma(r.x).real)
     found = found[:count]
     xs = [r.x for r in found]
     errs = [r.step for r in found]
+    uncounted = None if outside is None else np.array([id(r) in outside for r in found], bool)
     digits = double_error = None
     if precision is not None:
         polished = [polish_root(system.residual_mp, x, precision=precision, max_iter=max_iter)
@@ -400,4 +419,4 @@ def find_modes(system: ModalSystem, *, count: int | None = None, precision: int 
     return ModeRoots(x=np.array(xs, dtype=complex), gamma=gamma, error_estimate=gerr,
                      principal_sheet=principal, on_cut=cut, precision=precision,
                      gamma_digits=digits, double_error=double_error, evaluations=evaluations,
-                     seeds_tried=tried)
+                     seeds_tried=tried, uncounted=uncounted)
