@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import json
 import sys
 from pathlib import Path
 
@@ -55,3 +56,81 @@ def test_sweep_bench_writes_chunks_through_the_store():
         sys.path.remove(str(VALIDATION))
     seconds = bench.write_per_chunk(16)
     assert 0 < seconds < 5
+
+
+@pytest.fixture()
+def bench_table():
+    """validation/bench_table.py and validation/_bench.py as modules."""
+    sys.path.insert(0, str(VALIDATION))
+    try:
+        return importlib.import_module("bench_table"), importlib.import_module("_bench")
+    finally:
+        sys.path.remove(str(VALIDATION))
+
+
+def _records(bench, capsys, monkeypatch, emit, quick=False):
+    """The records ``emit()`` prints through the row protocol, as bench_table reads them."""
+    argv = ["bench_x.py", bench.FLAG] + [bench.QUICK] * quick
+    monkeypatch.setattr(sys, "argv", argv)
+    capsys.readouterr()
+    emit()
+    out = capsys.readouterr().out.splitlines()
+    assert all(line.startswith(bench.PREFIX) for line in out)
+    return [{**json.loads(line[len(bench.PREFIX):]), "script": "bench_x.py"} for line in out]
+
+
+def test_table_lists_every_goal_with_its_baseline(bench_table, capsys, monkeypatch):
+    """The writer puts each goal first with the row of the run that measures it, that row's
+    baseline and time and whether it is met; a goal no row named says 'not measured'; a plain
+    row, a growth series and a failed script appear in their sections; '|' in a task is
+    escaped so the Markdown table keeps its columns."""
+    table, bench = bench_table
+
+    def emit():
+        bench.row(task="fibre one truncation | N = 40", package_s=0.002, baseline="dense QZ",
+                  baseline_s=0.08, error=1e-14, note="each N and kind", goal="fibre-truncation",
+                  met=True)
+        bench.row(task="Fig 6.13 map 200 x 200", package_s=75.0, baseline="dense path, projected",
+                  baseline_s=600.0, error=2e-15, goal="fig-6.13", met=False)
+        bench.row(task="plain row", package_s=1.0, baseline="other", baseline_s=None, error=None)
+        bench.growth(label="series", parameter="N", values=[10, 20, 40], seconds=[1, 2, 4])
+
+    records = _records(bench, capsys, monkeypatch, emit)
+    status = {"bench_x.py": (0, 12.0, 4, 20.0), "bench_y.py": (1, 3.0, 0, 3.0)}
+    text = table.markdown(records, status)
+    goals = text[text.index("## Issue 25's goals"):text.index("## All rows")]
+    assert all(goal in goals for goal in bench.GOALS.values())
+    line = next(x for x in goals.splitlines() if x.startswith("| " + bench.GOALS["fibre-truncation"]))
+    cells = [c.strip() for c in line.strip("|").split(" | ")]
+    assert cells[1:6] == ["yes", "0.002", "dense QZ", "0.08", "40"]
+    assert "fibre one truncation \\| N = 40 (each N and kind)" in cells[6]
+    line = next(x for x in goals.splitlines() if x.startswith("| " + bench.GOALS["fig-6.13"]))
+    assert "| **no** | 75 | dense path, projected | 600 | 8 |" in line
+    missing = [x for x in goals.splitlines() if "**not measured**" in x]
+    assert len(missing) == len(bench.GOALS) - 2
+    rows = text[text.index("## All rows"):text.index("## Cost growth")]
+    assert "**goal fig-6.13**: Fig 6.13 map 200 x 200" in rows and "| plain row | 1 | other | - |" in rows
+    assert "| series | N | 10-40 | 1.00 |" in text
+    assert "| `bench_y.py` | **failed (1)** | 0 | 3 | 3 |" in text
+    assert "Quick smoke run" not in text
+
+
+def test_table_marks_a_quick_run(bench_table, capsys, monkeypatch):
+    """In a --quick run the goal rows measure nothing and the table says so, above all."""
+    table, bench = bench_table
+    records = _records(bench, capsys, monkeypatch, lambda: bench.row(
+        task="small map", package_s=0.5, baseline="dense", baseline_s=1.0, error=0.0,
+        goal="fig-6.13", met=True), quick=True)
+    text = table.markdown(records, {"bench_x.py": (0, 1.0, 1, 1.0)}, quick=True)
+    assert text.index("Quick smoke run") < text.index("## Issue 25's goals")
+    assert "| quick run: measures nothing |" in text and "| yes |" not in text
+
+
+def test_row_refuses_an_unknown_goal_or_a_goal_without_verdict(bench_table):
+    _, bench = bench_table
+    with pytest.raises(ValueError, match="goal = 'fig-9.99' is not one of"):
+        bench.row(task="t", package_s=1.0, baseline="b", baseline_s=1.0, error=None,
+                  goal="fig-9.99", met=True)
+    with pytest.raises(ValueError, match="goal and met go together"):
+        bench.row(task="t", package_s=1.0, baseline="b", baseline_s=1.0, error=None,
+                  goal="fig-6.13")
