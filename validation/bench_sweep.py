@@ -339,6 +339,22 @@ def dense_price(point: dict, largest: int) -> float:
                              spec.options.n_temporal) for m in ms)
 
 
+def sample_points(size: int = MAP_SAMPLE) -> list[tuple[str, dict]]:
+    """(label, one-point scene) of ``size`` random points (seed 0) of each packaged Fig 5.18
+    scene, human first (at fixed M = 16, N = 8 in a --quick run)."""
+    rng = np.random.default_rng(0)
+    tasks = []
+    for panel in ("human", "gerbil"):
+        scene = fig_5_18_scene(panel)
+        spec = sweep_spec(scene)
+        freq, sigma = (np.asarray(spec.axis(a).values) for a in ("frequency", "sigma"))
+        for i, j in zip(rng.integers(0, freq.size, size), rng.integers(0, sigma.size, size)):
+            point = {**scene, "grid": {"frequency": [float(freq[i])], "sigma": [float(sigma[j])]}}
+            tasks.append((f"{panel} f = {freq[i]:.4g} Hz, sigma = {sigma[j]:.3g}",
+                          _smoke_point(point) if quick() else point))
+    return tasks
+
+
 def fig_5_18_sample(every: int = 1, size: int = MAP_SAMPLE) -> list[tuple[str, float, float]]:
     """Cost of ``size`` random points of each thesis-size Fig 5.18 scene (the packaged
     200 x 200 scenes, seed 0), each solved alone (both kinds, M refined, no continuation), the
@@ -350,17 +366,7 @@ def fig_5_18_sample(every: int = 1, size: int = MAP_SAMPLE) -> list[tuple[str, f
           "packaged 200 x 200 scene" + (f", every {every}th of them" if every > 1 else "")
           + ", each alone (both kinds, M refined, continuation off; one process per core)"
           + ("; --quick: at fixed M = 16, N = 8" if quick() else ""))
-    rng = np.random.default_rng(0)
-    tasks = []
-    for panel in ("human", "gerbil"):
-        scene = fig_5_18_scene(panel)
-        spec = sweep_spec(scene)
-        freq, sigma = (np.asarray(spec.axis(a).values) for a in ("frequency", "sigma"))
-        for i, j in zip(rng.integers(0, freq.size, size), rng.integers(0, sigma.size, size)):
-            point = {**scene, "grid": {"frequency": [float(freq[i])], "sigma": [float(sigma[j])]}}
-            tasks.append((f"{panel} f = {freq[i]:.4g} Hz, sigma = {sigma[j]:.3g}",
-                          _smoke_point(point) if quick() else point))
-    tasks = tasks[::every]
+    tasks = sample_points(size)[::every]
     costs: dict[str, float] = {}
     prices: dict[str, float] = {}
 
