@@ -443,7 +443,8 @@ def projection(cost_sphere: float, per_task: float, overhead_fraction: float,
                         per_task)
     how = (f"projected: 2 panels x ceil({n_chunks} chunks / {GOAL_WORKERS} workers) waves x "
            f"{chunk_len} points x the mean CPU s per point of {costs.size} seeded random points "
-           f"(seed 0, {costs.size // 2} per panel{f', every {every}th of the draw' if every > 1 else ''}; "
+           f"(seed 0, {costs.size // 2} per panel"
+           f"{f', every {every}th of the draw' if every > 1 else ''}; "
            f"{mean:.2f} s, standard error {spread:.2f} s, max {float(costs.max()):.1f} s; "
            f"mean + 2 SE: {_human(high)}) x (1 + overhead {100 * overhead_fraction:.1f} %)")
     print(f"  goal: both panels <= {_human(GOAL_SECONDS)} on {GOAL_WORKERS} workers from >= "

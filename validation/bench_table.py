@@ -119,7 +119,8 @@ def markdown(records: list[dict], status: dict[str, tuple], quick: bool = False)
               "script's stated reference.", ""]
     lines += goal_lines(rows)
     lines += ["## All rows", "",
-              "| task | package (s) | baseline | baseline (s) | ratio | error | baseline error | script |",
+              "| task | package (s) | baseline | baseline (s) | ratio | error | baseline error "
+              "| script |",
               "|---|---|---|---|---|---|---|---|"]
     for r in rows:
         task = r["task"] + (f" ({r['note']})" if r.get("note") else "")
@@ -137,7 +138,8 @@ def markdown(records: list[dict], status: dict[str, tuple], quick: bool = False)
             lines.append(f"| {s['label']} | {s['parameter']} | {min(s['values']):g}-{max(s['values']):g} | "
                          f"{s['exponent']:.2f} | `{s['script']}` |")
     lines += ["", "## Scripts", "",
-              "| script | exit status | rows | wall time (s) | CPU time (s) |", "|---|---|---|---|---|"]
+              "| script | exit status | rows | wall time (s) | CPU time (s) |",
+              "|---|---|---|---|---|"]
     for name, (code, seconds, n, cpu) in status.items():
         state = "ok" if code == 0 else f"**failed ({code})**"
         lines.append(f"| `{name}` | {state} | {n} | {seconds:.0f} | {cpu:.0f} |")
