@@ -25,13 +25,12 @@ Run: python validation/bench_hill_large.py
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from _bench import best_time, quick, row
+from _bench import best_time, best_times, quick, row
 from spectralshell.models.registry import hill_system
 from spectralshell.discretise.hill import assemble
 from spectralshell.models import cochlea, sphere
@@ -231,16 +230,14 @@ def low_frequency_point(big: int = 80) -> None:
         return [truncation_taus(systems[m], "subharmonic", n, tau_max=0.5, method=method).tau[0]
                 for m, n in cases]
 
-    t_pkg, pkg = best_time(lambda: four("auto"), repeat=3)
-    t_d, dense = best_time(lambda: four("dense"), repeat=3)
-    c_pkg, c_d = (best_time(lambda: four(m), clock=time.process_time)[0]
-                  for m in ("auto", "dense"))
+    t_pkg, c_pkg, pkg = best_times(lambda: four("auto"))
+    t_d, c_d, dense = best_times(lambda: four("dense"))
     err = max(abs(a - b) for a, b in zip(pkg, dense))
     print(f"  the point's four truncations (M, N) = {cases}: auto {t_pkg:.2f} s, dense W "
           f"{t_d:.2f} s ({t_d / t_pkg:.1f}x; CPU time {c_pkg:.2f} s against {c_d:.2f} s, "
           f"{c_d / c_pkg:.1f}x), max |diff tau_min| {err:.1e} (auto: Arnoldi from half order "
-          f"{krylov_min_order(systems[40])} for blocks > 2 x 2, so at M = 40 too; on the "
-          f"{krylov_form('subharmonic', 80)} form's complex W)")
+          f"{krylov_min_order(systems[big // 2])} for blocks > 2 x 2, so at M = {big // 2} too; "
+          f"on the {krylov_form('subharmonic', big)} form's complex W)")
     row(task="cochlea omega=600 alpha=1.56 (issue 25's point), subharmonic, tau_max 1/2: the "
              f"four truncations of a fixed-truncation solve at M = {big}, N = 10, (M, N) = "
              f"{cases}",
