@@ -13,9 +13,9 @@ A row that measures one of issue 25's goals (:data:`GOALS`) names it (``goal=``)
 this run meets it (``met=``); bench_table.py lists every goal first, with its row's package and
 baseline times, and says "not measured" for a goal no row of the run named.
 
-``--quick`` (bench_table.py passes it on with ``--quick``): the script runs a small version of
-each measurement (:func:`quick`), seconds instead of minutes, to check that the whole pipeline
-runs; its numbers measure nothing, and its goal rows are marked so.
+``--quick`` (bench_table.py passes it on with ``--quick``): a script that takes more than a few
+seconds runs a small version of its measurements (:func:`quick`), the others run as usual; a
+check that the whole pipeline runs, whose numbers measure nothing (its goal rows say so).
 
 Usage in a script (``validation/`` is on sys.path when the script runs)::
 
