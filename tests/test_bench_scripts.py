@@ -156,3 +156,27 @@ def test_sweep_bench_map_sample_is_not_refused_by_the_pricing():
     prices = [sweep_cost(sweep_spec(point), 1)[0] for _, point in points]
     assert max(prices) <= bench.MAP_MAX_SECONDS
     assert max(prices) > SECONDS.value(None)  # what the sweep refuses by default
+
+
+def test_table_main_runs_scripts_end_to_end(bench_table, tmp_path, monkeypatch):
+    """bench_table.main runs each script with --json-rows (and --quick when asked), collects
+    its rows and growth series, writes BENCHMARKS.md and the growth plot into --out, and exits
+    1 when a script fails (its failure listed, the other's rows kept)."""
+    table, _ = bench_table
+    good = tmp_path / "bench_good.py"
+    good.write_text("import sys\nfrom _bench import growth, quick, row\n"
+                    "assert quick() == ('--quick' in sys.argv)\n"
+                    "row(task='cochlea point', package_s=0.1, baseline='dense W', baseline_s=1.5,"
+                    " error=0.0, goal='cochlea-point', met=True)\n"
+                    "growth(label='s', parameter='N', values=[10, 20], seconds=[1.0, 2.0])\n")
+    bad = tmp_path / "bench_bad.py"
+    bad.write_text("raise SystemExit(3)\n")
+    monkeypatch.setattr(table, "scripts", lambda only: [good, bad])
+    out = tmp_path / "out"
+    assert table.main(["--out", str(out), "--quick"]) == 1
+    text = (out / "BENCHMARKS.md").read_text()
+    assert (out / "cost_growth.png").stat().st_size > 0
+    assert "Quick smoke run" in text
+    assert "| quick run: measures nothing | 0.1 | dense W | 1.5 |" in text
+    assert "| `bench_good.py` | ok | 2 |" in text
+    assert "| `bench_bad.py` | **failed (3)** | 0 |" in text

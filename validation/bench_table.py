@@ -178,7 +178,7 @@ def main(argv: list[str] | None = None) -> int:
     table = out / "BENCHMARKS.md"
     table.write_text(markdown(records, status, args.quick))
     print(f"wrote {table}" + (f" and {out / 'cost_growth.png'}" if series else ""))
-    return 0 if all(code == 0 for code, _, _ in status.values()) else 1
+    return 0 if all(s[0] == 0 for s in status.values()) else 1
 
 
 if __name__ == "__main__":
