@@ -26,7 +26,7 @@ The viscous sphere's map (Fig 6.13 setting, 12 x 12 x m 2..6 x 2 kinds, 1234 of 
 empty): 1.20 s CPU before, 1.21 s with it, the same values (its contour path proves its empty
 points itself).
 
-Run: python validation/bench_certify_cochlea.py [--json-rows] [--max-m 256]
+Run: python validation/bench_certify_cochlea.py [--json-rows] [--max-m 256]   (--quick: M = 32)
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ import time
 
 from threadpoolctl import threadpool_limits
 
-from _bench import row
+from _bench import quick, row
 from spectralshell.models.registry import hill_system
 from spectralshell.params.physical import cochlea_params
 from spectralshell.params.registry import make_params
@@ -103,4 +103,5 @@ def main(max_m: int) -> None:
 
 if __name__ == "__main__":
     limit = int(sys.argv[sys.argv.index("--max-m") + 1]) if "--max-m" in sys.argv else 256
+    limit = min(limit, 32) if quick() else limit  # a smoke run (validation/_bench.py)
     main(limit)

@@ -42,7 +42,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 import spectralshell as ss  # noqa: E402
-from _bench import best_time, row  # noqa: E402
+from _bench import best_time, quick, row  # noqa: E402
 from spectralshell.errors import ConvergenceError  # noqa: E402
 from spectralshell.models.registry import hill_system  # noqa: E402
 from spectralshell.params.registry import make_params  # noqa: E402
@@ -102,7 +102,7 @@ def large_cochlea(n_spatial: int, n_temporal: int = 40) -> None:
 
 def main() -> None:
     print(f"Floquet exponents at tau = {TAU}: block LU (package) vs dense LU (baseline)")
-    for model, params in CASES:
+    for model, params in CASES[:1] if quick() else CASES:  # --quick: a smoke run (_bench.py)
         system = hill_system(make_params(model, params))
         seeds = ss.natural_modes(model, **params).gamma
         t_block, block = best_time(lambda: hill_exponents(system, TAU, seeds))

@@ -15,10 +15,12 @@ sample; and one truncation of the sphere, N = 40..80, against dense QZ.
 * error: over the sampled cells, max |tau_min(package) - tau_min(baseline)| and whether the
   has_tau masks agree (the certificate's claim "no tau <= 1/2" included).
 
-The second row: one truncation (N = 40, 60, 80; harmonic and subharmonic) of the sphere at
-sigma 20000 dyn/cm, 50 bpm, m = 6 (the map's largest truncations): the smallest real
-tau <= 1/2 with its certificate (``truncation_taus(method='smallest')``) against
-``scipy.linalg.eigvals(A, B)`` of the same pencil (QZ, every eigenvalue), summed over the six.
+The truncation rows: one truncation (N = 40, 60, 80; harmonic and subharmonic) of the sphere at
+sigma 20000 dyn/cm, 50 bpm, m = 6 (the map's largest truncations), and of the fibre (m = 3,
+kappa 0.02, nu 2e-4): the smallest real tau <= 1/2 with its certificate
+(``truncation_taus(method='smallest')``) against ``scipy.linalg.eigvals(A, B)`` of the same
+pencil (QZ, every eigenvalue), each timed alone, summed over the six; issue 25's goal (>= 30x)
+is judged on the lowest of the six ratios.
 
 With ``--lines`` it measures instead the CPU time of 12 full lines of the 200 x 200 grid
 (sigma indices LINES, 200 beat rates each, m = 2..6, both kinds: the sweep's chunks, solved
@@ -29,6 +31,9 @@ bitwise equal (else the largest |tau_min| difference and whether the has_tau mas
 agree). The cost per cell of the whole map follows that of these lines (the map's chunks
 are the same solves); the tables of the fluid load are rebuilt per line here more often
 than in the whole map, where a worker meets each beat rate on ~100 stiffness lines.
+
+``--quick`` (a smoke run, validation/_bench.py): N = 20, 30 and an 8 x 8 map with 4 sampled
+cells.
 
 Run: python validation/bench_fig613.py [--size 200] [--sample 100]
      python validation/bench_fig613.py --lines [--against /path/to/other/checkout] [--rounds 2]
@@ -50,8 +55,9 @@ import numpy as np
 import scipy.linalg as sla
 
 import spectralshell as ss
-from _bench import best_time, row
+from _bench import best_time, quick, row
 from spectralshell._threads import one_blas_thread
+from spectralshell.models import fibre
 from spectralshell.models.registry import hill_system
 from spectralshell.params.physical import CARDIAC, sphere_forced_params
 from spectralshell.params.registry import make_params
@@ -60,6 +66,8 @@ from spectralshell.solvers.marginal import Pencils, dense_taus, marginal_tau, tr
 TOL, TAU_MAX, DEGREES, KINDS = 1e-8, 0.5, (2, 3, 4, 5, 6), ("harmonic", "subharmonic")
 PHYSICAL = {k: CARDIAC[k] for k in ("rho", "mu", "radius")}
 WORKERS, SEED = 2, 25
+#: Issue 25's goal for the whole 200 x 200 map on 2 cores (s).
+GOAL_SECONDS = 60.0
 #: The sigma indices of the 200 x 200 grid whose full lines --lines solves, and its rounds.
 LINES, ROUNDS = (0, 1, 2, 3, 100, 101, 102, 103, 196, 197, 198, 199), 2
 
@@ -131,31 +139,42 @@ def map_row(size: int, sample: int) -> None:
           f"({cpu_projected / WORKERS:.1f} s per worker), ratio {cpu_projected / cpu_pkg:.2f}")
     print(f"  ratio {projected / t_pkg:.2f}; over the sample: max |tau_min difference| "
           f"{error:.2e}, has_tau masks equal: {same}; largest error estimate in the map "
-          f"{float(np.nanmax(ds['error_estimate'].values)):.1e}; goal 60 s")
+          f"{float(np.nanmax(ds['error_estimate'].values)):.1e}; goal {GOAL_SECONDS:g} s")
     row(task=f"Fig 6.13 map {size} x {size}, m = 2..6, both kinds, tau <= 1/2, tol {TOL:g}, "
              f"{WORKERS} workers (figure path)", package_s=t_pkg,
         baseline="dense path (marginal_tau, eig of W per truncation), projected from a seeded "
                  "sample", baseline_s=projected, error=error if same else float("inf"),
         note=f"{how}; CPU s per worker: package {cpu_pkg / WORKERS:.0f}, baseline projected "
              f"{cpu_projected / WORKERS:.0f}; error = max |tau_min - dense path's| over the "
-             "sample")
+             f"sample (has_tau masks equal: {same}); met: <= {GOAL_SECONDS:g} s, the masks "
+             f"equal and the error <= tol",
+        goal="fig-6.13", met=size == 200 and t_pkg <= GOAL_SECONDS and same and error <= TOL)
 
 
-def truncation_row() -> None:
-    system = system_at(20000.0, 50.0, 6)
+#: The truncation rows' pencils (issue 25: "sphere and fibre one truncation, N = 40..80, both
+#: kinds"): the map's largest sphere truncations, and the fibre of bench_floquet.py.
+TRUNCATIONS = (("sphere", "sigma 20000 dyn/cm, 50 bpm, m = 6", lambda: system_at(20000.0, 50.0, 6)),
+               ("fibre", "m = 3, kappa 0.02, nu 2e-4",
+                lambda: fibre.hill_system(m=3, kappa=0.02, nu=2e-4)))
+GOAL_RATIO, TRUNCATION_NS = 30.0, (40, 60, 80)
+
+
+def truncation_row(model: str, where: str, system, ns=TRUNCATION_NS) -> None:
+    """One truncation N (each of ``ns``, both kinds) of ``system``: the smallest real
+    tau <= 1/2 with its certificate against QZ of the same pencil, each timed alone (best of
+    3); the goal: >= GOAL_RATIO at every N and kind."""
     t_pkg = t_qz = 0.0
-    error = 0.0
-    for n in (40, 60, 80):
+    error, ratios = 0.0, {}
+    for n in ns:
         for kind in KINDS:
             pencils = Pencils(system, kind)
             hill = pencils.get(n, "real")[0]
             pencils.get(n, "two-sided")  # assembly outside both timings
             t, found = best_time(lambda: truncation_taus(system, kind, n, tau_max=TAU_MAX,
                                                          method="smallest", pencils=pencils))
-            t_pkg += t
             A, B = hill.A.toarray(), hill.B.toarray()
-            t, _ = best_time(lambda: sla.eigvals(A, B))
-            t_qz += t
+            q, _ = best_time(lambda: sla.eigvals(A, B))
+            t_pkg, t_qz, ratios[n, kind] = t_pkg + t, t_qz + q, q / t
             ref = dense_taus(hill)
             ref = ref[(ref >= 0) & (ref <= TAU_MAX)]
             got = found.tau[found.tau <= TAU_MAX]
@@ -163,14 +182,19 @@ def truncation_row() -> None:
                 error = float("inf")
             elif ref.size:
                 error = max(error, abs(float(got[0] - ref[0])))
-    print(f"sphere one truncation, N = 40, 60, 80, both kinds (sigma 20000, 50 bpm, m = 6): "
-          f"contour {t_pkg * 1e3:.1f} ms, QZ {t_qz * 1e3:.1f} ms, ratio {t_qz / t_pkg:.1f} "
-          "(goal >= 30)")
-    row(task="sphere one truncation N = 40, 60, 80, both kinds, smallest real tau <= 1/2 "
-             "(sigma 20000 dyn/cm, 50 bpm, m = 6), sum of six", package_s=t_pkg,
-        baseline="QZ (scipy.linalg.eigvals(A, B)) of the same pencils", baseline_s=t_qz,
-        error=error, note="error = |tau_min - QZ's smallest real tau <= 1/2|; none there: "
-                          "both must agree")
+    (n_low, kind_low), low = min(ratios.items(), key=lambda kv: kv[1])
+    each = ", ".join(f"{n} {kind[:3]} {r:.0f}x" for (n, kind), r in ratios.items())
+    print(f"{model} one truncation, N = {', '.join(map(str, ns))}, both kinds ({where}): "
+          f"contour {t_pkg * 1e3:.1f} ms, QZ {t_qz * 1e3:.1f} ms, ratio of the sums "
+          f"{t_qz / t_pkg:.1f}; each: {each}; lowest {low:.1f} (goal >= {GOAL_RATIO:g} at each)")
+    row(task=f"{model} one truncation N = {', '.join(map(str, ns))}, both kinds, smallest real "
+             f"tau <= 1/2 with its certificate ({where}), sum of {len(ratios)}",
+        package_s=t_pkg, baseline="QZ (scipy.linalg.eigvals(A, B)) of the same pencils",
+        baseline_s=t_qz, error=error,
+        note=f"ratio at each N and kind: {each}; the lowest, {low:.1f}x (N = {n_low}, "
+             f"{kind_low}), decides the goal; error = |tau_min - QZ's smallest real tau <= 1/2|; "
+             "none there: both must agree",
+        goal=f"{model}-truncation", met=low >= GOAL_RATIO and error <= 1e-9)
 
 
 def solve_lines(out: str) -> None:
@@ -265,7 +289,10 @@ def main() -> None:
         lines_row(args.against, args.rounds)
         return
     with one_blas_thread():
-        truncation_row()
+        for model, where, system in TRUNCATIONS:
+            truncation_row(model, where, system(), (20, 30) if quick() else TRUNCATION_NS)
+    if quick():
+        args.size, args.sample = min(args.size, 8), min(args.sample, 4)
     map_row(args.size, args.sample)
 
 

@@ -8,7 +8,8 @@
   relative agreement with the exact coefficients (requirement: <= 1e-4).
 
 The radial-only membrane model is that of the thesis; see spectralshell.models.sphere_nonlinear.
-Run: python validation/bench_lindstedt.py [--full]   (--full adds (4, 2), (4, 3), m = 5, 6 direct)
+Run: python validation/bench_lindstedt.py [--full]   (--full adds (4, 2), (4, 3), m = 5, 6 direct;
+     --quick: (2, 0) alone)
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import sys
 import time
 from pathlib import Path
 
-from _bench import best_time, row
+from _bench import best_time, quick, row
 from spectralshell.models import nonlinear_coefficients as nc
 from spectralshell.models import sphere_nonlinear
 from spectralshell.solvers.nonlinear_orbit import frequency_slope
@@ -38,8 +39,11 @@ def main() -> int:
     gen = load_generator()
     ok = True
     print("symbolic Lindstedt-Poincare (cold cache)")
-    for label, pairs in (("m = 2..8, k = 0", [(m, 0) for m in range(2, 9)]),
-                         ("all generated (m, k)", gen.GENERATED_RANGE)):
+    symbolic = [("m = 2..8, k = 0", [(m, 0) for m in range(2, 9)]),
+                ("all generated (m, k)", gen.GENERATED_RANGE)]
+    if quick():  # a smoke run (validation/_bench.py)
+        symbolic = [("m = 2, k = 0", [(2, 0)])]
+    for label, pairs in symbolic:
         t0 = time.perf_counter()
         res = {key: gen.solve(*key) for key in pairs}
         dt = time.perf_counter() - t0
@@ -49,6 +53,7 @@ def main() -> int:
     print("\ndirect periodic-orbit solve: fitted eps^2 slope vs exact c")
     print(f"  {'(m, k)':8s} {'c exact':>16s} {'c direct':>16s} {'rel. diff':>10s} {'fit unc.':>10s} {'time':>7s}")
     cases = [(2, 0), (3, 0), (4, 0), (3, 3)] + ([(4, 2), (4, 3), (5, 0), (6, 0)] if full else [])
+    cases = cases[:1] if quick() else cases
     for m, k in cases:
         t0 = time.perf_counter()
         fit = frequency_slope(sphere_nonlinear, m, k)

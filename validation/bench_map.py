@@ -19,7 +19,7 @@ cells are independent (two worker processes of one BLAS thread each; perfect sca
 ``--profile``: also the split of the package's time (cProfile, one run) by stage: D(s)
 evaluation, Hill assembly, block inverses, half product W, balancing, the eigenvalue step,
 the certificate, the rest of the solver (per truncation) and the sweep engine.
-Run: python validation/bench_map.py [--size 16] [--profile]
+Run: python validation/bench_map.py [--size 16] [--profile]   (--quick: 4 x 4)
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ import pstats
 import numpy as np
 
 import spectralshell as ss
-from _bench import best_time, row
+from _bench import best_time, quick, row
 from spectralshell._threads import one_blas_thread
 from spectralshell.models.registry import hill_system
 from spectralshell.params.physical import CARDIAC, sphere_forced_params
@@ -115,7 +115,7 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=16)
     parser.add_argument("--profile", action="store_true")
     args, _ = parser.parse_known_args()
-    size = args.size
+    size = min(args.size, 4) if quick() else args.size  # --quick: a smoke run (_bench.py)
     print(f"Fig 6.13 map, {size} x {size} (sigma, bpm), m = 2..6, both kinds, tau <= 1/2, "
           f"tol {TOL:g}, serial, one BLAS thread; best of {REPEAT}, alternating")
     t_pkg = t_base = np.inf

@@ -41,7 +41,7 @@ from scipy.integrate import solve_ivp
 from threadpoolctl import threadpool_limits
 
 import spectralshell as ss
-from _bench import best_time, fit_exponent, growth, row  # validation/_bench.py
+from _bench import best_time, fit_exponent, growth, quick, row  # validation/_bench.py
 from spectralshell.discretise.sphere_stepping import BANDED_FROM, degree_system
 from spectralshell.solvers.imex import SCHEMES
 from spectralshell.solvers import stepper
@@ -55,6 +55,8 @@ REPEAT = 5          # final timings: best and median of REPEAT runs
 TAU_FORCED = 0.1    # forcing amplitude of the per-step cost with the explicit term
 GROWTH_N = (32, 48, 64, 96, 128, 192, 256, 384, 512)   # radial resolutions of the cost growth
 GROWTH_STEPS = 1000
+if quick():  # a smoke run (validation/_bench.py): fewer repeats, resolutions and steps
+    REPEAT, GROWTH_N, GROWTH_STEPS = 1, (32, 64), 50
 
 
 def fitted_rate(times, x) -> float:
@@ -229,7 +231,8 @@ def main() -> None:
             print("no speed-up computed: a method family did not reach the target")
 
         cost_growth(exact)
-        solver_crossover()
+        if not quick():
+            solver_crossover()
 
 
 if __name__ == "__main__":

@@ -30,12 +30,14 @@ Rows for ``make bench`` (validation/_bench.py), at tol = 1e-4, 1e-8, 1e-12: the 
 the monodromy at rtol = tol, and against dense QZ at the cheapest N of its sweep whose achieved
 error is <= tol (chosen WITH the reference, an oracle no user has; where none is, the most
 accurate N).
-Run: python validation/bench_work_precision.py   (draws validation/work_precision.png)
+Run: python validation/bench_work_precision.py   (draws validation/work_precision.png; with
+     --quick into a new temporary directory)
 """
 
 from __future__ import annotations
 
 import math
+import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -47,7 +49,7 @@ from scipy.optimize import brentq
 from scipy.sparse.linalg import splu, spsolve
 
 import bench_floquet
-from _bench import best_time, row
+from _bench import best_time, quick, row
 from spectralshell._threads import one_blas_thread
 from spectralshell.discretise.hill import HillMatrices, assemble
 from spectralshell.models import fibre, mathieu, sphere
@@ -356,7 +358,9 @@ def main() -> None:
           f"achieved error of the {KIND} tau_min; ratio = baseline time / package time")
     with one_blas_thread():  # a shared 2-core machine: BLAS threads only add noise here
         results = [run_point(point) for point in POINTS]
-    print(f"\nwrote {plot(results, HERE / 'work_precision.png')}")
+    # a --quick smoke run (validation/_bench.py) leaves the committed chart alone
+    where = Path(tempfile.mkdtemp(prefix="work-precision-")) if quick() else HERE
+    print(f"\nwrote {plot(results, where / 'work_precision.png')}")
 
 
 if __name__ == "__main__":
