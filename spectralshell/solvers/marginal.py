@@ -805,7 +805,7 @@ def certify_empty_answer(system: HillSystem, kind: str, answer: MarginalTau, tau
                         tau_max):
         return dataclasses.replace(answer, complete_to=min(answer.complete_to, tau_max))
     if certify_empty != "mark":
-        raise _empty_not_certified(kind, answer.n_previous, answer.n_temporal, tau_max)
+        raise empty_not_certified(kind, answer.n_previous, answer.n_temporal, tau_max)
     return dataclasses.replace(answer, complete_to=0.0)
 
 
