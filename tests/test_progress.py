@@ -101,3 +101,20 @@ def test_a_piped_spatial_refinement_reports_the_m_it_solves(monkeypatch, capsys)
     lines = [x for x in capsys.readouterr().err.splitlines() if x.startswith("cochlea")]
     shape = re.compile(r"cochlea .*: \d+/\d+ M \(\d+%\), .* elapsed.*\(M = \d+\)")
     assert lines and all(shape.fullmatch(x) for x in lines), lines
+
+
+def test_piped_work_busy_on_one_item_still_writes_lines(monkeypatch, capsys):
+    """A long item (one large truncation) is not silent: the clock writes a line every
+    PIPE_SECONDS without any update, and nothing after close."""
+    import time
+
+    monkeypatch.setattr(progress, "PIPE_SECONDS", 0.05)
+    with progress.LineProgress(3, "cochlea", "M") as bar:
+        bar.set_postfix_str("M = 64")
+        time.sleep(0.3)
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) >= 2, lines
+    assert all(line.startswith("cochlea: 0/3 M (0%)") and line.endswith("(M = 64)")
+               for line in lines), lines
+    time.sleep(0.15)
+    assert capsys.readouterr().err == ""

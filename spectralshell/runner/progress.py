@@ -1,11 +1,14 @@
 """Progress of long work on stderr: a tqdm bar (rate, ETA) on a terminal, and when stderr is
 not a terminal (piped to a file, a CI log) one plain line every :data:`PIPE_SECONDS`, so that
-a log shows the work moving without a bar's carriage returns. Work shorter than that prints
-nothing when piped."""
+a log shows the work moving without a bar's carriage returns. The lines come from a clock, not
+only from finished items, so that work spending minutes on one item (one large truncation of a
+``floquet cochlea`` solve) is not silent (issue 23, section 4). Work shorter than
+PIPE_SECONDS prints nothing when piped."""
 
 from __future__ import annotations
 
 import sys
+import threading
 import time
 from collections.abc import Iterable, Iterator
 from typing import Any, TypeVar
@@ -27,22 +30,46 @@ def _duration(seconds: float) -> str:
 
 
 class LineProgress:
-    """The progress of ``total`` items (``unit``) as a line on stderr at most every
-    :data:`PIPE_SECONDS`: 'sweep: 120/960 pt (12%), 3.4 pt/s, 35s elapsed, ETA 4m07s'. Offers
-    the part of tqdm's interface the runners use (update, set_description, close, with)."""
+    """The progress of ``total`` items (``unit``) as a line on stderr every
+    :data:`PIPE_SECONDS`: 'sweep: 120/960 pt (12%), 3.4 pt/s, 35s elapsed, ETA 4m07s'. A daemon
+    thread writes the line when no update did for PIPE_SECONDS (none while PIPE_SECONDS is 0:
+    then every update writes one), until :meth:`close`. Offers the part of tqdm's interface the
+    runners use (update, set_description, set_postfix_str, close, with)."""
 
     def __init__(self, total: int | None, desc: str, unit: str):
         self.total, self.desc, self.unit = total, desc, unit
         self.n, self.postfix = 0, ""
         self._start = self._last = time.monotonic()
+        self._lock = threading.Lock()
+        self._closed = threading.Event()
+        if PIPE_SECONDS > 0:
+            threading.Thread(target=self._clock, args=(PIPE_SECONDS,), daemon=True,
+                             name="progress-lines").start()
 
     def update(self, count: int = 1) -> None:
         """Count ``count`` more finished items; write a line if PIPE_SECONDS have passed."""
-        self.n += count
-        now = time.monotonic()
-        if now - self._last >= PIPE_SECONDS:
+        with self._lock:
+            self.n += count
+        self._write_if_due()
+
+    def _write_if_due(self) -> float:
+        """Write the line if PIPE_SECONDS have passed since the last; the seconds until the
+        next is due."""
+        with self._lock:
+            now = time.monotonic()
+            wait = PIPE_SECONDS - (now - self._last)
+            if wait > 0:
+                return wait
             self._last = now
-            print(self.line(now - self._start), file=sys.stderr, flush=True)
+            text = self.line(now - self._start)
+        print(text, file=sys.stderr, flush=True)
+        return PIPE_SECONDS
+
+    def _clock(self, period: float) -> None:
+        """The thread's loop: a line whenever ``period`` passed without one, until closed."""
+        wait = period
+        while not self._closed.wait(max(wait, 1e-3)):
+            wait = self._write_if_due()
 
     def line(self, elapsed: float) -> str:
         """The progress line after ``elapsed`` seconds."""
@@ -63,7 +90,8 @@ class LineProgress:
         self.postfix = text
 
     def close(self) -> None:
-        """Nothing to clear: the lines stay in the log."""
+        """Stop the lines (those written stay in the log)."""
+        self._closed.set()
 
     def __enter__(self) -> LineProgress:
         return self
