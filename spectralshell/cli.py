@@ -582,27 +582,45 @@ def _is_text(value: str) -> bool:
         return True
 
 
-def _shape_png(png: str) -> str:
-    """The membrane-shape figure written next to the amplitude figure ``png`` of a simulation
-    (NAME_shape with the same suffix)."""
+def _figure_paths(png: str | None, figures: tuple[str, ...]) -> list[str]:
+    """The files ``simulate --png PNG`` writes for a model whose registration names
+    ``figures`` (suffixes of PNG's stem, '' for PNG itself): the sphere's membrane shape goes
+    to NAME_shape with the same suffix."""
+    if not png:
+        return []
     path = Path(png)
-    return str(path.with_name(f"{path.stem}_shape{path.suffix}"))
+    return [str(path.with_name(f"{path.stem}{extra}{path.suffix}")) for extra in figures]
 
 
-def _write_simulation(traj, png: str | None, npz: str | None) -> list[str]:
+def _write_simulation(run, pngs: list[str], npz: str | None) -> list[str]:
+    """Write the run's figures (``pngs`` of :func:`_figure_paths`) and its NPZ."""
+    from .results.stepped import SteppedRun
+
     written = []
-    if png:
+    if pngs and isinstance(run, SteppedRun):
+        from .plots import stepped as plot
+
+        from .runner.simulate import leading_exponent
+
+        try:
+            exponent: complex | None = leading_exponent(run)
+        except SpectralShellError as exc:
+            exponent = None
+            _warn([f"the figure has no Floquet exponent drawn: {' '.join(str(exc).split())}"])
+        _atomic_write(pngs[0], lambda p: plot.save(run, p, exponent=exponent))
+        written += pngs
+    elif pngs:
         from .plots import trajectory as plot
 
         from .runner.simulate import shape_snapshots
 
-        shape_png = _shape_png(png)
-        _atomic_write(png, lambda p: plot.save_amplitudes(traj, p))
-        theta, phi, fields, times = shape_snapshots(traj)
+        png, shape_png = pngs
+        _atomic_write(png, lambda p: plot.save_amplitudes(run, p))
+        theta, phi, fields, times = shape_snapshots(run)
         _atomic_write(shape_png, lambda p: plot.save_shape(theta, phi, fields, times, p))
-        written += [png, shape_png]
+        written += pngs
     if npz:
-        _atomic_write(npz, traj.write_npz)
+        _atomic_write(npz, run.write_npz)
         written.append(npz)
     return written
 
@@ -614,32 +632,38 @@ def cmd_simulate(args) -> int:
     if args.target in models():
         keywords = _simulation_keywords(args)
         json_path = None
-        if png and not get_model(args.target).time_stepping.figures:
-            raise ParameterError(f"--png is invalid for model {args.target!r}: its run has no "
-                                 "figure (the sphere's has); write the series with --npz")
+        model = args.target
     else:
         given = [_flag(f) for f in _simulation_flags() if getattr(args, f) is not None]
         if given:
             raise ParameterError(f"{given[0]} is invalid with a scene file: set it in the scene")
-        scene = load_scene(args.target)
-        out = Path(simulation_scene(scene).output_dir)
+        data = load_scene(args.target)
+        scene = simulation_scene(data)
+        model = scene.model
+        out = Path(scene.output_dir)
         _make_dir(out)
         stem = Path(args.target).stem
-        png, npz = png or str(out / f"{stem}.png"), npz or str(out / f"{stem}.npz")
+        if get_model(model).time_stepping.figures:
+            png = png or str(out / f"{stem}.png")
+        npz = npz or str(out / f"{stem}.npz")
         json_path = out / f"{stem}.json"
         keywords = {}
-    for name, path, suffix in (("--png", png, FIGURE_SUFFIXES),
-                               ("--png", png and _shape_png(png), FIGURE_SUFFIXES),
+    figures = get_model(model).time_stepping.figures
+    if png and not figures:
+        raise ParameterError(f"--png is invalid for model {model!r}: its run has no figure; "
+                             "write the series with --npz")
+    pngs = _figure_paths(png, figures)
+    for name, path, suffix in (*(("--png", p, FIGURE_SUFFIXES) for p in pngs),
                                ("--npz", npz, ".npz"), ("output", json_path, ".json")):
         _check_output(name, path, suffix)
-    traj = _api().simulate(args.target if json_path is None else scene,
-                           progress=_progress(args), **keywords)
-    _warn(traj.warnings)
-    written = _write_simulation(traj, png, npz)
+    run = _api().simulate(args.target if json_path is None else data,
+                          progress=_progress(args), **keywords)
+    _warn(run.warnings)
+    written = _write_simulation(run, pngs, npz)
     if json_path is not None:
-        _atomic_write(json_path, lambda p: p.write_text(json.dumps(traj.to_dict(), indent=1)))
+        _atomic_write(json_path, lambda p: p.write_text(json.dumps(run.to_dict(), indent=1)))
         written.append(str(json_path))
-    return _report(args.json, traj.to_dict(), traj.summary, written)
+    return _report(args.json, run.to_dict(), run.summary, written)
 
 
 BENCHMARK_FLAGS = {"rho": "fluid density (g/cm^3)", "mu": "dynamic viscosity (g/(cm s))",
@@ -911,11 +935,13 @@ def build_parser() -> argparse.ArgumentParser:
                            f"{m} ({', '.join(_flag(k) for k in stepping_keywords(m))})"
                            for m in stepped) + ".")
     p.add_argument("target", help=f"a model that can be time-stepped ({', '.join(stepped)}; "
-                   "then give the flags below) or a sphere scene TOML file")
+                   "then give the flags below) or a simulation scene TOML file of one")
     for name, text in _simulation_flags().items():
         p.add_argument(_flag(name), dest=name, metavar="X", help=text)
-    p.add_argument("--png", help=f"write mode amplitudes against time to {FIGURE_FILE}, and the "
-                   "membrane shape to NAME_shape with the same suffix [sphere]")
+    p.add_argument("--png", help=f"write the amplitudes against time (log scale; fibre, "
+                   "cochlea: the fitted series with its fitted growth rate and the leading "
+                   f"Floquet exponent's) to {FIGURE_FILE}; the sphere also writes the membrane "
+                   "shape to NAME_shape with the same suffix")
     p.add_argument("--npz", help="write the trajectory to a *.npz file (an existing file is "
                                  "replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
