@@ -208,7 +208,6 @@ def test_cli_json_and_npz(argv, tmp_path, capsys):
     (["fibre", "--kappa", "0.02", "--nu", "2e-4"], "--m"),
     (["fibre", "--m", "3", "--kappa", "0.02", "--nu", "2e-4", "--t-end", "5"], "t_end"),
     (["fibre", "--m", "x", "--kappa", "0.02", "--nu", "2e-4"], "m"),
-    (["fibre", "--m", "3", "--kappa", "0.02", "--nu", "2e-4", "--png", "a.png"], "--png"),
     (["cochlea", "--kappa", "1", "--nu", "1e-3", "--alpha", "0.5", "--n-spatial", "0"],
      "n_spatial"),
     (["cochlea", "--kappa", "1", "--nu", "1e-3", "--alpha", "0.5"], "--n-spatial"),
