@@ -27,7 +27,7 @@ from ._version import __version__
 from .errors import ConvergenceError, ParameterError, SpectralShellError, SweepInterrupted
 from .params.registry import (get_model, load_entry_points, models, models_with, param_fields,
                               param_help, param_names, stepping_keywords)
-from .params.scene import default_scene, load_scene, plan
+from .params.scene import default_scene, is_simulation_scene, load_scene, plan
 from .params.sweep_grid import is_sweep_scene, sweep_spec
 
 
@@ -491,7 +491,11 @@ def cmd_run(args) -> int:
                           _given(args, "max_seconds", parse_real))
     if args.max_seconds is not None:
         raise ParameterError(f"--max-seconds {args.max_seconds} is invalid here: it limits the "
-                             "estimated cost of a sweep scene (one with a [grid])")
+                             "estimated cost of a sweep scene (one with a [grid]; a simulation "
+                             "scene takes max_seconds in its [simulate])")
+    if is_simulation_scene(scene):
+        return _simulate_scene(scene, Path(args.scene).stem, args.out, None, None, args.json,
+                               _progress(args))
     return _run(scene, args.out, args.json, Path(args.scene).stem, _progress(args))
 
 
@@ -626,28 +630,34 @@ def _write_simulation(run, pngs: list[str], npz: str | None) -> list[str]:
 
 
 def cmd_simulate(args) -> int:
-    from .params.simulation import simulation_scene
-
-    png, npz = args.png, args.npz
-    if args.target in models():
-        keywords = _simulation_keywords(args)
-        json_path = None
-        model = args.target
-    else:
+    if args.target not in models():
         given = [_flag(f) for f in _simulation_flags() if getattr(args, f) is not None]
         if given:
             raise ParameterError(f"{given[0]} is invalid with a scene file: set it in the scene")
-        data = load_scene(args.target)
-        scene = simulation_scene(data)
-        model = scene.model
-        out = Path(scene.output_dir)
-        _make_dir(out)
-        stem = Path(args.target).stem
-        if get_model(model).time_stepping.figures:
-            png = png or str(out / f"{stem}.png")
-        npz = npz or str(out / f"{stem}.npz")
-        json_path = out / f"{stem}.json"
-        keywords = {}
+        return _simulate_scene(load_scene(args.target), Path(args.target).stem, None, args.png,
+                               args.npz, args.json, _progress(args))
+    return _simulation(args.target, args.target, _simulation_keywords(args), args.png, args.npz,
+                       None, args.json, _progress(args))
+
+
+def _simulate_scene(data: dict, stem: str, out_dir: str | None, png: str | None,
+                    npz: str | None, as_json: bool, progress: bool) -> int:
+    """A simulation scene (``simulate FILE``, ``run FILE``): NAME.json, NAME.npz and the
+    figures (NAME.png) written to ``out_dir`` or the scene's directory unless given."""
+    from .params.simulation import simulation_scene
+
+    scene = simulation_scene(data)
+    out = _make_dir(out_dir or scene.output_dir)
+    if get_model(scene.model).time_stepping.figures:
+        png = png or str(out / f"{stem}.png")
+    return _simulation(scene.model, data, {}, png, npz or str(out / f"{stem}.npz"),
+                       out / f"{stem}.json", as_json, progress)
+
+
+def _simulation(model: str, target: str | dict, keywords: dict[str, Any], png: str | None,
+                npz: str | None, json_path: Path | None, as_json: bool, progress: bool) -> int:
+    """Run ``ss.simulate(target, **keywords)`` of ``model`` after checking every output path,
+    write its files and report."""
     figures = get_model(model).time_stepping.figures
     if png and not figures:
         raise ParameterError(f"--png is invalid for model {model!r}: its run has no figure; "
@@ -656,14 +666,13 @@ def cmd_simulate(args) -> int:
     for name, path, suffix in (*(("--png", p, FIGURE_SUFFIXES) for p in pngs),
                                ("--npz", npz, ".npz"), ("output", json_path, ".json")):
         _check_output(name, path, suffix)
-    run = _api().simulate(args.target if json_path is None else data,
-                          progress=_progress(args), **keywords)
+    run = _api().simulate(target, progress=progress, **keywords)
     _warn(run.warnings)
     written = _write_simulation(run, pngs, npz)
     if json_path is not None:
         _atomic_write(json_path, lambda p: p.write_text(json.dumps(run.to_dict(), indent=1)))
         written.append(str(json_path))
-    return _report(args.json, run.to_dict(), run.summary, written)
+    return _report(as_json, run.to_dict(), run.summary, written)
 
 
 BENCHMARK_FLAGS = {"rho": "fluid density (g/cm^3)", "mu": "dynamic viscosity (g/(cm s))",
@@ -905,7 +914,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_demo)
 
-    p = sub.add_parser("run", help="run a scene TOML file (a scene with a [grid] runs as a resumable sweep)")
+    p = sub.add_parser("run", help="run a scene TOML file (a scene with a [grid] runs as a "
+                       "resumable sweep, one with [initial] or [simulate] as simulate FILE)")
     p.add_argument("scene")
     p.add_argument("--out", default=None, help="output directory (default: the scene's)")
     _max_seconds_flag(p)

@@ -114,6 +114,16 @@ def test_a_fibre_scene_is_the_run_of_its_keywords(fibre_run, tmp_path, capsys):
     data = json.loads((out / "fibre.json").read_text())
     assert data["growth_rate"] == fibre_run.growth_rate and data["params"] == fibre_run.params
     assert (out / "fibre.png").read_bytes()[:8] == PNG
+    again = tmp_path / "again"      # `spectralshell run` runs it too, into --out
+    assert main(["run", str(scene), "--out", str(again), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["growth_rate"] == fibre_run.growth_rate
+    with np.load(again / "fibre.npz") as z:
+        np.testing.assert_array_equal(z["values"], fibre_run.values)
+
+
+def test_the_planner_points_a_simulation_scene_to_simulate():
+    with pytest.raises(ParameterError, match="simulation scene.*ss.simulate"):
+        ss.run_scene({"model": "fibre", "params": FIBRE, "simulate": FIBRE_RUN})
 
 
 def test_a_cochlea_scene_is_the_run_of_its_keywords():
