@@ -84,6 +84,11 @@ class TimeStepping:
         if missing:
             raise ParameterError(f"required keyword {missing[0]!r} is invalid: not among the "
                                  f"keywords {', '.join(self.keywords)}")
+        if not (isinstance(self.figures, tuple) and all(isinstance(f, str) for f in self.figures)
+                and (not self.figures or self.figures[0] == "")):
+            raise ParameterError(f"figures = {self.figures!r} is invalid: must be a tuple of "
+                                 "file-name suffixes starting with '' (the --png file itself), "
+                                 "or ()")
 
 
 @dataclass(frozen=True, kw_only=True)
