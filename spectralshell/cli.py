@@ -948,10 +948,10 @@ def build_parser() -> argparse.ArgumentParser:
                    "then give the flags below) or a simulation scene TOML file of one")
     for name, text in _simulation_flags().items():
         p.add_argument(_flag(name), dest=name, metavar="X", help=text)
-    p.add_argument("--png", help=f"write the amplitudes against time (log scale; fibre, "
-                   "cochlea: the fitted series with its fitted growth rate and the leading "
-                   f"Floquet exponent's) to {FIGURE_FILE}; the sphere also writes the membrane "
-                   "shape to NAME_shape with the same suffix")
+    p.add_argument("--png", help=f"write the amplitudes against time to {FIGURE_FILE} (fibre, "
+                   "cochlea: the fitted series on a log axis with the fitted growth and the "
+                   "leading Floquet exponent's slope; the sphere: every mode, and the membrane "
+                   "shape in NAME_shape with the same suffix)")
     p.add_argument("--npz", help="write the trajectory to a *.npz file (an existing file is "
                                  "replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")
