@@ -491,8 +491,8 @@ def cmd_run(args) -> int:
                           _given(args, "max_seconds", parse_real))
     if args.max_seconds is not None:
         raise ParameterError(f"--max-seconds {args.max_seconds} is invalid here: it limits the "
-                             "estimated cost of a sweep scene (one with a [grid]; a simulation "
-                             "scene takes max_seconds in its [simulate])")
+                             "estimated cost of a sweep scene (one with a [grid]; a fibre or "
+                             "cochlea simulation scene takes max_seconds in its [simulate])")
     if is_simulation_scene(scene):
         return _simulate_scene(scene, Path(args.scene).stem, args.out, None, None, args.json,
                                _progress(args))

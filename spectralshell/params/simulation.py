@@ -334,8 +334,8 @@ def _stepped_scene(model: str, data: Mapping) -> SteppedScene:
         keywords.update(_table(data, table, names))
     missing = [k for k in stepping.required if k not in keywords]
     if missing:
+        needs = ", ".join(f"{keyword_table(model, k)}.{k}" for k in stepping.required)
         raise ParameterError(f"{keyword_table(model, missing[0])}.{missing[0]} is missing: a "
-                             f"{model} simulation needs "
-                             f"{', '.join(keyword_table(model, k) + '.' + k for k in stepping.required)}")
+                             f"{model} simulation needs {needs}")
     make_params(model, {k: v for k, v in keywords.items() if k in param_names(model)})
     return SteppedScene(model=model, keywords=keywords, output_dir=_output_dir(data))
