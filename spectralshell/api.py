@@ -12,7 +12,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any, overload
+from typing import TYPE_CHECKING, Any
 
 from .errors import ParameterError
 from .params.registry import models, models_with, parameters_doc
@@ -111,23 +111,15 @@ def open_sweep(path: str | Path) -> xr.Dataset:
     return load(path)
 
 
-@overload
-def simulate(target: Path | Mapping, *, progress: bool = False) -> Trajectory: ...
-
-
-@overload
-def simulate(target: str, *, progress: bool = False,
-             **keywords: Any) -> Trajectory | SteppedRun: ...
-
-
 def simulate(target: str | Path | Mapping, *, progress: bool = False,
              **keywords: Any) -> Trajectory | SteppedRun:
     """Time-step a model -> its trajectory and the fitted growth rates.
 
     ``target`` is a model that can be time-stepped (the sphere, the fibre, the cochlea: those
     registered with a :class:`~spectralshell.params.registry.TimeStepping`) given with its
-    ``keywords``, or a sphere scene (TOML path or string, or mapping; keys in
-    :mod:`spectralshell.params.simulation`)::
+    ``keywords``, or a scene of one (TOML path or string, or mapping; keys in
+    :mod:`spectralshell.params.simulation`: a fibre or cochlea scene holds exactly the keywords
+    in its tables, and gives the run of those keywords)::
 
         ss.simulate("sphere", m=2, kappa=0.06, nu=0.002, tau=0.25, t_end=200)
         ss.simulate("fibre", m=3, kappa=0.02, nu=2e-4, tau=0.3)

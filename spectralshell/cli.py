@@ -27,7 +27,7 @@ from ._version import __version__
 from .errors import ConvergenceError, ParameterError, SpectralShellError, SweepInterrupted
 from .params.registry import (get_model, load_entry_points, models, models_with, param_fields,
                               param_help, param_names, stepping_keywords)
-from .params.scene import default_scene, load_scene, plan
+from .params.scene import default_scene, is_simulation_scene, load_scene, plan
 from .params.sweep_grid import is_sweep_scene, sweep_spec
 
 
@@ -491,7 +491,11 @@ def cmd_run(args) -> int:
                           _given(args, "max_seconds", parse_real))
     if args.max_seconds is not None:
         raise ParameterError(f"--max-seconds {args.max_seconds} is invalid here: it limits the "
-                             "estimated cost of a sweep scene (one with a [grid])")
+                             "estimated cost of a sweep scene (one with a [grid]; a fibre or "
+                             "cochlea simulation scene takes max_seconds in its [simulate])")
+    if is_simulation_scene(scene):
+        return _simulate_scene(scene, Path(args.scene).stem, args.out, None, None, args.json,
+                               _progress(args))
     return _run(scene, args.out, args.json, Path(args.scene).stem, _progress(args))
 
 
@@ -582,64 +586,93 @@ def _is_text(value: str) -> bool:
         return True
 
 
-def _shape_png(png: str) -> str:
-    """The membrane-shape figure written next to the amplitude figure ``png`` of a simulation
-    (NAME_shape with the same suffix)."""
+def _figure_paths(png: str | None, figures: tuple[str, ...]) -> list[str]:
+    """The files ``simulate --png PNG`` writes for a model whose registration names
+    ``figures`` (suffixes of PNG's stem, '' for PNG itself): the sphere's membrane shape goes
+    to NAME_shape with the same suffix."""
+    if not png:
+        return []
     path = Path(png)
-    return str(path.with_name(f"{path.stem}_shape{path.suffix}"))
+    return [str(path.with_name(f"{path.stem}{extra}{path.suffix}")) for extra in figures]
 
 
-def _write_simulation(traj, png: str | None, npz: str | None) -> list[str]:
+def _write_simulation(run, pngs: list[str], npz: str | None) -> list[str]:
+    """Write the run's figures (``pngs`` of :func:`_figure_paths`) and its NPZ."""
+    from .results.stepped import SteppedRun
+
     written = []
-    if png:
+    if pngs and isinstance(run, SteppedRun):
+        from .plots import stepped as plot
+
+        from .runner.simulate import leading_exponent
+
+        try:
+            exponent: complex | None = leading_exponent(run)
+        except SpectralShellError as exc:
+            exponent = None
+            _warn([f"the figure has no Floquet exponent drawn: {' '.join(str(exc).split())}"])
+        _atomic_write(pngs[0], lambda p: plot.save(run, p, exponent=exponent))
+        written += pngs
+    elif pngs:
         from .plots import trajectory as plot
 
         from .runner.simulate import shape_snapshots
 
-        shape_png = _shape_png(png)
-        _atomic_write(png, lambda p: plot.save_amplitudes(traj, p))
-        theta, phi, fields, times = shape_snapshots(traj)
+        png, shape_png = pngs
+        _atomic_write(png, lambda p: plot.save_amplitudes(run, p))
+        theta, phi, fields, times = shape_snapshots(run)
         _atomic_write(shape_png, lambda p: plot.save_shape(theta, phi, fields, times, p))
-        written += [png, shape_png]
+        written += pngs
     if npz:
-        _atomic_write(npz, traj.write_npz)
+        _atomic_write(npz, run.write_npz)
         written.append(npz)
     return written
 
 
 def cmd_simulate(args) -> int:
-    from .params.simulation import simulation_scene
-
-    png, npz = args.png, args.npz
-    if args.target in models():
-        keywords = _simulation_keywords(args)
-        json_path = None
-        if png and not get_model(args.target).time_stepping.figures:
-            raise ParameterError(f"--png is invalid for model {args.target!r}: its run has no "
-                                 "figure (the sphere's has); write the series with --npz")
-    else:
+    if args.target not in models():
         given = [_flag(f) for f in _simulation_flags() if getattr(args, f) is not None]
         if given:
             raise ParameterError(f"{given[0]} is invalid with a scene file: set it in the scene")
-        scene = load_scene(args.target)
-        out = Path(simulation_scene(scene).output_dir)
-        _make_dir(out)
-        stem = Path(args.target).stem
-        png, npz = png or str(out / f"{stem}.png"), npz or str(out / f"{stem}.npz")
-        json_path = out / f"{stem}.json"
-        keywords = {}
-    for name, path, suffix in (("--png", png, FIGURE_SUFFIXES),
-                               ("--png", png and _shape_png(png), FIGURE_SUFFIXES),
+        return _simulate_scene(load_scene(args.target), Path(args.target).stem, None, args.png,
+                               args.npz, args.json, _progress(args))
+    return _simulation(args.target, args.target, _simulation_keywords(args), args.png, args.npz,
+                       None, args.json, _progress(args))
+
+
+def _simulate_scene(data: dict, stem: str, out_dir: str | None, png: str | None,
+                    npz: str | None, as_json: bool, progress: bool) -> int:
+    """A simulation scene (``simulate FILE``, ``run FILE``): NAME.json, NAME.npz and the
+    figures (NAME.png) written to ``out_dir`` or the scene's directory unless given."""
+    from .params.simulation import simulation_scene
+
+    scene = simulation_scene(data)
+    out = _make_dir(out_dir or scene.output_dir)
+    if get_model(scene.model).time_stepping.figures:
+        png = png or str(out / f"{stem}.png")
+    return _simulation(scene.model, data, {}, png, npz or str(out / f"{stem}.npz"),
+                       out / f"{stem}.json", as_json, progress)
+
+
+def _simulation(model: str, target: str | dict, keywords: dict[str, Any], png: str | None,
+                npz: str | None, json_path: Path | None, as_json: bool, progress: bool) -> int:
+    """Run ``ss.simulate(target, **keywords)`` of ``model`` after checking every output path,
+    write its files and report."""
+    figures = get_model(model).time_stepping.figures
+    if png and not figures:
+        raise ParameterError(f"--png is invalid for model {model!r}: its run has no figure; "
+                             "write the series with --npz")
+    pngs = _figure_paths(png, figures)
+    for name, path, suffix in (*(("--png", p, FIGURE_SUFFIXES) for p in pngs),
                                ("--npz", npz, ".npz"), ("output", json_path, ".json")):
         _check_output(name, path, suffix)
-    traj = _api().simulate(args.target if json_path is None else scene,
-                           progress=_progress(args), **keywords)
-    _warn(traj.warnings)
-    written = _write_simulation(traj, png, npz)
+    run = _api().simulate(target, progress=progress, **keywords)
+    _warn(run.warnings)
+    written = _write_simulation(run, pngs, npz)
     if json_path is not None:
-        _atomic_write(json_path, lambda p: p.write_text(json.dumps(traj.to_dict(), indent=1)))
+        _atomic_write(json_path, lambda p: p.write_text(json.dumps(run.to_dict(), indent=1)))
         written.append(str(json_path))
-    return _report(args.json, traj.to_dict(), traj.summary, written)
+    return _report(as_json, run.to_dict(), run.summary, written)
 
 
 BENCHMARK_FLAGS = {"rho": "fluid density (g/cm^3)", "mu": "dynamic viscosity (g/(cm s))",
@@ -881,7 +914,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_demo)
 
-    p = sub.add_parser("run", help="run a scene TOML file (a scene with a [grid] runs as a resumable sweep)")
+    p = sub.add_parser("run", help="run a scene TOML file (a scene with a [grid] runs as a "
+                       "resumable sweep, one with [initial] or [simulate] as simulate FILE)")
     p.add_argument("scene")
     p.add_argument("--out", default=None, help="output directory (default: the scene's)")
     _max_seconds_flag(p)
@@ -911,11 +945,13 @@ def build_parser() -> argparse.ArgumentParser:
                            f"{m} ({', '.join(_flag(k) for k in stepping_keywords(m))})"
                            for m in stepped) + ".")
     p.add_argument("target", help=f"a model that can be time-stepped ({', '.join(stepped)}; "
-                   "then give the flags below) or a sphere scene TOML file")
+                   "then give the flags below) or a simulation scene TOML file of one")
     for name, text in _simulation_flags().items():
         p.add_argument(_flag(name), dest=name, metavar="X", help=text)
-    p.add_argument("--png", help=f"write mode amplitudes against time to {FIGURE_FILE}, and the "
-                   "membrane shape to NAME_shape with the same suffix [sphere]")
+    p.add_argument("--png", help=f"write the amplitudes against time to {FIGURE_FILE} (fibre, "
+                   "cochlea: the fitted series on a log axis with the fitted growth and the "
+                   "leading Floquet exponent's slope; the sphere: every mode, and the membrane "
+                   "shape in NAME_shape with the same suffix)")
     p.add_argument("--npz", help="write the trajectory to a *.npz file (an existing file is "
                                  "replaced)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object")

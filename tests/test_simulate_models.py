@@ -208,7 +208,6 @@ def test_cli_json_and_npz(argv, tmp_path, capsys):
     (["fibre", "--kappa", "0.02", "--nu", "2e-4"], "--m"),
     (["fibre", "--m", "3", "--kappa", "0.02", "--nu", "2e-4", "--t-end", "5"], "t_end"),
     (["fibre", "--m", "x", "--kappa", "0.02", "--nu", "2e-4"], "m"),
-    (["fibre", "--m", "3", "--kappa", "0.02", "--nu", "2e-4", "--png", "a.png"], "--png"),
     (["cochlea", "--kappa", "1", "--nu", "1e-3", "--alpha", "0.5", "--n-spatial", "0"],
      "n_spatial"),
     (["cochlea", "--kappa", "1", "--nu", "1e-3", "--alpha", "0.5"], "--n-spatial"),
@@ -233,7 +232,7 @@ def _keywords_back(*, progress, **keywords):
     return {"progress": progress, **keywords}
 
 
-def test_a_plugin_model_offers_simulate_by_its_registration():
+def test_a_plugin_model_offers_simulate_by_its_registration(capsys):
     """What simulate takes for a model is its registered TimeStepping: a model registered with
     one (here the Mathieu parameters and a stepper of this module) is simulated with the
     keywords it declares, and refused others; no name is listed anywhere else."""
@@ -251,7 +250,14 @@ def test_a_plugin_model_offers_simulate_by_its_registration():
             ss.simulate("twinstep", kappa=1.0, nu=0.1, n_spatial=3)
         with pytest.raises(ParameterError, match="nu= is missing"):
             ss.simulate("twinstep", kappa=1.0)
+        # registered without figures: --png refused in one line before the run
+        assert main(["simulate", "twinstep", "--kappa", "1", "--nu", "0.1", "--png",
+                     "a.png"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "--png is invalid for model 'twinstep'" in err[0]
     finally:
         unregister("twinstep")
     with pytest.raises(ParameterError, match="'module:function'"):
         TimeStepping(runner="no_function", keywords={})
+    with pytest.raises(ParameterError, match="figures = True"):
+        TimeStepping(runner="m:f", keywords={}, figures=True)    # type: ignore[arg-type]

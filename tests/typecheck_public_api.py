@@ -36,7 +36,10 @@ def uses() -> None:
                                   m="2:6", physical=None, workers=1)
     swept: xr.Dataset = ss.sweep(Path("map.toml"), executor="serial", out="map.zarr")
     again: xr.Dataset = ss.open_sweep("map.zarr")
-    run: Trajectory = ss.simulate({"params": {"kappa": 0.06, "nu": 0.002, "tau": 0.25}})
+    run: Trajectory | SteppedRun = ss.simulate({"params": {"kappa": 0.06, "nu": 0.002,
+                                                           "tau": 0.25}})
+    if isinstance(run, Trajectory):
+        print(run.modes, run.fits)
     stepped = ss.simulate("fibre", m=3, kappa=0.02, nu=2e-4, tau=0.124)
     if isinstance(stepped, SteppedRun):
         rate: float = stepped.growth_rate + stepped.error_estimate

@@ -65,14 +65,15 @@ class TimeStepping:
         text (an expression).
     required : the keywords without a default.
     initial : the initial state the run starts from (one line, for help and documentation).
-    figures : the result has the figures of ``simulate --png`` (mode amplitudes and shape).
+    figures : the files ``simulate --png FILE`` writes, as suffixes of FILE's stem ('' is FILE
+        itself; the sphere adds '_shape'); empty: the result has no figure and --png is refused.
     """
 
     runner: str
     keywords: Mapping[str, tuple[Any, str] | None]
     required: tuple[str, ...] = ()
     initial: str = ""
-    figures: bool = False
+    figures: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         module, _, function = self.runner.partition(":")
@@ -83,6 +84,11 @@ class TimeStepping:
         if missing:
             raise ParameterError(f"required keyword {missing[0]!r} is invalid: not among the "
                                  f"keywords {', '.join(self.keywords)}")
+        if not (isinstance(self.figures, tuple) and all(isinstance(f, str) for f in self.figures)
+                and (not self.figures or self.figures[0] == "")):
+            raise ParameterError(f"figures = {self.figures!r} is invalid: must be a tuple of "
+                                 "file-name suffixes starting with '' (the --png file itself), "
+                                 "or ()")
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -114,6 +114,12 @@ def _solver_options(task: str, opts: Mapping) -> dict:
     return out
 
 
+def is_simulation_scene(scene: Mapping[str, Any]) -> bool:
+    """True for a scene with an [initial] or [simulate] table: a time-stepping run
+    (:func:`spectralshell.params.simulation.simulation_scene`), not a planner scene."""
+    return "initial" in scene or "simulate" in scene
+
+
 def plan(scene: str | Path | Mapping) -> Plan:
     """Validate a scene and decide what to compute (nothing is computed here).
 
@@ -122,6 +128,9 @@ def plan(scene: str | Path | Mapping) -> Plan:
     ParameterError : unknown keys, wrong types or values out of range anywhere in the scene.
     """
     data = load_scene(scene)
+    if is_simulation_scene(data):
+        raise ParameterError("scene is a simulation scene (it has [initial] or [simulate]): "
+                             "ss.simulate(scene) runs it, as do spectralshell run and simulate")
     allowed = {"model", "ask", "params", "output", *TASKS}
     unknown = sorted(set(data) - allowed)
     if unknown:

@@ -1,6 +1,6 @@
-"""Simulation scenes of the sphere: validated input of ``spectralshell simulate`` / ``ss.simulate``.
+"""Simulation scenes: validated input of ``spectralshell simulate`` / ``ss.simulate``.
 
-A scene (TOML file, TOML string or mapping)::
+A scene (TOML file, TOML string or mapping) of the sphere::
 
     model = "sphere"
     [params]
@@ -27,6 +27,29 @@ Expressions (e.g. "0.05*sin(theta)**2*cos(2*phi)") are arithmetic in theta and p
 + - * / **, parentheses and sin, cos, tan, exp, log, sqrt, abs; nothing else is accepted (no Python,
 no sympy). They must be finite everywhere on the sphere, and a kappa expression positive; see
 :mod:`spectralshell.params.expression` for the grammar and its limits (length, nesting, exponents).
+
+Every other model that can be time-stepped (the fibre, the cochlea, a plug-in registered with a
+:class:`~spectralshell.params.registry.TimeStepping`) takes in its scene exactly the keywords of
+``ss.simulate(model, ...)``, each in its table (:func:`keyword_table`): the model's parameters
+and tau in [params], amplitude in [initial], the run's settings in [simulate]::
+
+    model = "cochlea"
+    [params]
+    kappa = 1.0
+    nu = 1e-3
+    alpha = 0.5
+    n_spatial = 4          # the fibre: m, kappa, nu, forcing
+    tau = 0.26
+    [initial]
+    amplitude = 1.0
+    [simulate]
+    t_end = 376.99         # >= 20 pi; scheme, dt, max_seconds and the resolution (the fibre:
+    n_vertical = 48        # n_inner, n_outer; the cochlea: n_vertical, vertical_scale)
+    [output]
+    dir = "simulate-output"
+
+:func:`simulation_scene` checks the tables, their keys, the required keywords and the model's
+parameters; the stepper checks the run's settings and prices the run before any work.
 """
 
 from __future__ import annotations
@@ -42,7 +65,7 @@ from .._validate import (parse_int, parse_real, require_choice, require_int_in_r
                          require_nonnegative, require_positive, require_real)
 from ..errors import ParameterError
 from .expression import Expression, parse_expression
-from .registry import TimeStepping
+from .registry import TimeStepping, get_model, make_params, models_with, param_names
 from .scene import load_scene
 from .stiffness import amplitude_warnings
 
@@ -113,7 +136,7 @@ SPHERE_STEPPING = TimeStepping(
               "l_max": (int, f"degree cut-off of expressions (default {L_MAX})")},
     required=("kappa", "nu", "t_end"),
     initial="the membrane displaced in the given harmonic modes (or an expression), the fluid "
-            "at rest", figures=True)
+            "at rest", figures=("", "_shape"))
 
 
 #: Default run length of the fibre's and the cochlea's steppers: 60 forcing periods.
@@ -132,7 +155,8 @@ FIBRE_STEPPING = TimeStepping(
               "n_inner": (int, "radial unknowns per field inside (default 48)"),
               "n_outer": (int, "radial unknowns per field outside (default 64)"), **_MAX_SECONDS},
     required=("m", "kappa", "nu"),
-    initial="X = amplitude (1, -1/m) (the inviscid mode's shape), the fluid at rest")
+    initial="X = amplitude (1, -1/m) (the inviscid mode's shape), the fluid at rest",
+    figures=("",))
 
 #: The cochlea's keywords (:func:`spectralshell.runner.cochlea_stepping.simulate_cochlea`).
 COCHLEA_STEPPING = TimeStepping(
@@ -145,7 +169,27 @@ COCHLEA_STEPPING = TimeStepping(
               **_MAX_SECONDS},
     required=("kappa", "nu", "alpha", "n_spatial"),
     initial="the sum of the real parts of every oscillatory natural mode of the stepped system, "
-            "fluid included, each of largest membrane amplitude 1, times amplitude")
+            "fluid included, each of largest membrane amplitude 1, times amplitude",
+    figures=("",))
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class SteppedScene:
+    """A validated simulation scene of a model other than the sphere (module docstring): the
+    keywords of ``ss.simulate(model, **keywords)``, gathered from its tables."""
+
+    model: str
+    keywords: dict[str, Any]
+    output_dir: str
+
+
+def keyword_table(model: str, name: str) -> str:
+    """The scene table of keyword ``name`` of ``ss.simulate(model, ...)``: 'initial' (the
+    initial state: shape, amplitude, twist), 'params' (tau and the model's parameters) or
+    'simulate' (the run's settings)."""
+    if name in INITIAL_KEYS:
+        return "initial"
+    return "params" if name == "tau" or name in param_names(model) else "simulate"
 
 
 def sphere_scene(keywords: Mapping[str, Any]) -> dict[str, Any]:
@@ -162,9 +206,7 @@ def sphere_scene(keywords: Mapping[str, Any]) -> dict[str, Any]:
     tables: dict[str, dict[str, Any]] = {"params": {}, "initial": {"shape": shape},
                                          "simulate": {}}
     for name, value in values.items():
-        table = ("params" if name in PARAM_KEYS else "initial" if name in INITIAL_KEYS
-                 else "simulate")
-        tables[table][name] = value
+        tables[keyword_table("sphere", name)][name] = value
     return {"model": "sphere", **tables}
 
 
@@ -206,12 +248,22 @@ def _table(data: Mapping, key: str, allowed: set) -> dict:
         raise ParameterError(f"{key} = {table!r} is invalid: must be a table")
     unknown = sorted(set(table) - allowed)
     if unknown:
-        raise ParameterError(f"{key}.{unknown[0]} is unknown: expected {', '.join(sorted(allowed))}")
+        raise ParameterError(f"{key}.{unknown[0]} is unknown: expected "
+                             f"{', '.join(sorted(allowed)) or 'no keys'}")
     return dict(table)
 
 
-def simulation_scene(scene: str | Path | Mapping) -> SimulationScene:
-    """Validate a simulation scene; nothing is computed.
+def _output_dir(data: Mapping) -> str:
+    out_dir = _table(data, "output", {"dir"}).get("dir", "simulate-output")
+    if not isinstance(out_dir, str):
+        raise ParameterError(f"output.dir = {out_dir!r} is invalid: must be a string")
+    return out_dir
+
+
+def simulation_scene(scene: str | Path | Mapping) -> SimulationScene | SteppedScene:
+    """Validate a simulation scene; nothing is computed. ``model`` (default 'sphere') is a
+    model that can be time-stepped; the sphere's scene is a :class:`SimulationScene`, every
+    other model's a :class:`SteppedScene` (module docstring).
 
     Raises
     ------
@@ -221,11 +273,13 @@ def simulation_scene(scene: str | Path | Mapping) -> SimulationScene:
     unknown = sorted(set(data) - KEYS)
     if unknown:
         raise ParameterError(f"scene key {unknown[0]!r} is unknown: expected {', '.join(sorted(KEYS))}")
-    model = require_choice("model", data.get("model", "sphere"), ("sphere",))
+    model = require_choice("model", data.get("model", "sphere"), models_with("time_stepping"))
+    if model != "sphere":
+        return _stepped_scene(model, data)
     params = _table(data, "params", PARAM_KEYS)
     initial = _table(data, "initial", INITIAL_KEYS)
     sim = _table(data, "simulate", SIMULATE_KEYS)
-    output = _table(data, "output", {"dir"})
+    out_dir = _output_dir(data)
     for key in ("kappa", "nu"):
         if key not in params:
             raise ParameterError(f"params.{key} is missing: the sphere needs kappa and nu")
@@ -260,10 +314,28 @@ def simulation_scene(scene: str | Path | Mapping) -> SimulationScene:
                 else require_int_in_range("simulate.n_radial", sim["n_radial"], 14, 2000))
     tol = require_positive("simulate.tol", sim.get("tol", 1e-9))
     l_max = require_int_in_range("simulate.l_max", sim.get("l_max", L_MAX), 2, 200)
-    out_dir = output.get("dir", "simulate-output")
-    if not isinstance(out_dir, str):
-        raise ParameterError(f"output.dir = {out_dir!r} is invalid: must be a string")
     return SimulationScene(model=model, kappa=kappa, nu=nu, tau=tau, shape=shape, twist=twist,
                            t_end=t_end, scheme=scheme, dt=dt, n_radial=n_radial, tol=tol,
                            l_max=l_max, l_max_given="l_max" in sim, output_dir=out_dir,
                            warnings=tuple(warnings))
+
+
+def _stepped_scene(model: str, data: Mapping) -> SteppedScene:
+    """The :class:`SteppedScene` of ``model``: each table's keys among the keywords of
+    ``ss.simulate(model, ...)`` that belong in it, the required ones given, the model's
+    parameters valid."""
+    stepping = get_model(model).time_stepping
+    assert stepping is not None   # models_with("time_stepping") chose the model
+    allowed: dict[str, set[str]] = {"params": set(), "initial": set(), "simulate": set()}
+    for name in stepping.keywords:
+        allowed[keyword_table(model, name)].add(name)
+    keywords: dict[str, Any] = {}
+    for table, names in allowed.items():
+        keywords.update(_table(data, table, names))
+    missing = [k for k in stepping.required if k not in keywords]
+    if missing:
+        needs = ", ".join(f"{keyword_table(model, k)}.{k}" for k in stepping.required)
+        raise ParameterError(f"{keyword_table(model, missing[0])}.{missing[0]} is missing: a "
+                             f"{model} simulation needs {needs}")
+    make_params(model, {k: v for k, v in keywords.items() if k in param_names(model)})
+    return SteppedScene(model=model, keywords=keywords, output_dir=_output_dir(data))

@@ -16,19 +16,22 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from . import cochlea, ince_strutt, natural_modes as modes_plot, trajectory as trajectory_plot
+from . import (cochlea, ince_strutt, natural_modes as modes_plot, stepped as stepped_plot,
+               trajectory as trajectory_plot)
 from ._canvas import axes_or_new
 from ..errors import ParameterError
 from ..results.floquet import FloquetResult, TonguesResult
 from ..results.modes import NaturalModesResult
 from ..results.response import ResponseResult
+from ..results.stepped import SteppedRun
 from ..results.trajectory import Trajectory
 
 if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.axes import Axes
 
-__all__ = ["tongues", "tau_map", "floquet", "natural_modes", "response", "trajectory", "draw"]
+__all__ = ["tongues", "tau_map", "floquet", "natural_modes", "response", "trajectory", "stepped",
+           "draw"]
 
 
 def tongues(result: TonguesResult, ax: Axes | None = None, **options: Any) -> Axes:
@@ -85,9 +88,20 @@ def trajectory(result: Trajectory, ax: Axes | None = None, *, log: bool = False)
     return ax
 
 
+def stepped(result: SteppedRun, ax: Axes | None = None, *,
+            exponent: complex | None = None) -> Axes:
+    """The fitted series of a time-stepped fibre or cochlea (``ss.simulate``) on a log axis
+    against time in forcing periods, with its fitted growth and, given ``exponent`` (e.g.
+    :func:`spectralshell.runner.simulate.leading_exponent` of the run), the Floquet
+    exponent's slope."""
+    ax = axes_or_new(ax, figsize=(7.5, 4.5))
+    stepped_plot.draw(ax, result, exponent=exponent)
+    return ax
+
+
 #: The drawing function of each result type with a picture.
 DRAWERS = {TonguesResult: tongues, FloquetResult: floquet, NaturalModesResult: natural_modes,
-           ResponseResult: response, Trajectory: trajectory}
+           ResponseResult: response, Trajectory: trajectory, SteppedRun: stepped}
 
 
 def draw(result: Any, ax: Axes | None = None, **options: Any) -> Axes:

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .base import Result, format_params
+from .base import Plottable, Result, format_params
 from .notebook import dataset, result_attrs, variable
 from .records import RateFit
 
@@ -18,7 +18,7 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
-class SteppedRun(Result):
+class SteppedRun(Result, Plottable):
     """Time series of a time-stepped model and the growth rate fitted to them.
 
     The fit X ~ exp(growth_rate t) times an oscillation of angular frequency ``frequency`` (the
