@@ -25,11 +25,11 @@ def scene(tmp_path):
 
 def test_a_line_says_done_total_share_rate_elapsed_and_eta():
     """120 of 960 points in 35 s: 3.43 pt/s, the other 840 in 245 s."""
-    bar = progress.LineProgress(960, "sweep", "pt")
-    bar.update(120)
-    assert bar.line(35.0) == "sweep: 120/960 pt (12%), 3.43 pt/s, 35s elapsed, ETA 4m05s"
-    bar.update(840)
-    assert bar.line(7300.0).endswith("2h01m elapsed, ETA 0s")
+    with progress.LineProgress(960, "sweep", "pt") as bar:
+        bar.update(120)
+        assert bar.line(35.0) == "sweep: 120/960 pt (12%), 3.43 pt/s, 35s elapsed, ETA 4m05s"
+        bar.update(840)
+        assert bar.line(7300.0).endswith("2h01m elapsed, ETA 0s")
 
 
 def test_a_piped_sweep_writes_progress_lines(scene, tmp_path, monkeypatch, capsys):
