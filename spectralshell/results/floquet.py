@@ -190,7 +190,13 @@ class FloquetResult(Result, Plottable):
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class ExponentsResult(Result):
-    """Floquet exponents gamma (growth rate Re gamma per unit time) at one tau."""
+    """Floquet exponents gamma (growth rate Re gamma per unit time) at one tau.
+
+    ``error_estimate`` covers the temporal truncation N and, for a model with spatial modes
+    (the cochlea at ``n_spatial`` = M), the spatial one: ``spatial_change`` is the largest
+    distance (modulo i) from a listed exponent to the nearest exponent at
+    ``n_spatial_previous`` = M // 2 (both None without spatial modes, for a single decoupled
+    mode or at M = 1)."""
 
     model: str
     params: dict[str, Any]
@@ -201,13 +207,24 @@ class ExponentsResult(Result):
     provenance: dict[str, Any]
     warnings: tuple[str, ...] = ()
     complete_in: tuple[float, float] | None = None
+    n_spatial_previous: int | None = None
+    spatial_change: float | None = None
 
     @classmethod
-    def build(cls, *, model, params, tau, exponents: Exponents, options) -> "ExponentsResult":
+    def build(cls, *, model, params, tau, exponents: Exponents, options,
+              coarser: tuple[int, float] | None = None,
+              warnings: tuple[str, ...] = ()) -> "ExponentsResult":
+        """The result of ``exponents``; ``coarser``: (M // 2, the spatial change) when the
+        exponents were compared with those of the coarser spatial truncation."""
+        previous, change = coarser if coarser is not None else (None, None)
+        error = exponents.error_estimate if change is None else max(exponents.error_estimate,
+                                                                    change)
         return cls(model=model, params=params, tau=tau, gamma=exponents.gamma,
-                   n_temporal=exponents.n_temporal, error_estimate=exponents.error_estimate,
-                   provenance=provenance(options), warnings=tuple(amplitude_warnings(tau)),
-                   complete_in=exponents.complete_in)
+                   n_temporal=exponents.n_temporal, error_estimate=error,
+                   provenance=provenance(options),
+                   warnings=(*amplitude_warnings(tau), *warnings),
+                   complete_in=exponents.complete_in, n_spatial_previous=previous,
+                   spatial_change=change)
 
     @property
     def multipliers(self) -> np.ndarray:
@@ -218,14 +235,18 @@ class ExponentsResult(Result):
         return {"model": self.model, "params": dict(self.params), "tau": self.tau,
                 "exponents": [{"re": float(g.real), "im": float(g.imag)} for g in self.gamma],
                 "n_temporal": self.n_temporal, "error_estimate": self.error_estimate,
+                "n_spatial_previous": self.n_spatial_previous,
+                "spatial_change": self.spatial_change,
                 "complete_in": None if self.complete_in is None else list(self.complete_in),
                 "warnings": list(self.warnings), "provenance": self.provenance}
 
     def summary(self) -> str:
         """The parameters and N, then each exponent gamma with its multiplier, and where the
         list is proved complete."""
+        spatial = ("" if self.spatial_change is None else
+                   f"; {self.spatial_change:.1e} from n_spatial = {self.n_spatial_previous}")
         head = (f"{self.model}: {format_params(self.params)}  tau = {self.tau:g}   "
-                f"(N = {self.n_temporal}, error <= {self.error_estimate:.1e})")
+                f"(N = {self.n_temporal}, error <= {self.error_estimate:.1e}{spatial})")
         lines = [head, *(f"  gamma = {g_re} {g_im}i   multiplier = {q_re} {q_im}i"
                          for g_re, g_im, q_re, q_im in self._cells())]
         if self.complete_in is not None:
@@ -255,7 +276,8 @@ class ExponentsResult(Result):
                 "multiplier_imag": variable(dims, q.imag, "Im exp(2 pi gamma)", "1"),
                 "n_temporal": named((), self.n_temporal, "n_temporal", ""),
                 "error_estimate": variable((), self.error_estimate, "max |change| of the "
-                                           "exponents between N and the previous N", "1")}
+                                           "exponents between N and the previous N (and "
+                                           "between M and M // 2)", "1")}
         coords = {"exponent": variable(dims, np.arange(self.gamma.size),
                                        "exponent, by decreasing Re gamma"),
                   "tau": variable((), self.tau, TAU_LONG_NAME, "1")}

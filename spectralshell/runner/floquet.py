@@ -31,7 +31,7 @@ from ..results.spatial import SpatialFloquetResult
 from ..results.floquet import (ExponentsResult, FloquetResult, StabilityResult, TonguesResult,
                               certification_warnings, provenance, resolution_warnings)
 from ..solvers.cost import CostEstimate, spatial_cost
-from ..solvers.exponents import floquet_exponents
+from ..solvers.exponents import distance, floquet_exponents
 from ..solvers.marginal import N_MAX
 from ..solvers.spatial_refinement import TOL_SPATIAL, spatial_error
 from .solve import solve_kinds, spatial_point, spatial_system
@@ -557,8 +557,35 @@ def exponents(model: str, *, tau: float, tol: float = 1e-10, n_temporal: int | N
         if bounds is not None:
             bounds = (float(result.gamma[count].real), bounds[1])
         result = dataclasses.replace(result, gamma=result.gamma[:count], complete_in=bounds)
+    coarser, warnings = _spatial_check(model, p, tau, options, params, result.gamma, tol)
     return ExponentsResult.build(model=model, params=dataclasses.asdict(p), tau=tau,
-                                 exponents=result, options=options)
+                                 exponents=result, options=options, coarser=coarser,
+                                 warnings=warnings)
+
+
+def _spatial_check(model: str, p: Any, tau: float, options: dict[str, Any],
+                   params: dict[str, Any], gamma: np.ndarray, tol: float):
+    """((M // 2, spatial change), warnings) of exponents ``gamma`` solved at ``n_spatial`` = M
+    (:class:`~spectralshell.results.floquet.ExponentsResult`): the exponents at M // 2, and
+    the largest distance (mod i) from one of ``gamma`` to the nearest of them -- as floquet's
+    epsilon_M (thesis 5.3) for tau_min. (None, ()) for a model without spatial modes or a
+    single decoupled mode; at M = 1 (None, a warning that the spatial error is not estimated)."""
+    n_spatial = getattr(p, "n_spatial", None)
+    if n_spatial is None or getattr(p, "spatial_mode", None) is not None:
+        return None, ()
+    if n_spatial < 2:
+        return None, (f"n_spatial = {n_spatial}: the error estimate covers the temporal "
+                      "truncation only (no coarser spatial truncation to compare with)",)
+    _, coarse = _exponents(model, tau, options, {**params, "n_spatial": n_spatial // 2})
+    change = distance(gamma, coarse.gamma)
+    if not np.isfinite(change):
+        raise ConvergenceError(f"no Floquet exponent found at n_spatial = {n_spatial // 2} to "
+                               f"compare with those at n_spatial = {n_spatial}")
+    warnings = () if change <= tol else (
+        f"the exponents listed moved by up to {change:.2g} between n_spatial = "
+        f"{n_spatial // 2} and {n_spatial} (the error estimate includes it): raise n_spatial "
+        "for spatially converged exponents, or list fewer with count",)
+    return (n_spatial // 2, change), warnings
 
 
 def _exponents(model: str, tau: float, options: dict[str, Any], params: dict[str, Any]):
