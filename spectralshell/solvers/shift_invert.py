@@ -76,10 +76,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg.cython_blas
 import scipy.sparse.linalg as spla
 
 from ..discretise.hill import HillMatrices, realify
+from . import _schur
 from .half_product import Counted, arpack_restarts, coupling_rows, is_realified
+
+_schur.use_blas(scipy.linalg.cython_blas.__pyx_capi__["zgemv"])  # the sweeps' block products
 
 RADIUS_MARGIN = 1e-3
 K_START = 24
@@ -192,27 +196,26 @@ def shifted_solver(hill: HillMatrices, sigma: float):
     if not (np.all(np.isfinite(inv)) and np.all(np.isfinite(inv0))):
         return None
 
+    # the sweeps run in the compiled kernel, on complex blocks (a repeated coupling once)
+    inv_c, up_c, low_c = (np.array(c[:1] if c.strides[0] == 0 else c, dtype=complex)
+                          for c in (inv, up, low))
+
     def to_inner(x: np.ndarray) -> np.ndarray:
         return x[..., :b] + 1j * x[..., b:] if packed else x
 
     def solve(r: np.ndarray) -> np.ndarray:
         r = r.reshape(K, s)
-        g = to_inner(r[1:]).copy()
-        g[m - 1] = inv[m - 1] @ g[m - 1]
-        for j in range(m - 2, -1, -1):
-            g[j] = inv[j] @ (g[j] - up[j] @ g[j + 1])
-        g1 = np.concatenate([g[0].real, g[0].imag]) if packed else g[0]
+        g = np.array(to_inner(r[1:]), dtype=complex)
+        _schur.sweep(inv_c, up_c if len(up_c) else low_c[:1], g, None)
+        g1 = np.concatenate([g[0].real, g[0].imag]) if packed else g[0].real
         x0 = inv0 @ (r[0] - up0 @ g1)
-        previous = to_inner(x0)
-        for j in range(m):
-            g[j] -= inv[j] @ (low[j] @ previous)
-            previous = g[j]
+        _schur.sweep(inv_c, low_c, g, np.array(to_inner(x0), dtype=complex))
         out = np.empty((K, s))
         out[0] = x0
         if packed:
             out[1:, :b], out[1:, b:] = g.real, g.imag
         else:
-            out[1:] = g
+            out[1:] = g.real
         return out.ravel()
 
     return solve
