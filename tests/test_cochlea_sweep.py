@@ -327,3 +327,35 @@ def test_minimum_over_kinds_sweep_equals_the_joint_refinement_and_caps_the_other
                     "tau_min": {"over_kinds": "minimum"}})
     with pytest.raises(ParameterError, match="over_kinds"):
         sweep_spec(scene(grid, over_kinds="smallest"))
+
+
+@pytest.mark.slow
+def test_coarse_fig_5_18_map_on_the_fast_path_equals_the_dense_one(monkeypatch):
+    """Both Fig 5.18 panels at 3 x 3 points (the packaged scenes' ranges), M fixed at 16, both
+    kinds, N converged: the sweep's path (zero counts, Arnoldi, shift-invert covers from
+    (N + 1) M >= 250) against every truncation solved by the dense eig of W
+    (method 'dense', marginal.py), cell by cell: the same truncation pairs and the same answer
+    (found or not), tau_min and its error estimate to rounding, and each answer certified
+    complete up to tau_min (or tau_max where there is none) on both paths."""
+    from spectralshell.reports.figures import fig_5_18_scene
+
+    for panel in ("human", "gerbil"):
+        scene = fig_5_18_scene(panel, 3)
+        options = {k: v for k, v in scene["tau_min"].items()
+                   if k not in ("over_kinds", "tol_spatial")}
+        point = {**scene, "params": {**scene["params"], "n_spatial": 16}, "tau_min": options}
+        fast = run_sweep(point, executor="serial").dataset
+        with monkeypatch.context() as m:
+            m.setattr(solve, "SWEEP_METHOD", "dense")
+            dense = run_sweep(point, executor="serial").dataset
+        for name in ("has_tau", "n_temporal", "computed"):
+            np.testing.assert_array_equal(fast[name].values, dense[name].values)
+        found = dense["has_tau"].values
+        assert found.any() and not found.all()
+        np.testing.assert_allclose(fast["tau_min"].values[found], dense["tau_min"].values[found],
+                                   rtol=1e-10)
+        np.testing.assert_allclose(fast["error_estimate"].values[found],
+                                   dense["error_estimate"].values[found], rtol=1e-6, atol=1e-12)
+        for ds in (fast, dense):
+            bound = np.where(found, ds["tau_min"].values, options["tau_max"])
+            assert np.all(ds["complete_to"].values >= bound)
