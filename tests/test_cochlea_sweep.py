@@ -327,3 +327,46 @@ def test_minimum_over_kinds_sweep_equals_the_joint_refinement_and_caps_the_other
                     "tau_min": {"over_kinds": "minimum"}})
     with pytest.raises(ParameterError, match="over_kinds"):
         sweep_spec(scene(grid, over_kinds="smallest"))
+
+
+@pytest.mark.slow
+def test_coarse_fig_5_18_map_on_the_fast_path_equals_the_dense_one(monkeypatch):
+    """Both Fig 5.18 panels (the packaged scenes) at 3 x 3 points inside their ranges (not the
+    corner f = 50 Hz, sigma = 2e9, whose subharmonic climbs to N = 300: minutes of dense eig),
+    M fixed at 16, both kinds, N converged: the sweep's path (Arnoldi on W and shift-invert
+    covers from (N + 1) M >= 250; counted, so the test fails if it never leaves the dense eig)
+    against every truncation solved by the dense eig of W (method 'dense', marginal.py), cell
+    by cell: the same truncation pairs and the same answer (found or not), tau_min and its error
+    estimate to rounding, and each answer certified complete up to tau_min (or tau_max where
+    there is none) on both paths."""
+    from spectralshell.reports.figures import fig_5_18_scene
+    from spectralshell.solvers import marginal
+
+    arnoldi = []
+    original = marginal.smallest_taus
+    monkeypatch.setattr(marginal, "smallest_taus",
+                        lambda *a, **k: arnoldi.append(1) or original(*a, **k))
+    for panel in ("human", "gerbil"):
+        arnoldi.clear()
+        scene = fig_5_18_scene(panel)
+        options = {k: v for k, v in scene["tau_min"].items()
+                   if k not in ("over_kinds", "tol_spatial")}
+        point = {**scene, "params": {**scene["params"], "n_spatial": 16}, "tau_min": options,
+                 "grid": {"frequency": [200.0, 2000.0, 15000.0], "sigma": [3e7, 3e8, 1.5e9]}}
+        fast = run_sweep(point, executor="serial").dataset
+        used = len(arnoldi)
+        with monkeypatch.context() as m:
+            m.setattr(solve, "SWEEP_METHOD", "dense")
+            dense = run_sweep(point, executor="serial").dataset
+        assert used > 0 and len(arnoldi) == used  # the fast path left dense eig; dense did not
+        for name in ("has_tau", "n_temporal", "computed"):
+            np.testing.assert_array_equal(fast[name].values, dense[name].values)
+        found = dense["has_tau"].values
+        assert found.any() and not found.all()
+        np.testing.assert_allclose(fast["tau_min"].values[found], dense["tau_min"].values[found],
+                                   rtol=1e-10)
+        np.testing.assert_allclose(fast["error_estimate"].values[found],
+                                   dense["error_estimate"].values[found], rtol=1e-6, atol=1e-12)
+        for ds in (fast, dense):
+            bound = np.where(found, ds["tau_min"].values, options["tau_max"])
+            assert np.all(ds["complete_to"].values >= bound)

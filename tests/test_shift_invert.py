@@ -15,7 +15,7 @@ from spectralshell.discretise.hill import HillMatrices, assemble
 from spectralshell.models import cochlea
 from spectralshell.models.sphere import hill_system as sphere
 from spectralshell.params.physical import cochlea_params
-from spectralshell.solvers import marginal, shift_invert
+from spectralshell.solvers import _schur, marginal, shift_invert
 from spectralshell.solvers.half_product import smallest_taus
 from spectralshell.solvers.marginal import dense_taus, marginal_tau, truncation_taus
 from spectralshell.solvers.shift_invert import interval_taus, shifted_solver
@@ -184,6 +184,38 @@ def test_block_factorisation_solves_the_shifted_system(case):
         direct = spla.spsolve((hill.A - sigma * hill.B).tocsc(), r)
         x = shifted_solver(hill, sigma)(r)
         assert np.linalg.norm(x - direct) <= 1e-10 * np.linalg.norm(direct)
+
+
+@pytest.mark.parametrize("repeated", [False, True])
+def test_compiled_sweeps_match_the_block_recursion(repeated):
+    """_schur.sweep (the solve's two passes, one zgemv per block product) against the same
+    recursion in numpy, with one coupling block per position and with one repeated block."""
+    rng = np.random.default_rng(5)
+    m, b = 7, 5
+
+    def blocks(count):
+        return rng.standard_normal((count, b, b)) + 1j * rng.standard_normal((count, b, b))
+
+    inv, coupling = blocks(m), blocks(1 if repeated else m)
+    c = np.broadcast_to(coupling, (m, b, b))
+    g0 = rng.standard_normal((m, b)) + 1j * rng.standard_normal((m, b))
+    start = rng.standard_normal(b) + 1j * rng.standard_normal(b)
+    back = g0.copy()
+    back[m - 1] = inv[m - 1] @ back[m - 1]
+    for j in range(m - 2, -1, -1):
+        back[j] = inv[j] @ (back[j] - c[j] @ back[j + 1])
+    forward, previous = g0.copy(), start
+    for j in range(m):
+        forward[j] -= inv[j] @ (c[j] @ previous)
+        previous = forward[j]
+    g = g0.copy()
+    _schur.sweep(inv, coupling, g, None)
+    np.testing.assert_allclose(g, back, rtol=1e-13, atol=1e-13 * np.abs(back).max())
+    g = g0.copy()
+    _schur.sweep(inv, coupling, g, start)
+    np.testing.assert_allclose(g, forward, rtol=1e-13, atol=1e-13 * np.abs(forward).max())
+    with pytest.raises(ValueError, match="inconsistent shapes"):
+        _schur.sweep(inv, blocks(3), g, start)
 
 
 def test_budget_exhausted_returns_none_and_truncation_answers_dense(monkeypatch):

@@ -48,6 +48,15 @@
  *   placed as left + (right - left) x + i a y; circle: the unit upper half circle, placed as
  *   z* + rho u (the last node z* - rho). Returns z* = tau_min^2, NaN where no real
  *   tau^2 <= z_max exists, None where the certificate cannot be had.
+ * sweep(inv, coupling, g, start) -> None: one pass of the block-tridiagonal solve of
+ *   solvers/shift_invert.py, in place on g (m, b) (complex128, C-contiguous like every buffer
+ *   here): start None, the backward pass g_{m-1} <- inv_{m-1} g_{m-1},
+ *   g_j <- inv_j (g_j - C_j g_{j+1}) for j = m-2..0; start a vector x (b), the forward pass
+ *   g_j <- g_j - inv_j (C_j p), p = x for j = 0, else the new g_{j-1}. inv (m, b, b); coupling
+ *   (c, b, b) with c = 1 (one block for every j: the forcing repeated) or one block C_j per j.
+ *   Each block product is one BLAS zgemv (use_blas(), called once by shift_invert.py at import,
+ *   hands over SciPy's): the blocks are small (b = 16..128), and the per-call overhead of 4 m
+ *   matrix-vector products from Python is what this saves.
  * conditioning(diag, lower, upper) -> (cond, coupled): the largest 1-norm condition number
  *   ||A_k||_1 ||A_k^{-1}||_1 of the blocks and the largest ||A_k^{-1}||_1 times
  *   max_k ||L_k||_1 + max_k ||U_k||_1 (the inverse by the adjugate: ||adj A_k||_1 is the largest
@@ -58,6 +67,7 @@
 #include <Python.h>
 #include <complex.h>
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -717,6 +727,86 @@ static PyObject *py_conditioning(PyObject *self, PyObject *const *args, Py_ssize
     return Py_BuildValue("(dd)", cond, inverse * coupling);
 }
 
+/* BLAS zgemv (Fortran interface), handed over by use_blas() from SciPy's cython_blas. */
+typedef void zgemv_fn(char *trans, int *m, int *n, double complex *alpha, double complex *a,
+                      int *lda, double complex *x, int *incx, double complex *beta,
+                      double complex *y, int *incy);
+static zgemv_fn *zgemv = NULL;
+
+/* y = alpha a x + beta y for the b x b row-major matrix a (column-major a^T, hence 'T'). */
+static void block_times(const double complex *a, const double complex *x, double complex *y,
+                        int b, double complex alpha, double complex beta)
+{
+    char trans = 'T';
+    int one = 1;
+    zgemv(&trans, &b, &b, &alpha, (double complex *)a, &b, (double complex *)x, &one, &beta, y,
+          &one);
+}
+
+static PyObject *py_use_blas(PyObject *self, PyObject *capsule)
+{
+    (void)self;
+    void *f = PyCapsule_GetPointer(capsule, PyCapsule_GetName(capsule));
+    if (!f)
+        return NULL;
+    zgemv = (zgemv_fn *)f;
+    Py_RETURN_NONE;
+}
+
+static PyObject *py_sweep(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    static const char *names[4] = {"inv", "coupling", "g", "start"};
+    static const int dims[4] = {3, 3, 2, 1};
+    Py_buffer v[4];
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError, "sweep(inv, coupling, g, start) takes four arguments");
+        return NULL;
+    }
+    int forward = args[3] != Py_None, count = 3 + forward;
+    for (int i = 0; i < count; i++)
+        if (complex_buffer(args[i], &v[i], names[i], dims[i]) < 0) {
+            release(v, i);
+            return NULL;
+        }
+    Py_ssize_t m = v[0].shape[0], b = v[0].shape[1], c = v[1].shape[0];
+    int ok = m >= 1 && v[0].shape[2] == b && v[1].shape[1] == b && v[1].shape[2] == b &&
+             (c == 1 || c >= m - 1 + forward) && v[2].shape[0] == m && v[2].shape[1] == b &&
+             (!forward || v[3].shape[0] == b) && b <= INT_MAX;
+    double complex *t = ok && zgemv ? malloc(b * sizeof *t) : NULL;
+    if (!t) {
+        release(v, count);
+        if (ok && zgemv)
+            return PyErr_NoMemory();
+        PyErr_SetString(PyExc_ValueError, zgemv ? "sweep: inconsistent shapes"
+                                                : "sweep: use_blas() was not called");
+        return NULL;
+    }
+    const double complex *inv = v[0].buf, *coupling = v[1].buf;
+    double complex *g = v[2].buf;
+    Py_ssize_t bb = b * b, step = c == 1 ? 0 : bb;
+    Py_BEGIN_ALLOW_THREADS
+    if (forward) {
+        const double complex *p = v[3].buf;
+        for (Py_ssize_t j = 0; j < m; p = g + j * b, j++) {
+            block_times(coupling + j * step, p, t, (int)b, 1.0, 0.0);
+            block_times(inv + j * bb, t, g + j * b, (int)b, -1.0, 1.0);
+        }
+    } else {
+        memcpy(t, g + (m - 1) * b, b * sizeof *t);
+        block_times(inv + (m - 1) * bb, t, g + (m - 1) * b, (int)b, 1.0, 0.0);
+        for (Py_ssize_t j = m - 2; j >= 0; j--) {
+            memcpy(t, g + j * b, b * sizeof *t);
+            block_times(coupling + j * step, g + (j + 1) * b, t, (int)b, -1.0, 1.0);
+            block_times(inv + j * bb, t, g + j * b, (int)b, 1.0, 0.0);
+        }
+    }
+    Py_END_ALLOW_THREADS
+    free(t);
+    release(v, count);
+    Py_RETURN_NONE;
+}
+
 static PyMethodDef methods[] = {
     {"logdet", (PyCFunction)(void (*)(void))py_logdet, METH_FASTCALL,
      "logdet(diag, lower, upper, z, out, slope) -> status: log det(A - tau B) at z = tau^2 "
@@ -741,6 +831,11 @@ static PyMethodDef methods[] = {
     {"conditioning", (PyCFunction)(void (*)(void))py_conditioning, METH_FASTCALL,
      "conditioning(diag, lower, upper) -> (largest 1-norm condition of the blocks of A, largest "
      "||A_k^{-1}||_1 times the coupling's 1-norm)."},
+    {"sweep", (PyCFunction)(void (*)(void))py_sweep, METH_FASTCALL,
+     "sweep(inv, coupling, g, start) -> None: the backward (start None) or forward pass of a "
+     "block-tridiagonal solve, in place on g."},
+    {"use_blas", (PyCFunction)py_use_blas, METH_O,
+     "use_blas(capsule): the zgemv that sweep() calls (scipy.linalg.cython_blas's capsule)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_schur",

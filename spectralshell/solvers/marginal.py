@@ -130,6 +130,20 @@ dense eig ~8 %), the M = 256, 512 cells' Krylov runs on W, block inverses and th
 S_j^{-1} U_j and S_j^{-1} L_j kept from the factorisation (3 block products per block instead
 of 4, the same tau_min bitwise): 44.2 s against 38.0 and 40.0 s on the crowded cell, no gain
 measurable under that load.
+Profile of the crowded cell since (cProfile, CPU time, one BLAS thread, 57.1 s under the
+profiler): the zero counts at M = 64 (789 nodes of the block LU sweep, 0.031 s each, in the
+empty subharmonic's proof and in truncation_taus) 24.7 s = 43 %, flop-bound (~5 M^3 complex
+multiply-adds per block and node: LU, the solve with [U, S'], the products with L);
+the shift-invert covers 23.9 s = 42 % (140 disks; 17 086 solves 11.1 s, ARPACK's own work 7.5 s,
+the factorisations 2.2 s); the dense eig of W 5.8 s = 10 %. The solves were per-block numpy
+calls; they now run in the compiled kernel (:mod:`~spectralshell.solvers.shift_invert`,
+2-9x per solve). Measured on the 20 cells above plus human 59.9 Hz, sigma = 1.41e9 (each
+alone, this package's code and the previous one alternately per cell, one BLAS thread, CPU
+time, 2 cores under a load of ~6): the 20 cells 125.6 s before, 105.9 s after (1.19x; the
+crowded cell 66.8 -> 46.0 s and, measured again, 59.0 -> 44.2 s; 59.9 Hz 7.0 -> 6.1 s; the
+cells without covers unchanged within the load's +-30 % noise); every returned variable of
+every cell bitwise equal. After it (profiled again, under a heavier load): the counts 48 %, the
+covers 35 % (their solves 11 %, ARPACK's own work 14 %), the dense eig 12 %.
 
 What an answer proves
 ---------------------
