@@ -130,3 +130,16 @@ def test_minimum_with_an_unproved_capped_kind(monkeypatch):
     assert asked == [32, 16, 64]
     assert sr.minimum(r.taus) == 0.30 and r.change == {"harmonic": 0.0, "subharmonic": 0.0}
     assert r.taus["subharmonic"].complete_to == 0.30
+
+
+def test_fixed_m_has_no_change_from_an_unproved_coarse_answer(monkeypatch):
+    """solve_fixed at M = 32 with a fixed N (the zero count marks instead of raising): the
+    change from M = 16 is 0 where M = 16's empty answer is proved, unknown (None) where it is
+    not; the answer at M = 32 is the same."""
+    options = {"n_temporal": 16, "tau_max": 0.2, "certify_empty": True}
+    proved = sr.solve_fixed(factory, 32, ("harmonic",), options)
+    failing_at(monkeypatch, (16,))
+    doubted = sr.solve_fixed(factory, 32, ("harmonic",), options)
+    assert proved.change == {"harmonic": 0.0} and doubted.change == {"harmonic": None}
+    for r in (proved, doubted):
+        assert r.taus["harmonic"].tau_min is None and r.taus["harmonic"].complete_to == 0.2

@@ -203,13 +203,16 @@ def solve_at(factory: Callable[[int], HillSystem], n_spatial: int, kinds: Iterab
 def solve_fixed(factory: Callable[[int], HillSystem], n_spatial: int, kinds: Iterable[str],
                 options: dict[str, Any]) -> SpatialTau:
     """tau_min of each kind at the caller's M = ``n_spatial``, with the change from M // 2 (none
-    for M = 1) as its spatial error: the thesis's epsilon_M of 5.3 (Fig 5.6). Nothing is
-    refined, so ``converged`` is True."""
+    for M = 1) as its spatial error: the thesis's epsilon_M of 5.3 (Fig 5.6); unknown (None)
+    where the kind's empty answer at M // 2 is not proved (``certify_empty`` with a fixed
+    ``n_temporal`` marks it, complete_to below tau_max). Nothing is refined, so ``converged``
+    is True."""
     kinds = tuple(kinds)
     fine = solve_at(factory, n_spatial, kinds, options)
     coarse = solve_at(factory, n_spatial // 2, kinds, options) if n_spatial > 1 else None
     cap = options.get("tau_max") or math.inf
-    change = {k: None if coarse is None else spatial_change(fine[k], coarse[k], cap)
+    doubt = [] if coarse is None else _unproved(coarse, dict.fromkeys(kinds, cap))
+    change = {k: None if coarse is None or k in doubt else spatial_change(fine[k], coarse[k], cap)
               for k in kinds}
     return SpatialTau(taus=fine, n_spatial=n_spatial, n_spatial_previous=n_spatial // 2 or None,
                       change=change, converged=True, caps={k: cap for k in kinds})
