@@ -19,7 +19,8 @@ and, for a model with spatial modes (the cochlea):
 * ``n_spatial``: the number M of spatial modes of the values (the finer M of the last pair
   compared where M is refined per point; 1 for a single spatial_mode);
 * ``spatial_converged``: the refinement in M met tol_spatial (false: it reached M = 512 first,
-  and the values are those at M = 512; always true with n_spatial given);
+  and the values are those at M = 512, or stopped where an empty answer of its last pair could
+  not be proved; always true with n_spatial given);
 
 and, for the sphere with a non-uniform kappa:
 
