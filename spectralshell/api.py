@@ -95,8 +95,10 @@ def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: 
 
 
 def sweep_summary(scene: str | Path | Mapping, **kwargs: Any) -> dict[str, Any]:
-    """Run :func:`sweep` and return ``{"points", "computed", "skipped", "damaged", "out",
-    "seconds"}`` (damaged: points recomputed because their chunk of the store was damaged)."""
+    """Run :func:`sweep` and return ``{"points", "computed", "skipped", "damaged", "outdated",
+    "uncertified", "out", "seconds"}`` (damaged: points recomputed because their chunk of the
+    store was damaged; outdated: because the store was written before ``complete_to`` existed;
+    uncertified: points with no tau found and none proved)."""
     from .runner import sweep_summary as run
 
     return run(scene, **kwargs)
@@ -105,7 +107,7 @@ def sweep_summary(scene: str | Path | Mapping, **kwargs: Any) -> dict[str, Any]:
 def open_sweep(path: str | Path) -> xr.Dataset:
     """Load a stored sweep (.zarr or .nc) as an ``xarray.Dataset``; a Zarr store is verified
     chunk by chunk first (:class:`~spectralshell.errors.StoreDamaged` if any chunk is missing,
-    unreadable or altered)."""
+    unreadable or altered, or the store was written before ``complete_to`` existed)."""
     from .runner import open_sweep as load
 
     return load(path)

@@ -503,6 +503,11 @@ def _sweep_text(summary: dict) -> str:
     where = f" -> {summary['out']}" if summary["out"] else ""
     repaired = (f", {summary['damaged']} of them replacing damaged chunks of the store"
                 if summary["damaged"] else "")
+    if summary["outdated"]:
+        from .runner.store import OUTDATED
+
+        repaired += (f", {summary['outdated']} of them in chunks of a store {OUTDATED}, "
+                     "recomputed")
     if summary["uncertified"]:
         repaired += f"; {summary['uncertified']} uncertified (no tau found, none proved)"
     return (f"sweep: {summary['points']} points ({summary['computed']} computed{repaired}, "
@@ -935,7 +940,7 @@ def build_parser() -> argparse.ArgumentParser:
     _max_seconds_flag(p)
     p.add_argument("--json", action="store_true",
                    help='print exactly one object {"points", "computed", "skipped", "damaged", '
-                        '"uncertified", "out", "seconds"} (exit 1 if uncertified > 0)')
+                        '"outdated", "uncertified", "out", "seconds"} (exit 1 if uncertified > 0)')
     p.set_defaults(func=cmd_sweep)
 
     stepped = models_with("time_stepping")

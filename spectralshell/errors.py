@@ -23,7 +23,8 @@ class BackendUnavailable(SpectralShellError, ImportError):
 
 class StoreDamaged(ParameterError):
     """A sweep store holds chunks that are missing, unreadable or altered since they were
-    written; the message counts them and says how to recompute them."""
+    written, or was written before ``complete_to`` existed (its empty points never proved);
+    the message counts them and says how to recompute them."""
 
 
 class StoreBusy(ParameterError):

@@ -238,3 +238,14 @@ def test_the_price_includes_the_count():
 def test_an_empty_kind_at_both_degree_truncations_is_proved_as_far_as_both(fine, coarse,
                                                                          expected):
     assert nonuniform.both_proved(answer(*fine), answer(*coarse)).complete_to == expected
+
+
+@pytest.mark.parametrize("fine, coarse, expected", [
+    ((0.3, 0.3), (None, 0.0), None),     # a tau at l_max, an unproved "none" at l_max - 2
+    ((0.3, 0.3), (None, 0.5), 0.2),      # ... a proved one: the capped change
+    ((None, 0.5), (None, 0.0), 0.0),     # empty at both: both_proved marks the answer
+    ((0.3, 0.3), (0.29, 0.29), 0.01),
+])
+def test_the_degree_change_rests_on_no_unproved_empty_answer(fine, coarse, expected):
+    found = nonuniform.degree_change(answer(*fine), answer(*coarse), 0.5)
+    assert found == (None if expected is None else pytest.approx(expected, abs=1e-15))

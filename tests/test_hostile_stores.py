@@ -17,8 +17,10 @@ from spectralshell import cli
 from spectralshell.errors import ParameterError, StoreBusy, StoreDamaged
 from spectralshell.params.sweep_grid import sweep_spec
 from spectralshell.runner import open_sweep, run_sweep
+from spectralshell.runner.integrity import write_record
 from spectralshell.runner.layout import chunk_key, chunks, region
 from spectralshell.runner.lock import lock_path
+from spectralshell.runner.store import stored_variables
 
 SCENE = {"model": "mathieu", "ask": ["tau_min"],
          "grid": {"nu": [0.0, 0.1], "kappa": {"start": 0.05, "stop": 1.5, "num": 12}},
@@ -160,6 +162,47 @@ def test_an_undamaged_store_reads_back_as_the_run(clean):
     for name in back.variables:
         np.testing.assert_array_equal(back[name].values, fresh[name].values, err_msg=name)
     assert back.attrs == json.loads(json.dumps(fresh.attrs))
+
+
+def _written_before_complete_to(store: Path) -> None:
+    """``store`` as a version before complete_to wrote it: no such array (nor in the
+    consolidated metadata), and each chunk's record the digest of the other variables."""
+    import zarr
+
+    shutil.rmtree(store / "complete_to")
+    meta = json.loads((store / ".zmetadata").read_text())
+    meta["metadata"] = {k: v for k, v in meta["metadata"].items()
+                        if not k.startswith("complete_to/")}
+    (store / ".zmetadata").write_text(json.dumps(meta, indent=4))
+    group = zarr.open_group(str(store), mode="r")
+    for chunk in PLAN:
+        where = region(SPEC, chunk)
+        write_record(store, SPEC, chunk, {name: np.asarray(group[name][where], dtype=dtype)
+                                          for name, dtype in stored_variables(SPEC).items()
+                                          if name != "complete_to"})
+
+
+def test_a_store_written_before_complete_to_says_so_and_is_recomputed(clean, tmp_path, capsys):
+    """Its empty points were never proved: reading refuses it in one line that says why (not
+    as damage, exit status 2 as for damage), and a rerun recomputes every chunk, counts them as
+    outdated, not damaged, and ends equal to a clean run."""
+    store = tmp_path / "map.zarr"
+    shutil.copytree(clean, store)
+    _written_before_complete_to(store)
+    why = r"written before certified empty answers \(no complete_to: its empty points"
+    with pytest.raises(StoreDamaged, match=why + r".*recompute its 6 finished chunks"):
+        open_sweep(store)
+    assert cli.main(["plot", str(store), "--png", str(tmp_path / "m.png")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "certified empty answers" in err and "damaged" not in err
+    assert not (tmp_path / "m.png").exists()
+
+    run = run_sweep(SCENE, executor="serial", out=store)
+    assert (run.computed, run.outdated, run.damaged) == (SPEC.size, SPEC.size, 0)
+    line = cli._sweep_text(run.summary())
+    assert "\n" not in line and f"{SPEC.size} of them in chunks of a store written before " \
+        "certified empty answers" in line and "damaged" not in line
+    assert tree(store) == tree(clean)
 
 
 METADATA_DAMAGE = {

@@ -231,11 +231,13 @@ def test_coarser_m_tau_min_is_the_next_m_hint_and_changes_nothing_but_speed(monk
     assert qz[0] == pytest.approx(low, rel=1e-9)
 
 
-def test_empty_answers_proved_at_the_finest_m_only(monkeypatch):
+def test_empty_answers_proved_at_the_returned_pair_only(monkeypatch):
     """certify_empty with a converging N: the other kind's empty answer is proved by the zero
-    count (or its disk) for the finest M only, with the answer marginal_tau gives there with
+    count (or its disk) at the two M of the returned pair only (the finer M's is returned, the
+    coarser M's change rests on it), with the answer marginal_tau gives there with
     certify_empty itself (the former path: complete_to = its cap, the same truncation pair);
-    where the proof fails it is marked (complete_to 0), or refused with certify_empty=True."""
+    where the proof fails at both M the pair has not converged (change unknown) and the answer
+    is marked (complete_to 0), or refused with certify_empty=True."""
     from spectralshell.solvers import marginal
 
     factory = _factory(600.0, 1e9)
@@ -250,14 +252,26 @@ def test_empty_answers_proved_at_the_finest_m_only(monkeypatch):
     cap = joint.caps["subharmonic"]
     assert joint.converged and other.tau_min is None and cap < 0.5
     assert joint.n_spatial > sr.SPATIAL_START  # a coarser M was solved, and not proved
-    assert proved and set(proved) == {joint.n_spatial}
+    assert proved and set(proved) == {joint.n_spatial_previous, joint.n_spatial}
+    # bitwise the values of the code that proved the finest M only (read from it), the minimum
+    # that of dense eig of W (every real tau of the truncation) at the returned M and N
+    lead = joint.taus["harmonic"]
+    assert (joint.n_spatial_previous, joint.n_spatial) == (16, 32)
+    assert (lead.tau_min, lead.error_estimate, lead.complete_to) == tuple(map(float.fromhex, (
+        "0x1.37c7171f957cdp-2", "0x1.0000000000000p-49", "0x1.fe8822ded2e08p-2")))
+    assert joint.change == {"harmonic": float.fromhex("0x1.01d9002a6b200p-10"),
+                            "subharmonic": 0.0}
+    dense = structured_taus(assemble(factory(32), "harmonic", lead.n_temporal, "real"))
+    assert dense[0] == pytest.approx(lead.tau_min, rel=1e-9)
     former = marginal.marginal_tau(factory(joint.n_spatial), "subharmonic", tol=1e-4,
                                    tau_max=cap, certify_empty="mark")
     assert other.complete_to == former.complete_to == cap
     assert (other.n_temporal, other.n_previous) == (former.n_temporal, former.n_previous)
     monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max: False)
-    marked = sr.refine_minimum(factory, KINDS, options=options, tol_spatial=0.05)
+    marked = sr.refine_minimum(factory, KINDS, options=options, tol_spatial=0.05, strict=False)
     assert marked.taus["subharmonic"].complete_to == 0.0
+    assert not marked.converged and marked.change["subharmonic"] is None
+    assert marked.n_spatial == joint.n_spatial  # the next pair's coarser M is unproved too
     assert marked.taus["harmonic"].tau_min == joint.taus["harmonic"].tau_min
     with pytest.raises(ConvergenceError, match="zero count cannot prove"):
         sr.refine_minimum(factory, KINDS, options={**options, "certify_empty": True},

@@ -59,7 +59,7 @@ def test_dataset_is_labelled_and_complete_nan_where_no_instability(serial):
     assert np.isfinite(ds["error_estimate"].values).all()
     assert (ds["error_estimate"].values[none] == 0).all()
     assert serial.summary() == {"points": 96, "computed": 96, "skipped": 0, "damaged": 0,
-                                "uncertified": 0, "out": None,
+                                "outdated": 0, "uncertified": 0, "out": None,
                                 "seconds": serial.summary()["seconds"]}
 
 
@@ -373,8 +373,8 @@ def test_cli_sweep_json_then_plot(tmp_path, capsys):
     out = tmp_path / "m.zarr"
     assert cli.main(["sweep", str(scene), "--out", str(out), "--executor", "serial", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert set(data) == {"points", "computed", "skipped", "damaged", "uncertified", "out",
-                         "seconds"}
+    assert set(data) == {"points", "computed", "skipped", "damaged", "outdated", "uncertified",
+                         "out", "seconds"}
     assert (data["points"], data["computed"], data["skipped"]) == (24, 24, 0)
     assert cli.main(["sweep", str(scene), "--out", str(out), "--executor", "serial", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["computed"] == 0

@@ -51,7 +51,8 @@ without spatial_mode) M is refined per point, M = 16, 32, ... <= 512, until each
 changes by at most ``tol_spatial`` (default 1e-3; see
 :mod:`spectralshell.solvers.spatial_refinement`), and error_estimate includes that change. The
 result then has the variables n_spatial (the M of each value) and spatial_converged (False
-where M = 512 was reached first: the point is kept, with its values at M = 512, and flagged).
+where M = 512 was reached first, or an empty answer of the last pair of M could not be proved:
+the point is kept, with its values at the last M, and flagged).
 With ``over_kinds = "minimum"`` (M refined per point, both kinds) only the smallest tau_min over
 the kinds is converged, as a minimum-tau map needs (thesis Fig 5.18): at each M the kind that
 gave the minimum is solved first and the other only below it, up to M = 1024. The kind attaining

@@ -19,7 +19,8 @@ n_temporal keeps it with complete_to 0 and a warning; sweeps keep it marked (``'
 Truncation in degree (``l_max = 'auto'``, the default): l_max = start, start + 2, ... (a step of
 2 adds a degree of each parity) until every kind's tau_min changes by at most ``tol_spatial``
 between l_max - 2 and l_max (as the cochlea's M, :mod:`spectralshell.solvers.spatial_refinement`,
-whose change and error rules are used); start is the first degree whose natural frequency at
+whose change and error rules are used; the change from an unproved empty answer at l_max - 2
+to a tau at l_max is unknown, :func:`degree_change`); start is the first degree whose natural frequency at
 the mean stiffness lies above the harmonic resonance 1, plus one (at least 4). An integer l_max
 is solved as given, with its change from l_max - 2 as the spatial error. Each truncation is
 priced before it is solved (:class:`Price`, refused above the limit on estimated seconds).
@@ -298,7 +299,7 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
     coarse = solve_truncation(priced(fine_l - 2), kinds, solving, progress)
     while True:
         fine = solve_truncation(sphere, kinds, solving, progress)
-        change = {k: spatial_change(fine[k][0], coarse[k][0], cap) for k in kinds}
+        change = {k: degree_change(fine[k][0], coarse[k][0], cap) for k in kinds}
         if not auto or all(c is not None and c <= tol_spatial for c in change.values()):
             break
         if fine_l + 2 > L_MAX_LIMIT:
@@ -323,6 +324,18 @@ def floquet_nonuniform(p: NonUniformSphereParams, *, kind: str = "both",
         multiplicity=multiplicity, sectors=len(sphere.sectors))
     notes = resolution_warnings(res, options["tol"], result.error_reason)
     return dataclasses.replace(result, warnings=result.warnings + tuple(notes))
+
+
+def degree_change(fine: MarginalTau, coarse: MarginalTau, cap: float) -> float | None:
+    """The kind's :func:`~spectralshell.solvers.spatial_refinement.spatial_change` from
+    l_max - 2 (``coarse``) to l_max (``fine``), capped at ``cap``; unknown (None: not settled,
+    the error estimate tau_min itself) where the coarse answer is an unproved empty one
+    (complete_to below ``cap``: a sweep's 'mark', or a fixed n_temporal) and the fine one has a
+    tau: a tau the coarse truncation missed could lie anywhere below it. Empty at both, the
+    change is 0 and :func:`both_proved` marks the answer instead."""
+    if fine.tau_min is not None and coarse.tau_min is None and coarse.complete_to < cap:
+        return None
+    return spatial_change(fine, coarse, cap)
 
 
 def both_proved(fine: MarginalTau, coarse: MarginalTau) -> MarginalTau:

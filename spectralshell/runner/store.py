@@ -19,7 +19,8 @@ and, for a model with spatial modes (the cochlea):
 * ``n_spatial``: the number M of spatial modes of the values (the finer M of the last pair
   compared where M is refined per point; 1 for a single spatial_mode);
 * ``spatial_converged``: the refinement in M met tol_spatial (false: it reached M = 512 first,
-  and the values are those at M = 512; always true with n_spatial given);
+  and the values are those at M = 512, or stopped where an empty answer of its last pair could
+  not be proved; always true with n_spatial given);
 
 and, for the sphere with a non-uniform kappa:
 
@@ -35,8 +36,12 @@ rerun), a chunk counts as finished only if its record matches the values read, s
 missing, unreadable or foreign chunk files are found, never served. Only one process writes a
 store at a time (:mod:`.lock`).
 
-Stores written before ``complete_to`` existed lack it: their chunks read as damaged and a rerun
-recomputes them (their empty points were never proved). Stores written before tau_min was NaN where there is none hold tau_max there; they verify as
+Stores written before ``complete_to`` existed (before certified empty answers) lack it, and
+their empty points were never proved: their finished chunks, verified against their own
+records, are ``outdated`` -- reading such a store (:func:`open_sweep`, ``plot``) refuses it in
+one line that says so, and a rerun adds ``complete_to`` to the store, recomputes those chunks
+and reports them as such (``SweepRun.outdated``), not as damage.
+Stores written before tau_min was NaN where there is none hold tau_max there; they verify as
 written (the records digest the stored bytes), reading them (:func:`open_sweep`, a rerun) gives
 NaN there (:func:`without_tau_as_nan`), and a rerun rewrites those chunks (values and records)
 and tau_min's note, so that the resumed store holds one convention.
@@ -73,6 +78,9 @@ from .solve import NONUNIFORM_VARIABLES, SPATIAL_VARIABLES, VARIABLES, variables
 KNOWN_VARIABLES = {**VARIABLES, **SPATIAL_VARIABLES, **NONUNIFORM_VARIABLES,
                    "computed": np.bool_}
 SUFFIXES = (".zarr", ".nc")
+#: Why the chunks of a store without ``complete_to`` are recomputed (module notes).
+OUTDATED = ("written before certified empty answers (no complete_to: its empty points were never "
+            "proved)")
 _VAR_ATTRS = {
     "tau_min": {"long_name": VARIABLE_LONG_NAMES["tau_min"], "units": "1",
                 "note": "NaN where has_tau is false"},
@@ -189,14 +197,17 @@ class StoredSweep:
     """A store's contents as read back: ``arrays`` of every stored variable (the values of
     finished chunks, those of :func:`empty_arrays` elsewhere; ``computed`` true exactly on
     finished chunks), its ``attrs``, the ``damaged`` chunks (numbers), the coordinates
-    whose stored values differ from the scene's, and the finished chunks stored with tau_max
-    where there is no tau (``legacy``: written before NaN was)."""
+    whose stored values differ from the scene's, the finished chunks stored with tau_max
+    where there is no tau (``legacy``: written before NaN was), and, in a store written
+    before ``complete_to`` existed, the chunks with a completion record (``outdated``: none of
+    its values is kept, and a rerun recomputes them)."""
 
     arrays: dict[str, np.ndarray]
     attrs: dict[str, Any]
     damaged: frozenset[int] = frozenset()
     coordinates: tuple[str, ...] = ()
     legacy: frozenset[int] = frozenset()
+    outdated: frozenset[int] = frozenset()
 
     def damage(self, spec: SweepSpec) -> str:
         """'3 of 8 chunks missing, unreadable or altered[, coordinates kappa]' ('' if none)."""
@@ -234,6 +245,8 @@ def read_zarr(path: Path, spec: SweepSpec | None = None) -> tuple[SweepSpec, Sto
     """Read a Zarr sweep store and verify every chunk against its completion record (records
     first: a chunk a running writer finishes meanwhile reads as unfinished, not as damaged).
     Without ``spec``, the store's own scene is used; with it, the store must hold that scene.
+    A store of the scene written before ``complete_to`` existed keeps nothing: its recorded
+    chunks are ``outdated`` (module notes).
 
     Raises
     ------
@@ -258,11 +271,14 @@ def read_zarr(path: Path, spec: SweepSpec | None = None) -> tuple[SweepSpec, Sto
         found = {v: group[v] for v in wanted if v in group}
     except Exception as exc:  # noqa: BLE001 - an array's metadata unreadable
         raise _unreadable(path, name, exc) from None
+    records = read_records(path)
+    if [v for v in wanted if v not in found] == ["complete_to"] and holds_records_of(path, spec):
+        return spec, StoredSweep(empty_arrays(spec), attrs, outdated=frozenset(
+            c.index for c in chunks(spec) if chunk_key(spec, c) in records))
     if len(found) < len(wanted) or any(a.shape != spec.shape or a.chunks != store_chunks(spec)
                                        for a in found.values()):
         raise ParameterError(f"{name} = {str(path)!r} is a damaged store (variables missing, or "
                              "of the wrong shape): delete it and rerun")
-    records = read_records(path)
     arrays, unreadable = {}, frozenset()
     for variable, dtype in wanted.items():
         arrays[variable], bad = read_variable(found[variable], spec, dtype)
@@ -283,7 +299,8 @@ def read_zarr(path: Path, spec: SweepSpec | None = None) -> tuple[SweepSpec, Sto
 
 def load_existing(path: Path, spec: SweepSpec) -> StoredSweep | None:
     """What an existing store of the same scene holds (None if there is no store); a Zarr
-    store's chunks are verified (:func:`read_zarr`).
+    store's chunks are verified (:func:`read_zarr`), and one written before ``complete_to``
+    existed gets it (:func:`restore_metadata`).
 
     Raises
     ------
@@ -293,11 +310,14 @@ def load_existing(path: Path, spec: SweepSpec) -> StoredSweep | None:
         return None
     if path.suffix == ".zarr":
         try:
-            return read_zarr(path, spec)[1]
+            stored = read_zarr(path, spec)[1]
         except ParameterError:
             if not restore_metadata(path, spec):
                 raise
             return read_zarr(path, spec)[1]
+        if stored.outdated:  # written before complete_to existed: add it (ZarrStore.repair
+            restore_metadata(path, spec)  # then removes the outdated chunks)
+        return stored
     with _open_netcdf(path, "out") as ds:
         found = ds.attrs.get("scene_hash")
         if found != spec.digest:
@@ -421,8 +441,8 @@ class ZarrStore:
     def repair(self, stored: StoredSweep) -> None:
         """Prepare a store read back as ``stored`` for a rerun: remove the temporary files of
         writes a killed writer left, rewrite the altered coordinates from the scene, remove
-        the damaged chunks' files and records (whatever they became: a directory or a link is
-        never written through), so that they are recomputed, and rewrite the chunks of the
+        the damaged and outdated chunks' files and records (whatever they became: a directory or
+        a link is never written through), so that they are recomputed, and rewrite the chunks of the
         tau_max convention with NaN (:meth:`migrate`)."""
         for leftover in self.path.glob("*/*.partial"):
             _remove(leftover)
@@ -430,7 +450,7 @@ class ZarrStore:
             if axis.name in stored.coordinates:
                 self._group[axis.name][...] = np.array(axis.values)
         for chunk in chunks(self.spec):
-            if chunk.index in stored.damaged:
+            if chunk.index in stored.damaged | stored.outdated:
                 _remove(record_path(self.path, self.spec, chunk))
                 for name in self._arrays:
                     _remove(self.path / name / chunk_key(self.spec, chunk))
@@ -509,7 +529,8 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
     ------
     ParameterError : no such store, or not a spectralshell sweep.
     StoreDamaged : chunks of the Zarr store are missing, unreadable or altered (rerunning the
-        sweep into it recomputes exactly those).
+        sweep into it recomputes exactly those), or it was written before ``complete_to``
+        existed (rerunning recomputes its chunks).
     """
     path = Path(path)
     if not path.exists():
@@ -523,6 +544,10 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
                                    f"read ({exc}); rerun its sweep with out={str(path)!r} to "
                                    "rebuild it (finished chunks are kept)") from None
             raise
+        if stored.outdated:
+            raise StoreDamaged(f"sweep = {str(path)!r} was {OUTDATED}; rerun its sweep with "
+                               f"out={str(path)!r} to recompute its {len(stored.outdated)} "
+                               "finished chunks")
         damage = stored.damage(spec)
         if damage:
             raise StoreDamaged(f"sweep = {str(path)!r} is damaged: {damage}; rerun its sweep "

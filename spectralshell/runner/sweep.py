@@ -97,6 +97,9 @@ class SweepRun:
 
     damaged : points computed now because their chunk in the store was missing, unreadable or
         altered (counted in ``computed``).
+    outdated : points computed now because the store was written before ``complete_to``
+        existed (:data:`~spectralshell.runner.store.OUTDATED`; counted in ``computed``, not in
+        ``damaged``).
 
     uncertified : points with no tau found whose emptiness the zero count could not prove
         (:func:`~spectralshell.results.maps.uncertified`; stored, never as "none").
@@ -111,6 +114,7 @@ class SweepRun:
     out: str | None
     seconds: float
     damaged: int = 0
+    outdated: int = 0
     uncertified: int = 0
     compute_seconds: float = 0.0
     chunks: int = 0
@@ -119,10 +123,11 @@ class SweepRun:
     executor: str = ""
 
     def summary(self) -> dict[str, Any]:
-        """The JSON summary ``{"points", "computed", "skipped", "damaged", "uncertified", "out",
-        "seconds"}``."""
+        """The JSON summary ``{"points", "computed", "skipped", "damaged", "outdated",
+        "uncertified", "out", "seconds"}``."""
         return {"points": self.points, "computed": self.computed, "skipped": self.skipped,
-                "damaged": self.damaged, "uncertified": self.uncertified, "out": self.out,
+                "damaged": self.damaged, "outdated": self.outdated,
+                "uncertified": self.uncertified, "out": self.out,
                 "seconds": round(self.seconds, 3)}
 
     def uncertified_note(self) -> str:
@@ -244,6 +249,11 @@ def run_sweep(scene, *, executor: str = "processes", workers: int | None = None,
                     progress=progress, on_chunk=on_chunk, t0=t0, max_seconds=max_seconds)
 
 
+def _points(spec: SweepSpec, which: frozenset[int]) -> int:
+    """The number of points in the chunks numbered ``which``."""
+    return sum(math.prod(block_shape(spec, c)) for c in chunks(spec) if c.index in which)
+
+
 def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | None,
          scheduler: str | None, progress: bool,
          on_chunk: Callable[[int, ChunkResult], None] | None, t0: float,
@@ -256,8 +266,8 @@ def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | No
     plan = chunks(spec)
     todo = [c for c in plan if not arrays["computed"][region(spec, c)].all()]
     n_todo = sum(int(arrays["computed"][region(spec, c)].size) for c in todo)
-    damaged = sum(int(arrays["computed"][region(spec, c)].size) for c in plan
-                  if c.index in stored.damaged) if stored is not None else 0
+    damaged = 0 if stored is None else _points(spec, stored.damaged)
+    outdated = 0 if stored is None else _points(spec, stored.outdated)
     stats = {"chunks": 0, "seconds": 0.0, "continued": 0, "fallbacks": 0}
     used = "none (nothing to compute)"
     store = None
@@ -303,7 +313,7 @@ def _run(spec: SweepSpec, path: Path | None, *, executor: str, workers: int | No
     if path is not None and path.suffix == ".nc" and todo:
         write_netcdf(spec, arrays, path)
     return SweepRun(dataset=ds, points=spec.size, computed=n_todo, skipped=spec.size - n_todo,
-                    damaged=damaged, uncertified=int(uncertified(ds).sum()),
+                    damaged=damaged, outdated=outdated, uncertified=int(uncertified(ds).sum()),
                     out=None if path is None else str(path),
                     seconds=time.perf_counter() - t0,
                     compute_seconds=stats["seconds"], chunks=stats["chunks"],
@@ -343,7 +353,8 @@ def sweep_summary(scene, *, executor: str = "processes", workers: int | None = N
                   scheduler: str | None = None, out: str | Path | None = None,
                   progress: bool = False, max_seconds: float | None = None) -> dict[str, Any]:
     """Run a sweep (as :func:`run_sweep`) and return the CLI's JSON summary
-    ``{"points": N, "computed": n, "skipped": k, "damaged": d, "out": "PATH", "seconds": t}``."""
+    ``{"points": N, "computed": n, "skipped": k, "damaged": d, "outdated": o, "uncertified": u,
+    "out": "PATH", "seconds": t}`` (:meth:`SweepRun.summary`)."""
     return run_sweep(scene, executor=executor, workers=workers, scheduler=scheduler, out=out,
                      progress=progress, max_seconds=max_seconds).summary()
 

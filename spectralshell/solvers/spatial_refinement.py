@@ -67,12 +67,28 @@ human cochlea at f = 6 kHz, sigma = 1e7 is not reached at M = 256 with margin 0.
 points that the per-kind refinement certifies.)
 
 Proof of empty answers. With ``certify_empty`` among the options (and no ``n_temporal``), each
-M is solved without it and only the finest M's empty answers, the ones returned, are proved
-(:func:`~spectralshell.solvers.marginal.certify_empty_answer`): the same proof and the same
-answer as certifying every M, without the zero counts at the coarser M, which decided nothing
-that is returned (on a crowded Fig 5.18 cell, human 63.6 Hz, sigma = 1.85e9, the counts at
-M = 16, which fail after their 500 nodes, and at M = 32 were 9.5 s of its 42 s; issue 25).
-With ``certify_empty=True`` an empty answer that cannot be proved raises only at the finest M.
+M is solved without it, and only the pair that ends the refinement has its empty answers proved
+(:func:`~spectralshell.solvers.marginal.certify_empty_answer`): those of the finer M, which are
+returned (the same proof and the same answer as certifying every M), and those of the coarser
+M, on which the pair's changes and reach test rest (a coarse truncation that missed a real tau
+below the cap would otherwise pass with change 0, and put 0 into the error estimate). The
+counts at the other M decided nothing that is returned (on a crowded Fig 5.18 cell, human
+63.6 Hz, sigma = 1.85e9, the counts at M = 16, which fail after their 500 nodes, and at M = 32
+were 9.5 s of its 42 s; issue 25). Where a coarser M's empty answer of a passing pair cannot
+be proved, that kind's change is unknown (None: the error estimate is tau_min itself) and the
+pair has not converged: the refinement goes on while the finer M's answers are proved (the
+next pair's coarser M), and stops there otherwise, unconverged, with the finer M's unproved
+answer marked (its next pair could not pass either). With ``certify_empty=True`` an empty
+answer of the finer M that cannot be proved raises; with ``strict`` an unconverged end raises
+as at the limit.
+Cost of the coarser M's proof (seeded Fig 5.18 sample cells, each alone as
+validation/bench_sweep.py solves it, one BLAS thread, CPU time, 2 cores under a load of 5-8):
+the crowded cell (human, 63.6 Hz, sigma = 1.85e9, pair M = 32, 64; its subharmonic empty below
+the harmonic 0.4944, where the disk bound fails and the count walks) 58.6 and 64.4 s before,
+66.1 and 68.6 s after (alternately), of which the count at M = 32 is 7.6 s (the one at M = 64
+17.4 s); the M = 16 counts stay dropped. Where the disk bound proves the empty kind it is a
+few per cent: human 8353 Hz, sigma = 5.7e8 (M = 128, 256) 0.13 s of 3.2 s; gerbil 35.5 kHz,
+sigma = 1.54e8 (M = 256, 512) 0.71 s of 13.9 s.
 
 The model is seen only through ``factory(M) -> HillSystem``: this module never knows which
 model it solves.
@@ -113,10 +129,12 @@ class SpatialTau:
         :func:`spatial_error`).
     n_spatial, n_spatial_previous : the pair (M, M / 2) compared last (None: M = 1 alone).
     change : kind -> :func:`spatial_change` of the pair (tau_min capped at tau_max, or at
-        the smaller of the kind's two caps with :func:`refine_minimum`).
+        the smaller of the kind's two caps with :func:`refine_minimum`); None where it is
+        unknown, e.g. the kind's empty answer at the coarser M is not proved (module notes,
+        "Proof of empty answers").
     converged : every change is <= tol_spatial (False only with ``strict=False``: the
-        refinement reached ``limit``, or a hopeless last step, first; the values are those at
-        ``n_spatial``).
+        refinement reached ``limit``, or a hopeless last step, or a pair whose coarser M's
+        empty answer is not proved, first; the values are those at ``n_spatial``).
     caps : kind -> the tau_max its ``taus`` entry was solved with at ``n_spatial``: tau_max
         (:func:`refine_spatial`), or below it for a kind that did not attain the minimum
         (:func:`refine_minimum`; its tau_min None then means no tau <= its cap).
@@ -185,13 +203,16 @@ def solve_at(factory: Callable[[int], HillSystem], n_spatial: int, kinds: Iterab
 def solve_fixed(factory: Callable[[int], HillSystem], n_spatial: int, kinds: Iterable[str],
                 options: dict[str, Any]) -> SpatialTau:
     """tau_min of each kind at the caller's M = ``n_spatial``, with the change from M // 2 (none
-    for M = 1) as its spatial error: the thesis's epsilon_M of 5.3 (Fig 5.6). Nothing is
-    refined, so ``converged`` is True."""
+    for M = 1) as its spatial error: the thesis's epsilon_M of 5.3 (Fig 5.6); unknown (None)
+    where the kind's empty answer at M // 2 is not proved (``certify_empty`` with a fixed
+    ``n_temporal`` marks it, complete_to below tau_max). Nothing is refined, so ``converged``
+    is True."""
     kinds = tuple(kinds)
     fine = solve_at(factory, n_spatial, kinds, options)
     coarse = solve_at(factory, n_spatial // 2, kinds, options) if n_spatial > 1 else None
     cap = options.get("tau_max") or math.inf
-    change = {k: None if coarse is None else spatial_change(fine[k], coarse[k], cap)
+    doubt = [] if coarse is None else _unproved(coarse, dict.fromkeys(kinds, cap))
+    change = {k: None if coarse is None or k in doubt else spatial_change(fine[k], coarse[k], cap)
               for k in kinds}
     return SpatialTau(taus=fine, n_spatial=n_spatial, n_spatial_previous=n_spatial // 2 or None,
                       change=change, converged=True, caps={k: cap for k in kinds})
@@ -259,9 +280,10 @@ def refine_spatial(factory: Callable[[int], HillSystem], kinds: Iterable[str], *
         :func:`reaches_resonance`).
     start : the first M (a neighbour's M for continuation, see the module notes); < limit.
     limit : the largest M tried.
-    strict : raise when ``limit`` is reached unconverged (or the last step is hopeless, see
-        the module notes); with False return the values at the last M with
-        ``converged = False`` (a map records and flags such points).
+    strict : raise when ``limit`` is reached unconverged (or the last step is hopeless, or
+        an empty answer of the last pair cannot be proved, see the module notes); with False
+        return the values at the last M with ``converged = False`` (a map records and flags
+        such points).
 
     Raises
     ------
@@ -304,6 +326,7 @@ def _refine(factory: Callable[[int], HillSystem], kinds: tuple[str, ...], option
     m_coarse = start
     system = factory(m_coarse)
     coarse, coarse_caps = _solve(system, kinds, options, joint, hints)
+    coarse_proved = False  # whether coarse's empty answers are proved (or need no proof)
     while True:
         m_fine = 2 * m_coarse
         fine_system = factory(m_fine)
@@ -321,19 +344,47 @@ def _refine(factory: Callable[[int], HillSystem], kinds: tuple[str, ...], option
             low = _capped_change(minimum(fine), minimum(coarse), tau_max)
             settled = settled and low is not None and low <= tol_spatial
         converged = settled and not short
-        if converged or m_fine >= limit:
+        # the last pair could not pass: its coarser M does not reach these either
+        hopeless = settled and not converged and 2 * m_fine >= limit and \
+            any(not reaches_resonance(fine_system, k, tau_max) for k in short)
+        doubt: list[str] = []
+        if certify and (converged or hopeless or m_fine >= limit):  # the pair to be returned
+            fine = _proved(fine_system, fine, fine_caps, certify)
+            if not coarse_proved:
+                coarse = _proved(system, coarse, coarse_caps, "mark")
+            doubt = _unproved(coarse, coarse_caps)
+            change.update(dict.fromkeys(doubt, None))
+            if doubt and converged:
+                converged = False
+                if m_fine < limit and not _unproved(fine, fine_caps):
+                    m_coarse, coarse, coarse_caps, system = m_fine, fine, fine_caps, fine_system
+                    coarse_proved = True
+                    continue
             break
-        if settled and 2 * m_fine >= limit and \
-                any(not reaches_resonance(fine_system, k, tau_max) for k in short):
-            break  # the last pair could not pass: its coarser M does not reach these either
+        if converged or hopeless or m_fine >= limit:
+            break
         m_coarse, coarse, coarse_caps, system = m_fine, fine, fine_caps, fine_system
+        coarse_proved = False
     if not converged and strict:
         why = f"; n_spatial={m_coarse} does not reach the {' and '.join(short)} resonance" \
             if short else ""
+        if doubt:
+            why += (f"; the empty {' and '.join(doubt)} answer at n_spatial={m_coarse} is not "
+                    "proved by the zero count")
         raise ConvergenceError(
             f"tau_min did not converge to tol_spatial={tol_spatial:g} by n_spatial={m_fine} "
             f"(last changes {list(change.values())}{why}); relax tol_spatial or give n_spatial")
-    fine = {k: certify_empty_answer(fine_system, k, m, fine_caps[k], certify)
-            for k, m in fine.items()}
     return SpatialTau(taus=fine, n_spatial=m_fine, n_spatial_previous=m_coarse, change=change,
                       converged=converged, caps=fine_caps)
+
+
+def _proved(system: HillSystem, taus: dict[str, MarginalTau], caps: dict[str, float],
+            certify: bool | str) -> dict[str, MarginalTau]:
+    """``taus`` (solved at ``caps``) with each empty answer proved or marked
+    (:func:`~spectralshell.solvers.marginal.certify_empty_answer`)."""
+    return {k: certify_empty_answer(system, k, m, caps[k], certify) for k, m in taus.items()}
+
+
+def _unproved(taus: dict[str, MarginalTau], caps: dict[str, float]) -> list[str]:
+    """The kinds whose empty answer :func:`_proved` marked: complete_to below their cap."""
+    return [k for k, m in taus.items() if m.tau_min is None and m.complete_to < caps[k]]
