@@ -93,3 +93,21 @@ def test_parametric_tau_carries_its_error_in_the_spatial_modes(capsys):
                  "--n-spatial", "16", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["tau_error"] == pytest.approx(res.tau_error)
     assert "± " in res.summary().splitlines()[0]
+
+
+@pytest.mark.parametrize("n_temporal", [None, 12])
+def test_no_parametric_response_only_where_proved(monkeypatch, n_temporal):
+    """'No marginal tau' (a ParameterError) is said only where the zero count proves none up
+    to tau_max; with the count failing it is a ConvergenceError, also at a fixed N (whose
+    complete_to is then 0), never the same "proved" sentence (issue 23)."""
+    from spectralshell.errors import ConvergenceError, ParameterError
+    from spectralshell.solvers import marginal
+
+    point = dict(omega=1000.0, kind="harmonic", tau_max=0.05, n_spatial=16,
+                 n_temporal=n_temporal)
+    with pytest.raises(ParameterError, match="proved up to it"):
+        api.response("cochlea", **point)
+    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max: False)
+    with pytest.raises(ConvergenceError) as err:
+        api.response("cochlea", **point)
+    assert "proved" in str(err.value) and "proved up to it" not in str(err.value)

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ConvergenceError, ParameterError
 from ..models.registry import hill_system
 from ..params.registry import Model, make_params, physical_values, require_capability
 from ..results.floquet import provenance
@@ -55,9 +55,15 @@ def _response_at(spec: Model, p, n_spatial: int, kind: str, options: dict[str, A
         system = hill_system(shape.with_modes(n_spatial))
         m = solve_kinds(system, (kind,), {**options, **CERTIFIED})[kind]  # "none" is proved
         if m.tau_min is None:
+            tau_max = options.get("tau_max")
+            if tau_max is None or m.complete_to < tau_max:  # found none, proved none (issue 23)
+                raise ConvergenceError(
+                    f"kind = {kind!r}: no marginal tau found at N = {m.n_temporal} below "
+                    f"tau_max = {tau_max}, but none is proved absent above tau = "
+                    f"{m.complete_to:g}: leave n_temporal free or lower tau_max")
             raise ParameterError(f"kind = {kind!r} has no marginal tau here (tau_max = "
-                                 f"{options.get('tau_max')}, proved up to it): no "
-                                 "parametric response to show")
+                                 f"{tau_max}, proved up to it): no parametric response to "
+                                 "show")
         mode = marginal_mode(system, kind, m.tau_min, m.n_temporal)
         period = 2 * np.pi if kind == "harmonic" else 4 * np.pi
         field = mode.evaluate(np.linspace(0.0, period, RESPONSE_TIMES, endpoint=False)) @ basis.T
