@@ -756,8 +756,13 @@ def modal_system(*, m: int, k: float, kappa: float, nu: float,
     zeta = p.nu / np.sqrt(p.kappa)
     top = zeta_max(p.m, p.k, p.component)
     if not ZETA_MIN <= zeta <= top:
+        why = "" if counted(p.m, p.k) or p.k == 0 else (
+            f"; up to {ZETA_COUNTED:g} only for {K_COUNTED[0]:g} <= k <= {K_COUNTED[1]:g} with "
+            f"m <= min({M_COUNTED}, {M_PER_K:g} k), outside which the modes met across the cut "
+            "are not resolved to 1e-10")
         raise invalid("zeta", zeta, f"in [{ZETA_MIN:g}, {top:.4g}] for m = {p.m}, k = {p.k:g} "
-                      "(zeta = nu/sqrt(kappa): the range over which the mode count is verified)")
+                      f"(zeta = nu/sqrt(kappa): the range over which the mode count is verified"
+                      f"{why})")
     fixed = {"m": p.m, "k": p.k, "kappa": p.kappa, "nu": p.nu, "component": p.component}
     nu_, k_, k2 = p.nu, p.k, p.k * p.k
     if counted(p.m, p.k) and zeta > ZETA_START_CHECKED:
