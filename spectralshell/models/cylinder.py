@@ -231,8 +231,8 @@ def _origin_column(m: int, k: float, side: int, beta: np.ndarray, L: np.ndarray,
 
     s = +1 inside, -1 outside, rho = (L - s m)/beta^2 in closed form and Q the divided difference
     (:func:`_divided_difference`; Q - rho = k^2 (rho - rho_k)/(beta^2 - k^2) is O(k^2/m^2) and
-    enters multiplied by beta^2 rho, so its cancellation is harmless)
-    (:func:`_excess_over`), so that nothing cancels. A change of columns leaves T V^-1 unchanged.
+    enters multiplied by beta^2 rho, so its cancellation is harmless; at k = 0, Q = rho), so that
+    nothing cancels. A change of columns leaves T V^-1 unchanged.
     """
     sign = 1 - 2 * side
     b2 = beta * beta
@@ -276,12 +276,14 @@ def _fluid_load_at(s: np.ndarray, beta: np.ndarray, x: np.ndarray, *, m: int, k:
         L_out = np.empty(beta.shape, dtype=complex)
         L_out[~second] = logderiv_k(m, beta[~second])
         L_out[second] = [logderiv_k_continued(m, b) for b in beta[second]]
-    # Q = (L - Lambda)/(beta^2 - k^2): a divided difference on the physical sheet for k > 0
+    # Q = (L - Lambda)/(beta^2 - k^2) without its cancellation on the physical sheet: a divided
+    # difference for k > 0, rho = (L -+ m)/beta^2 in closed form at k = 0 (Lambda = +-m)
     Q_in, Q_out = (L_in - lam_in) / (s / nu), (L_out - lam_out) / (s / nu)
-    if k > 0 and not second.all():
-        first = ~second
-        Q_in[first] = _divided_difference(m, k, 0, x[first], beta[first])
-        Q_out[first] = _divided_difference(m, k, 1, x[first], beta[first])
+    first = ~second
+    if first.any():
+        for side, Q in ((0, Q_in), (1, Q_out)):
+            Q[first] = (_divided_difference(m, k, side, x[first], beta[first]) if k > 0
+                        else _excess_over(m, side, beta[first]))
     Vi, Ti = _interface(m, k, s, nu, lam_in, L_in, Q_in)
     Vo, To = _interface(m, k, s, nu, lam_out, L_out, Q_out)
     origin = ((np.abs(beta) < _ORIGIN * max(k, m)) & ~second if m >= 1
