@@ -27,7 +27,7 @@ frequency kappa m (m^2 - 1)/2). ``nu = 0`` therefore reuses the Mathieu model.
 Natural modes (tau = 0): det D(gamma) = 0 in beta = sqrt(gamma/nu + k^2) (:func:`modal_system`;
 the cut of D is gamma <= -nu k^2, ``HillSystem.branch_point``), from which the Floquet exponents
 are continued. Up to zeta = nu/sqrt(kappa) = 0.05 (and at k = 0) one mode per component from
-seeds; above it, where :func:`counted` (0.5 <= k <= 40, m <= min(25, 25 sqrt(k))), as
+seeds; above it, where :func:`counted` (0.01 <= k <= 40, m <= min(60, 600 k)), as
 many as an argument-principle count finds in a box of the
 beta plane (a conjugate pair can split into two real decays, so there may be more modes than
 components), solved in x = beta - k, where those decays crowd as zeta grows, up to zeta = 1e3
@@ -146,13 +146,28 @@ def _circle_values(m: int, k: float, side: int) -> tuple[np.ndarray, np.ndarray]
     """Nodes z_j = k + _CIRCLE k e^(2 pi i j/N) and g(z_j) = y(z_j) -+ sqrt(m^2 + z_j^2), y the
     logarithmic derivative of I_m (side 0) or K_m (side 1)."""
     z = k + _CIRCLE * k * np.exp(2j * np.pi * np.arange(_NODES) / _NODES)
-    y = logderiv_i(m, z) if side == 0 else logderiv_k(m, z)
-    return z, np.asarray(y, dtype=complex) - _asymptote(m, z, side)
+    return z, _remainder(m, side, z)
 
 
-def _divided_difference(m: int, k: float, side: int, lam: float, L: np.ndarray,
-                        x: np.ndarray) -> np.ndarray:
-    """Q = (L - Lambda)/(beta^2 - k^2) at beta = k + x, L = y(beta), Lambda = y(k), y the
+def _remainder(m: int, side: int, z: np.ndarray) -> np.ndarray:
+    """g(z) = y(z) -+ sqrt(m^2 + z^2) = z^2 (rho(z) -+ 1/(sqrt(m^2 + z^2) + m)), y the logarithmic
+    derivative of I_m (side 0) or K_m (side 1) and rho = (y -+ m)/z^2 (:func:`_excess_over`).
+
+    Notes
+    -----
+    Both terms are formed without cancellation, so g keeps an absolute error ~eps |z|^2/(m + |z|)
+    where y - asymptote directly loses eps sqrt(m^2 + |z|^2): for |z| << m (small k at large m)
+    that is the difference between eps k^2/m and eps m, which the divided difference
+    g[k, beta] over |beta - k| ~ k would amplify by 1/k."""
+    z = np.asarray(z, dtype=complex)
+    sign = 1 - 2 * side
+    return z * z * (_excess_over(m, side, z) - sign / (np.sqrt(m * m + z * z) + m))
+
+
+def _divided_difference(m: int, k: float, side: int, x: np.ndarray,
+                        beta: np.ndarray) -> np.ndarray:
+    """Q = (L - Lambda)/(beta^2 - k^2) at beta = k + x (Re beta >= 0; both given, each to its own
+    digits), L = y(beta), Lambda = y(k), y the
     logarithmic derivative of I_m (side 0) or K_m (side 1), without the cancellation L - Lambda.
 
     Notes
@@ -163,25 +178,25 @@ def _divided_difference(m: int, k: float, side: int, lam: float, L: np.ndarray,
 
     the first term in closed form and the divided difference g[k, beta] by the Cauchy integral
     (1/N) sum_j g(z_j)/(z_j - beta) over a circle of radius k/2 about k for |x| < k/4 (trapezoidal
-    rule: error ~ 2^-N, g analytic within |z - k| < k), else directly as (g(beta) - g(k))/x.
+    rule: error ~ 2^-N, g analytic within |z - k| < k), else directly as (g(beta) - g(k))/x, g from
+    :func:`_remainder` (no cancellation of size m, which 1/k would amplify at small k).
     Subtracting the asymptote matters for m >> k, where y'(k) ~ k/m is small against y ~ m: an
     unsubtracted difference loses a factor m^2/k^2 (measured 1e-11 at m = 25, k = 1)."""
-    x = np.asarray(x, dtype=complex)
-    beta = k + x
+    x, beta = np.asarray(x, dtype=complex), np.asarray(beta, dtype=complex)
     closed = (1 - 2 * side) / (np.sqrt(m * m + beta * beta) + np.sqrt(m * m + k * k))
-    g_k = lam - _asymptote(m, k, side)
+    g_k = complex(_remainder(m, side, np.array([k]))[0]).real
     out = np.empty(x.shape, dtype=complex)
     near = np.abs(x) < _NEAR * k
     far = ~near
-    out[far] = (L[far] - _asymptote(m, beta[far], side) - g_k) / x[far]
+    out[far] = (_remainder(m, side, beta[far]) - g_k) / x[far]
     if near.any():
         z, g = _circle_values(m, float(k), side)
         out[near] = np.mean(g[None, :] / (z[None, :] - beta[near][:, None]), axis=1)
     return closed + out / (beta + k)
 
 
-#: |beta| below which (in units of k, m >= 1, physical sheet) the pressure's column of V, T is
-#: recombined with the vortical ones (:func:`_origin_column`).
+#: |beta| below which (in units of max(k, m), m >= 1, physical sheet) the pressure's column of
+#: V, T is recombined with the vortical ones (:func:`_origin_column`).
 _ORIGIN = 0.5
 
 
@@ -191,6 +206,8 @@ def _excess_over(m: int, side: int, z: np.ndarray) -> np.ndarray:
     z = np.asarray(z, dtype=complex)
     if side == 0:
         return np.asarray(ratio_i(m, z), dtype=complex) / z
+    if m == 0:  # K_{-1} = K_1
+        return -np.asarray(ratio_k(0, z), dtype=complex) / z
     return -1.0 / (z * np.asarray(ratio_k(m - 1, z), dtype=complex))
 
 
@@ -198,28 +215,29 @@ def _origin_column(m: int, k: float, side: int, beta: np.ndarray, L: np.ndarray,
                    nu: float) -> tuple[np.ndarray, np.ndarray]:
     """The pressure's column of V and T (shape (len(beta), 3)) replaced by
     (c_0 - (i m/L) c_1 - i k c_2)/beta^2 (c_j the columns of :func:`_interface_entries`), for
-    m >= 1 and |beta| < k/2 on the physical sheet.
+    m >= 1 and |beta| < max(k, m)/2 on the physical sheet.
 
     Notes
     -----
     As beta -> 0 (the branch point gamma = -nu k^2) the columns of V become dependent:
     det V = (k^2 (L^2 - m^2) - beta^2 (Lambda L - m^2))/(beta^2 - k^2) = O(beta^2), and
     T V^-1 lost digits like eps (k/beta)^2 (measured 4e-10 at beta = 0.01 k, 5e-4 at 1e-5 k,
-    m = 25, k = 0.5, against 30-digit mpmath). With w = (1, -i m/L, -i k), V w = (beta^2 v, 0, 0)
+    m = 25, k = 0.5, against 30-digit mpmath). For |beta| ~ k << m they are dependent too
+    (L, Lambda = +-m + O(k^2/m)): D lost digits like eps m^2/k^2 near beta ~ k (6.7e-10 of max |D|
+    at m = 10, k = 0.01, nu = 100). With w = (1, -i m/L, -i k), V w = (beta^2 v, 0, 0)
     and T w = beta^2 (-nu (2v + 1), i m nu (2v + 1/L), i k nu (Q + v)), where
 
-        v = (s m k^2 (2 rho - rho_k) - s m beta^2 rho + k^2 beta^2 rho (rho - rho_k))
-            / (L (beta^2 - k^2)),
+        v = (s m (Q - 2 rho) + beta^2 rho (Q - rho))/L,
 
-    s = +1 inside, -1 outside, rho = (L - s m)/beta^2 and rho_k = (Lambda - s m)/k^2 in closed form
-    (:func:`_excess_over`), so that nothing cancels. A change of columns leaves T V^-1 unchanged.
+    s = +1 inside, -1 outside, rho = (L - s m)/beta^2 in closed form and Q the divided difference
+    (:func:`_divided_difference`; Q - rho = k^2 (rho - rho_k)/(beta^2 - k^2) is O(k^2/m^2) and
+    enters multiplied by beta^2 rho, so its cancellation is harmless; at k = 0, Q = rho), so that
+    nothing cancels. A change of columns leaves T V^-1 unchanged.
     """
     sign = 1 - 2 * side
     b2 = beta * beta
     rho = _excess_over(m, side, beta)
-    rho_k = complex(_excess_over(m, side, np.array([k]))[0]).real
-    v = (sign * m * k * k * (2 * rho - rho_k) - sign * m * b2 * rho
-         + k * k * b2 * rho * (rho - rho_k)) / (L * (b2 - k * k))
+    v = (sign * m * (Q - 2 * rho) + b2 * rho * (Q - rho)) / L
     zero = np.zeros_like(v)
     V = np.stack([v, zero, zero], -1)
     T = np.stack([-nu * (2 * v + 1), 1j * m * nu * (2 * v + 1 / L), 1j * k * nu * (Q + v)], -1)
@@ -258,16 +276,18 @@ def _fluid_load_at(s: np.ndarray, beta: np.ndarray, x: np.ndarray, *, m: int, k:
         L_out = np.empty(beta.shape, dtype=complex)
         L_out[~second] = logderiv_k(m, beta[~second])
         L_out[second] = [logderiv_k_continued(m, b) for b in beta[second]]
-    if k > 0:
-        Q_in = _divided_difference(m, k, 0, lam_in, L_in, np.where(second, beta - k, x))
-        Q_out = _divided_difference(m, k, 1, lam_out, L_out, np.where(second, beta - k, x))
-        Q_out[second] = (L_out[second] - lam_out) / (s[second] / nu)
-        Q_in[second] = (L_in[second] - lam_in) / (s[second] / nu)
-    else:
-        Q_in, Q_out = (L_in - lam_in) / (s / nu), (L_out - lam_out) / (s / nu)
+    # Q = (L - Lambda)/(beta^2 - k^2) without its cancellation on the physical sheet: a divided
+    # difference for k > 0, rho = (L -+ m)/beta^2 in closed form at k = 0 (Lambda = +-m)
+    Q_in, Q_out = (L_in - lam_in) / (s / nu), (L_out - lam_out) / (s / nu)
+    first = ~second
+    if first.any():
+        for side, Q in ((0, Q_in), (1, Q_out)):
+            Q[first] = (_divided_difference(m, k, side, x[first], beta[first]) if k > 0
+                        else _excess_over(m, side, beta[first]))
     Vi, Ti = _interface(m, k, s, nu, lam_in, L_in, Q_in)
     Vo, To = _interface(m, k, s, nu, lam_out, L_out, Q_out)
-    origin = (np.abs(beta) < _ORIGIN * k) & ~second if m >= 1 else np.zeros(beta.shape, bool)
+    origin = ((np.abs(beta) < _ORIGIN * max(k, m)) & ~second if m >= 1
+              else np.zeros(beta.shape, bool))
     if origin.any():  # the branch point beta = 0: the columns recombined (_origin_column)
         for side, V, T, L, Q in ((0, Vi, Ti, L_in, Q_in), (1, Vo, To, L_out, Q_out)):
             V[origin, :, 0], T[origin, :, 0] = _origin_column(m, k, side, beta[origin],
@@ -359,18 +379,18 @@ ZETA_START_CHECKED = 0.05
 #: k = 0 (the fibre pair, axial): (largest m of a tier, its upper end of zeta), checked on grids.
 _ZETA_TOPS = ((25, 0.3), (60, 0.15))
 #: Where the count-driven finder offers zeta above ZETA_START_CHECKED up to ZETA_COUNTED:
-#: K_COUNTED[0] <= k <= K_COUNTED[1], m <= M_COUNTED and m^2 <= M2_PER_K k (checked on grids of
-#: (m, k, zeta), tests/test_cylinder_modes.py). The counts pass well beyond (up to m = 100 at
-#: k = 4 and 40, m = 60 at k = 0.5), but the error bounds grow with m^2/k (:data:`_ENTRY_EPS`)
-#: and exceed 1e-10 |gamma| near zeta ~ 0.1-0.3 there (1.3e-10 at m = 20, k = 0.5; 2.6e-10 at
-#: m = 60, k = 1.44; 2.0e-10 at m = 100, k = 8); with m <= 25 sqrt(k) they stay below (5.9e-11
-#: at m = 20, k = 0.64, 24 zetas per check). Below k = 0.5 they exceed it too (1.4e-10 at m = 1,
-#: k = 0.1: the divided differences over |beta - k| ~ k amplify the Bessel kernels' rounding),
-#: so the seeds' range applies there. (m = 25 at k = 0.5 and 1 failed to count until the count's
-#: f'/f guard was restored and D made accurate at the branch point beta = 0.)
-K_COUNTED = (0.5, 40.0)
-M_COUNTED = 25
-M2_PER_K = 625.0
+#: K_COUNTED[0] <= k <= K_COUNTED[1], m <= M_COUNTED and m <= M_PER_K k (checked on grids of
+#: (m, k, zeta), tests/test_cylinder_modes.py, error estimates against 30-digit mpmath roots).
+#: Since D keeps its entries to ~1e-14 of max |D| on the physical sheet for every m and k
+#: (:data:`_ENTRY_EPS`) the error estimates stay below 1e-13 |gamma| for the counted roots
+#: (m = 60 at k = 0.1, 1, 40; m = 30 at k = 0.05; m = 6 at k = 0.01). Beyond m = 600 k the
+#: modes that leave the counted box for the cut are met on the second sheet, where D keeps less
+#: (up to eps m^2/k^2): 5.7e-10 |gamma| at m = 25, k = 0.01, zeta = 100, and at m = 60, k = 0.01,
+#: zeta = 1e3 the finder did not find every counted root; below k = 0.01 that sheet's rounding
+#: grows like 1/k^2 too. There, and for m > 60 (not checked on grids), the seeds' range applies.
+K_COUNTED = (0.01, 40.0)
+M_COUNTED = 60
+M_PER_K = 600.0
 ZETA_COUNTED = 1e3
 #: Relative step of the 4-point derivative of the determinant in beta (error ~ step^4).
 _STEP = 1e-3
@@ -379,7 +399,7 @@ _STEP = 1e-3
 def zeta_max(m: int, k: float, component: str = "coupled") -> float:
     """Largest zeta = nu/sqrt(kappa) at which the modes of (m, k, component) are offered.
 
-    * 0.5 <= k <= 40 with m <= min(25, 25 sqrt(k)) (:func:`counted`; the count-driven finder
+    * 0.01 <= k <= 40 with m <= min(60, 600 k) (:func:`counted`; the count-driven finder
       above zeta = 0.05, :func:`modal_system`): 1e3. The number of modes is the argument-principle count in a box
       of the beta plane, so it may exceed the number b of components (four at m = 1, k = 2,
       zeta = 1: a conjugate pair of overdamped modes splits into two real decays in
@@ -390,8 +410,9 @@ def zeta_max(m: int, k: float, component: str = "coupled") -> float:
       and 0.05 above (the continuation loses a mode near the cut at zeta 0.2-0.3 for m = 35..60
       and at some zeta in 0.1-0.3 for m = 100, 200; beyond 2/k^2 the modes can outnumber the
       components); the fibre pair also stops at :func:`spectralshell.models.fibre.zeta_max`
-      (not reached below 0.3). Below k = 0.5, and beyond m = 25 sqrt(k) or m = 25, the
-      count-driven finder's error bounds exceed 1e-10 |gamma| (its counts pass up to m = 100).
+      (not reached below 0.3). Below k = 0.01, and beyond m = 600 k or m = 60, the modes that
+      leave the box for the cut are met on the continuation across it, whose rounding grows like
+      m^2/k^2 (:data:`K_COUNTED`).
     """
     if counted(m, k):
         return ZETA_COUNTED
@@ -405,7 +426,7 @@ def zeta_max(m: int, k: float, component: str = "coupled") -> float:
 
 def counted(m: int, k: float) -> bool:
     """Whether the count-driven finder serves (m, k) above zeta = ZETA_START_CHECKED."""
-    return m <= M_COUNTED and m * m <= M2_PER_K * k and K_COUNTED[0] <= k <= K_COUNTED[1]
+    return m <= M_COUNTED and m <= M_PER_K * k and K_COUNTED[0] <= k <= K_COUNTED[1]
 
 
 def natural_matrix(beta: np.ndarray, *, m: int, k: float, kappa: float, nu: float,
@@ -490,10 +511,13 @@ def modal_residual_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
     return det[0], _four_point(det[1:], h)
 
 
-#: Relative accuracy of the entries of D (against max |D|), as eps_D = _ENTRY_EPS (1 + m^2/k):
-#: the logarithmic derivatives carry an absolute error ~eps m, which the divided differences Q
-#: over |beta - k| ~ k amplify; measured up to 2e-10 at m = 10, k = 0.01 and 3e-13 at m = 25,
-#: k = 1 against 30-digit mpmath (tests/test_cylinder_modes.py), within this bound.
+#: Relative accuracy of the entries of D (against max |D|) on the physical sheet, eps_D: with the
+#: remainders g and the pressure's column free of cancellation (:func:`_remainder`,
+#: :func:`_origin_column` for |beta| < max(k, m)/2) measured at most 77 eps over m = 1..100,
+#: k = 1e-3..40, nu = 0.06..1e3 against 30-digit mpmath (was up to 3e6 eps at m = 10, k = 0.01,
+#: nu = 100: V's columns are dependent to O(k^2/m^2) for |beta| ~ k << m). The continuation
+#: across the cut (Re beta < 0) keeps less: measured up to eps_D m^2/k^2 (2.3e-6 at m = 60,
+#: k = 1e-3), so :func:`modal_noise_shifted` takes eps_D (1 + 4 m^2/k^2) there.
 _ENTRY_EPS = 128 * 2.220446049250313e-16
 
 
@@ -515,11 +539,11 @@ def modal_noise_shifted(x: complex, *, m: int, k: float, kappa: float, nu: float
                         component: str = "coupled") -> float:
     """An absolute bound on the error in x of a root at x caused by the rounding of D:
     eps_D max|D| sum_ij |C_ij| / |d det/dx| (C the cofactors, eps_D the entries' relative
-    accuracy, _ENTRY_EPS (1 + m^2/k)); at least 64 eps |x|."""
+    accuracy, _ENTRY_EPS, or _ENTRY_EPS (1 + 4 m^2/k^2) across the cut); at least 64 eps |x|."""
     fixed = {"m": m, "k": k, "kappa": kappa, "nu": nu, "component": component}
     D = natural_matrix_shifted(np.array([x]), **fixed)[0]
     _, fp = modal_residual_shifted(x, **fixed)
-    eps_d = _ENTRY_EPS * (1 + m * m / k)
+    eps_d = _ENTRY_EPS * (1 + 4 * m * m / (k * k) if (k + complex(x)).real < 0 else 1)
     spread = eps_d * np.abs(D).max() * np.abs(_cofactors(D)).sum()
     return float(max(spread / abs(fp), 64 * 2.220446049250313e-16 * abs(x)))
 
@@ -734,8 +758,13 @@ def modal_system(*, m: int, k: float, kappa: float, nu: float,
     zeta = p.nu / np.sqrt(p.kappa)
     top = zeta_max(p.m, p.k, p.component)
     if not ZETA_MIN <= zeta <= top:
+        why = "" if counted(p.m, p.k) or p.k == 0 else (
+            f"; up to {ZETA_COUNTED:g} only for {K_COUNTED[0]:g} <= k <= {K_COUNTED[1]:g} with "
+            f"m <= min({M_COUNTED}, {M_PER_K:g} k), outside which the modes met across the cut "
+            "are not resolved to 1e-10")
         raise invalid("zeta", zeta, f"in [{ZETA_MIN:g}, {top:.4g}] for m = {p.m}, k = {p.k:g} "
-                      "(zeta = nu/sqrt(kappa): the range over which the mode count is verified)")
+                      f"(zeta = nu/sqrt(kappa): the range over which the mode count is verified"
+                      f"{why})")
     fixed = {"m": p.m, "k": p.k, "kappa": p.kappa, "nu": p.nu, "component": p.component}
     nu_, k_, k2 = p.nu, p.k, p.k * p.k
     if counted(p.m, p.k) and zeta > ZETA_START_CHECKED:
