@@ -388,34 +388,30 @@ def test_large_zeta_mode_count_over_the_grid(component, m, k, zeta):
     assert abs(count - round(count)) < 1e-6 and round(count) == found
 
 
-_POLISH_DEFECT = ("the 30-digit polish of the real decay gamma = -0.0025 at m = 1, k = 0.1, "
-                  "zeta = 3 is off by 5.4e-20 (det D changes sign there at 40 digits) with an "
-                  "error estimate of 2.4e-33: the double root is within its estimate "
-                  "(test_small_k_roots_against_40_digit_roots)")
-
-
 @pytest.mark.parametrize("m,k,zeta", [(1, 2.0, 3.0), (25, 10.0, 300.0), (5, 10.0, 1e3),
                                       (2, 1.0, 0.5),
-                                      pytest.param(1, 0.1, 3.0, marks=pytest.mark.xfail(
-                                          strict=True, reason=_POLISH_DEFECT)),
+                                      (1, 0.1, 3.0),
                                       pytest.param(17, 0.5, 10.0, marks=pytest.mark.slow),
                                       pytest.param(25, 40.0, 1e3, marks=pytest.mark.slow)])
 def test_large_zeta_roots_against_30_digit_roots(m, k, zeta):
     """Former failures: m = 1, k = 2, zeta = 3 (an error estimate below the true error),
     m = 25 at zeta = 300 (at k = 10; at k = 1 the polish once did not converge), m = 5,
-    k = 10, zeta = 1e3. Each root
-    against mpmath.findroot on mpmath's determinant in beta at 40 digits: within the error
-    estimate in double, and the 30-digit polish within its own."""
+    k = 10, zeta = 1e3; m = 1, k = 0.1, zeta = 3 (a real decay -0.0025 that seemed to fault the
+    polish by 5e-18: the reference took k^2 in double, 0.1 * 0.1 = 0.010000000000000002).
+    Each root against mpmath.findroot (verified) on mpmath's determinant in beta at 60 digits,
+    k^2 in mpmath: within the error estimate in double, and the 30-digit polish within its
+    own."""
     res = _modes(m=m, k=k, kappa=1.0, nu=zeta)
     polished = _modes(m=m, k=k, kappa=1.0, nu=zeta, precision=30)
     assert res.gamma.size == polished.gamma.size >= 3
-    with mpmath.workdps(40):
+    with mpmath.workdps(60):
+        k2 = mpmath.mpf(k) ** 2
         for i in range(res.gamma.size):
-            start = mpmath.sqrt(mpmath.mpc(*polished.gamma_digits[i]) / zeta + k * k)
+            start = mpmath.sqrt(mpmath.mpc(*polished.gamma_digits[i]) / zeta + k2)
             beta = mpmath.findroot(lambda b: natural_determinant_mp(b, m=m, k=k, kappa=1.0,
                                                                    nu=zeta),
-                                   start, tol=mpmath.mpf(10) ** -70, verify=False)
-            exact = zeta * (beta * beta - k * k)
+                                   start, tol=mpmath.mpf(10) ** -100)
+            exact = zeta * (beta * beta - k2)
             assert abs(complex(exact) - res.gamma[i]) <= res.error_estimate[i]
             assert abs(exact - mpmath.mpc(*polished.gamma_digits[i])) <= \
                 max(polished.error_estimate[i], 1e-29 * abs(exact))
