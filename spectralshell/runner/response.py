@@ -59,7 +59,7 @@ def _response_at(spec: Model, p, n_spatial: int, kind: str, options: dict[str, A
             if tau_max is None or m.complete_to < tau_max:  # found none, proved none (issue 23)
                 raise ConvergenceError(
                     f"kind = {kind!r}: no marginal tau found at N = {m.n_temporal} below "
-                    f"tau_max = {tau_max}, but none is proved absent above tau = "
+                    f"tau_max = {tau_max}, and their absence is proved only up to tau = "
                     f"{m.complete_to:g}: leave n_temporal free or lower tau_max")
             raise ParameterError(f"kind = {kind!r} has no marginal tau here (tau_max = "
                                  f"{tau_max}, proved up to it): no parametric response to "
