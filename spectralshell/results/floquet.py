@@ -61,7 +61,7 @@ def certification_warnings(res: Mapping[str, MarginalTau],
         out += [f"{kind}: no marginal tau <= {tau_max:g} was found, but none is proved only "
                 f"below complete_to = {m.complete_to:.4g} at this truncation (the zero count "
                 "could not prove it): leave n_temporal unset to have it proved or refused"
-                for kind, m in res.items() if m.tau_min is None and m.complete_to < tau_max]
+                for kind, m in res.items() if m.unproved_empty(tau_max)]
     return out
 
 

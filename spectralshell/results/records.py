@@ -136,6 +136,11 @@ class MarginalTau(Record):
     method: str
     complete_to: float = np.inf
 
+    def unproved_empty(self, cap: float) -> bool:
+        """No tau found, and their absence not proved up to ``cap`` (complete_to below it: the
+        zero count could not prove the empty answer; issue 23): never to be read as "none"."""
+        return self.tau_min is None and self.complete_to < cap
+
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class Tip(Record):

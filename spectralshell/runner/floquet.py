@@ -334,8 +334,7 @@ def tongues(model: str, *, kappa: str | Mapping[str, Any] | Sequence[float] | np
         boundaries=boundaries, workers=workers, progress=progress)
     warnings = threshold_warnings({k: [r[k].tau_min for r in rows] for k in kinds}) + failures
     unproved = tuple((float(k), kind) for k, r in zip(grid, rows) for kind in kinds
-                     if tau_max is not None and r[kind].tau_min is None
-                     and r[kind].complete_to < tau_max)
+                     if tau_max is not None and r[kind].unproved_empty(tau_max))
     p = dataclasses.asdict(make_params(model, {**params, "kappa": float(grid[0])}))
     p.pop("kappa")
     result = TonguesResult(model=model, params=p, kappa=grid, kinds=kinds, rows=tuple(rows),

@@ -333,7 +333,7 @@ def degree_change(fine: MarginalTau, coarse: MarginalTau, cap: float) -> float |
     (complete_to below ``cap``: a sweep's 'mark', or a fixed n_temporal) and the fine one has a
     tau: a tau the coarse truncation missed could lie anywhere below it. Empty at both, the
     change is 0 and :func:`both_proved` marks the answer instead."""
-    if fine.tau_min is not None and coarse.tau_min is None and coarse.complete_to < cap:
+    if fine.tau_min is not None and coarse.unproved_empty(cap):
         return None
     return spatial_change(fine, coarse, cap)
 

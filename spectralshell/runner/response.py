@@ -56,7 +56,7 @@ def _response_at(spec: Model, p, n_spatial: int, kind: str, options: dict[str, A
         m = solve_kinds(system, (kind,), {**options, **CERTIFIED})[kind]  # "none" is proved
         if m.tau_min is None:
             tau_max = options.get("tau_max")
-            if tau_max is None or m.complete_to < tau_max:  # found none, proved none (issue 23)
+            if tau_max is None or m.unproved_empty(tau_max):  # found none, proved none
                 raise ConvergenceError(
                     f"kind = {kind!r}: no marginal tau found at N = {m.n_temporal} below "
                     f"tau_max = {tau_max}, and their absence is proved only up to tau = "

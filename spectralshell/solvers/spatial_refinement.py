@@ -387,4 +387,4 @@ def _proved(system: HillSystem, taus: dict[str, MarginalTau], caps: dict[str, fl
 
 def _unproved(taus: dict[str, MarginalTau], caps: dict[str, float]) -> list[str]:
     """The kinds whose empty answer :func:`_proved` marked: complete_to below their cap."""
-    return [k for k, m in taus.items() if m.tau_min is None and m.complete_to < caps[k]]
+    return [k for k, m in taus.items() if m.unproved_empty(caps[k])]
