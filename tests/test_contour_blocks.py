@@ -61,10 +61,13 @@ def dense_log_g(hill, z):
     return modulus - modulus_a, sign / sign_a
 
 
+@pytest.mark.parametrize("inverse_below", [contour.INVERSE_BELOW, 0])
 @pytest.mark.parametrize("size, seed", [(3, 1), (5, 2), (8, 3)])
-def test_block_log_det_matches_dense_lu(size, seed):
+def test_block_log_det_matches_dense_lu(size, seed, inverse_below, monkeypatch):
     """log g and d log g / dz of M x M block pencils against slogdet of the assembled matrix,
-    the derivative against central differences of it."""
+    the derivative against central differences of it; by either of block_log_det's ways to
+    S^{-1} [U, S'] (inverse and products, or LU solves: INVERSE_BELOW 0)."""
+    monkeypatch.setattr(contour, "INVERSE_BELOW", inverse_below)
     hill = random_pencil(7, size, seed)
     log_g = contour.LogDet(hill)
     assert not log_g.compiled
@@ -124,11 +127,13 @@ def test_block_winding_counts_qz_eigenvalues_random(size, seed):
     assert check_counts(hill, rectangles) >= 3
 
 
+@pytest.mark.parametrize("inverse_below", [contour.INVERSE_BELOW, 0])
 @pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
-def test_block_winding_counts_qz_eigenvalues_cochlea(kind):
+def test_block_winding_counts_qz_eigenvalues_cochlea(kind, inverse_below, monkeypatch):
     """The viscous gerbil cochlea (M = 8, N = 12, two-sided form): counts in thin strips along
     the real axis and in larger rectangles = QZ counts of the same truncation, including the
-    real tau <= 1/2 that truncation has."""
+    real tau <= 1/2 that truncation has; by either of block_log_det's ways (INVERSE_BELOW)."""
+    monkeypatch.setattr(contour, "INVERSE_BELOW", inverse_below)
     hill = Pencils(cochlea(8), kind).get(12, "two-sided")[0]
     z = qz_squares(hill)
     real = z[np.abs(z.imag) <= 1e-9 * np.abs(z)]

@@ -154,7 +154,7 @@ import cmath
 import math
 
 import numpy as np
-from scipy.linalg.lapack import zgetrf as _getrf, zgetrs as _getrs
+from scipy.linalg.lapack import zgetrf as _getrf, zgetri as _getri, zgetrs as _getrs
 
 from .._threads import one_blas_thread
 from ..discretise.hill import HillMatrices
@@ -179,6 +179,8 @@ MAX_BLOCK_NODES = 250
 #: N = 141), whose count in the 1e-2 strip took 1300 nodes against 210 for the zero count in
 #: the 1e-4 one (both around the closed rectangle; the upper half takes about half).
 BLOCK_STRIPS = STRIPS[1:]
+#: Blocks of fewer rows are inverted, not solved, in :func:`block_log_det`.
+INVERSE_BELOW = 128
 #: Largest mismatch (radians) between the phase change read between neighbouring nodes and
 #: the one predicted from g'/g, and largest change of dz g'/g along an edge (:func:`winding`).
 MAX_TURN = math.pi / 4
@@ -268,10 +270,14 @@ def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray,
     U = upper[k-1]) are factorised by LAPACK ?getrf (partial pivoting inside the block), so
     log det = sum_k log det S_k; their derivatives S_0' = 0,
     S_k' = -L X + z L (S^{-1} S') X with X = S^{-1} U give (log det)' = sum_k tr(S_k^{-1} S_k')
-    (the 2 x 2 kernel ``_schur.c`` carries the same recursion). One solve with [U, S'] as
-    right-hand side per block: O(K M^3)."""
+    (the 2 x 2 kernel ``_schur.c`` carries the same recursion): O(K M^3). Blocks smaller than
+    INVERSE_BELOW are inverted from their LU (?getri) and S^{-1} U, S^{-1} S' taken as
+    products; larger ones are solved with [U, S'] as right-hand side (?getrs). Issue 25: the
+    triangular solves of OpenBLAS's ?getrs run 2-4x slower per flop than its products at
+    M = 32..64 (one thread), where the inverse and two products take half the solve's time;
+    at M = 128 the two cost the same, at 256 the solve is cheaper."""
     K, M, _ = diag.shape
-    S, dS = diag[0].copy(), np.zeros_like(diag[0])
+    S, dS = diag[0].copy(), None  # S' = 0 at k = 0
     value, slope = 0.0j, 0.0j
     unmoved = np.arange(M)  # the pivots of an LU without row exchanges
     for k in range(K):
@@ -280,15 +286,32 @@ def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray,
             return None
         swaps = np.count_nonzero(pivots != unmoved)
         value += np.log(lu.diagonal()).sum() + 1j * math.pi * swaps
-        right = dS if k == K - 1 else np.concatenate([upper[k], dS], axis=1)
-        solved, info = _getrs(lu, pivots, right, overwrite_b=1)
-        slope += np.trace(solved[:, -M:])
-        if k == K - 1:
-            break
-        X = solved[:, :M]
-        LX = lower[k] @ np.concatenate([X, solved[:, M:] @ X], axis=1)  # [L X, L S^-1 S' X]
-        dS = z * LX[:, M:] - LX[:, :M]
-        S = diag[k + 1] - z * LX[:, :M]
+        last = k == K - 1
+        if M < INVERSE_BELOW:
+            inverse, info = _getri(lu, pivots, overwrite_lu=1)
+            if info != 0:
+                return None
+            if dS is not None:
+                slope += np.einsum("ij,ji->", inverse, dS)  # tr(S^{-1} S')
+            if last:
+                break
+            X = inverse @ upper[k]
+            YX = None if dS is None else inverse @ dS @ X  # S^{-1} S' X
+        else:
+            right = (upper[k] if dS is None else dS if last
+                     else np.concatenate([upper[k], dS], axis=1))
+            if dS is None and last:
+                break
+            solved, info = _getrs(lu, pivots, right, overwrite_b=1)
+            if dS is not None:
+                slope += np.trace(solved[:, -M:])
+            if last:
+                break
+            X = solved[:, :M]
+            YX = None if dS is None else solved[:, M:] @ X
+        LX = lower[k] @ X
+        dS = -LX if YX is None else z * (lower[k] @ YX) - LX
+        S = diag[k + 1] - z * LX
     if not (cmath.isfinite(value) and cmath.isfinite(slope)):
         return None
     return complex(value), complex(slope)
