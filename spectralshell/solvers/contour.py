@@ -211,6 +211,7 @@ class LogDet:
         if not self.compiled:  # log det A, which the compiled kernel reads at z = 0 instead
             sign, modulus = np.linalg.slogdet(self.blocks[0])
             self.offset = complex(modulus.sum(), np.angle(sign).sum())
+            self.last = None  # (z, point(z)) of the last point evaluated
 
     def __call__(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
         if self.compiled:  # log det A as the first point: g = det(A - tau B) / det A
@@ -230,12 +231,17 @@ class LogDet:
         return out, slope
 
     def point(self, z: complex) -> tuple[complex, complex] | None:
-        """(log g(z), d log g / dz) at one z (blocks larger than 2 x 2)."""
+        """(log g(z), d log g / dz) at one z (blocks larger than 2 x 2); the last point's
+        answer is kept and returned again for the same z (:func:`_odd_below` evaluates the
+        count's first node)."""
+        if self.last is not None and self.last[0] == z:
+            return self.last[1]
         found = block_log_det(*self.blocks, z)
-        if found is None:
-            return None
-        value = found[0] - self.offset
-        return complex(value.real, math.remainder(value.imag, 2 * math.pi)), found[1]
+        if found is not None:
+            value = found[0] - self.offset
+            found = complex(value.real, math.remainder(value.imag, 2 * math.pi)), found[1]
+        self.last = z, found
+        return found
 
     def turns(self, path: np.ndarray) -> float | None:
         """Zeros of g inside the contour symmetric about the real axis whose upper half is
@@ -411,7 +417,24 @@ def none_up_to(hill: HillMatrices, tau_max: float) -> bool:
     right = z_max * (1 + 1e-6)
     if hill.diag.shape[1] > 2 and _free_disk(hill, math.hypot(right, max(BLOCK_STRIPS) * z_max)):
         return True
-    return _zeros_below(LogDet(hill), right, z_max) == 0
+    log_g = LogDet(hill)
+    if not log_g.compiled and _odd_below(log_g, right, z_max):
+        return False
+    return _zeros_below(log_g, right, z_max) == 0
+
+
+def _odd_below(log_g: LogDet, right: float, z_max: float) -> bool:
+    """Whether g < 0 at the real corner nearest 0 on the right of the rectangles that
+    :func:`_zeros_below` would count (BLOCK_STRIPS): then, as g(0) = 1 and g is a real
+    polynomial on the real axis, an odd number of real zeros lies between, inside every one of
+    those rectangles, and none of their counts can be zero. One evaluation (the count's first
+    node, kept by :meth:`LogDet.point`) instead of the tens to hundreds of nodes a count takes
+    to find them. False where g there is not clearly real (its phase farther than pi/3 from
+    0 or pi) or not evaluated (a zero pivot): the counts decide then. Issue 25."""
+    corner = min(rectangle(-s * z_max, right, s * z_max, BLOCK_RECTANGLE)[0].real
+                 for s in BLOCK_STRIPS)
+    found = log_g.point(complex(corner))
+    return found is not None and math.cos(found[0].imag) < -0.5
 
 
 def _free_disk(hill: HillMatrices, reach: float) -> bool:
