@@ -61,16 +61,28 @@ def dense_log_g(hill, z):
     return modulus - modulus_a, sign / sign_a
 
 
+def chained_pencil(blocks: int, size: int, seed: int) -> HillMatrices:
+    """A random pencil (:func:`random_pencil`) with upper[k] = -lower[k - 1] for k >= 1, as the
+    cochlea's (one coupling matrix C: lower C, upper -C)."""
+    hill = random_pencil(blocks, size, seed)
+    upper = np.concatenate([hill.upper[:1], -hill.lower[:-1]])
+    return HillMatrices(kind="harmonic", form="two-sided", n_temporal=hill.n_temporal,
+                        diag=hill.diag, lower=hill.lower, upper=upper, self_coupling=None)
+
+
+@pytest.mark.parametrize("chained", [False, True])
 @pytest.mark.parametrize("inverse_below", [contour.INVERSE_BELOW, 0])
 @pytest.mark.parametrize("size, seed", [(3, 1), (5, 2), (8, 3)])
-def test_block_log_det_matches_dense_lu(size, seed, inverse_below, monkeypatch):
+def test_block_log_det_matches_dense_lu(size, seed, inverse_below, chained, monkeypatch):
     """log g and d log g / dz of M x M block pencils against slogdet of the assembled matrix,
-    the derivative against central differences of it; by either of block_log_det's ways to
-    S^{-1} [U, S'] (inverse and products, or LU solves: INVERSE_BELOW 0)."""
+    the derivative against central differences of it; by each of block_log_det's ways to
+    S^{-1} U and S^{-1} S' (inverse and products, or LU solves: INVERSE_BELOW 0; chained
+    couplings, upper[k] = -lower[k - 1], with one solve fewer)."""
     monkeypatch.setattr(contour, "INVERSE_BELOW", inverse_below)
-    hill = random_pencil(7, size, seed)
+    hill = (chained_pencil if chained else random_pencil)(7, size, seed)
     log_g = contour.LogDet(hill)
     assert not log_g.compiled
+    assert log_g.chained == chained
     for z in (0.05 + 0.01j, 0.3 - 0.2j, 0.13 + 0.0j, -0.4 + 0.1j):
         value, slope = log_g.point(z)
         modulus, phase = dense_log_g(hill, z)
@@ -151,6 +163,7 @@ def test_block_log_g_conjugate_symmetric_cochlea(kind, form):
     hill = Pencils(cochlea(8), kind).pencil(12, form)
     assert hill.bipartite
     log_g = contour.LogDet(hill)
+    assert log_g.chained  # one coupling C in both forms: lower C, upper -C
     for z in (0.03 + 0.01j, 0.2 - 0.05j, 0.4 + 1e-3j, -0.1 + 0.02j):
         (value, slope), (mirror, mirror_slope) = log_g.point(z), log_g.point(z.conjugate())
         assert np.exp(value - mirror.conjugate()) == pytest.approx(1.0, abs=1e-10)

@@ -218,6 +218,8 @@ class LogDet:
             sign, modulus = np.linalg.slogdet(self.blocks[0])
             self.offset = complex(modulus.sum(), np.angle(sign).sum())
             self.last = None  # (z, point(z)) of the last point evaluated
+            lower, upper = self.blocks[1:]
+            self.chained = bool(np.array_equal(upper[1:], -lower[:-1]))  # block_log_det
 
     def __call__(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
         if self.compiled:  # log det A as the first point: g = det(A - tau B) / det A
@@ -242,7 +244,7 @@ class LogDet:
         count's first node)."""
         if self.last is not None and self.last[0] == z:
             return self.last[1]
-        found = block_log_det(*self.blocks, z)
+        found = block_log_det(*self.blocks, z, self.chained)
         if found is not None:
             value = found[0] - self.offset
             found = complex(value.real, math.remainder(value.imag, 2 * math.pi)), found[1]
@@ -272,24 +274,25 @@ def _kernel_blocks(hill: HillMatrices) -> tuple[np.ndarray, np.ndarray, np.ndarr
             np.ascontiguousarray(upper, dtype=complex))
 
 
-def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-                  z: complex) -> tuple[complex, complex] | None:
+def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray, z: complex,
+                  chained: bool = False) -> tuple[complex, complex] | None:
     """(log det(A - tau B), its derivative in z) at z = tau^2 of a bipartite block-tridiagonal
     pencil with blocks of any size, by block elimination; None on an exactly singular pivot
-    block or a non-finite value.
+    block or a non-finite value. ``chained``: upper[k] = -lower[k - 1] for every k >= 1 (the
+    cochlea's pencils: one coupling matrix, upper = -lower), which saves a solve per block.
 
-    The Schur complements S_0 = A_0, S_k = A_k - z L S^{-1} U (S = S_{k-1}, L = lower[k-1],
-    U = upper[k-1]) are factorised by LAPACK ?getrf (partial pivoting inside the block), so
-    log det = sum_k log det S_k; their derivatives S_0' = 0,
-    S_k' = -L X + z L (S^{-1} S') X with X = S^{-1} U give (log det)' = sum_k tr(S_k^{-1} S_k')
-    (the 2 x 2 kernel ``_schur.c`` carries the same recursion): O(K M^3). Blocks smaller than
-    INVERSE_BELOW are inverted from their LU (?getri) and S^{-1} U, S^{-1} S' taken as
-    products; larger ones are solved with [U, S'] as right-hand side (?getrs). Issue 25: the
-    triangular solves of OpenBLAS's ?getrs run 2-4x slower per flop than its products at
-    M = 32..64 (one thread), where the inverse and two products take half the solve's time;
-    at M = 128 the two cost the same, at 256 the solve is cheaper."""
+    The Schur complements S_0 = A_0, S_k = A_k - z L_{k-1} X_{k-1} (X_k = S_k^{-1} U_k,
+    L = lower, U = upper) are factorised by LAPACK ?getrf (partial pivoting inside the block),
+    so log det = sum_k log det S_k; their derivatives are S_0' = 0,
+    S_k' = L_{k-1} V_{k-1} with V_k = z Y_k X_k - X_k and Y_k = S_k^{-1} S_k', and
+    (log det)' = sum_k tr Y_k (the 2 x 2 kernel ``_schur.c`` carries the same recursion):
+    O(K M^3). Chained, Y_k = -X_k V_{k-1} needs no solve of its own (S_k^{-1} L_{k-1} = -X_k).
+    Blocks of fewer rows than INVERSE_BELOW are inverted from their LU (?getri) and solved by
+    products, larger ones by ?getrs. Issue 25: OpenBLAS's triangular solves run 2-4x slower per
+    flop than its products at M = 32..64 (one thread), where the inverse and products take
+    half the solves' time; at M = 128 the two cost the same, at 256 the solves less."""
     K, M, _ = diag.shape
-    S, dS = diag[0].copy(), None  # S' = 0 at k = 0
+    S, V = diag[0].copy(), None  # V_{k-1} (S_k' = L_{k-1} V_{k-1}); S_0' = 0
     value, slope = 0.0j, 0.0j
     unmoved = np.arange(M)  # the pivots of an LU without row exchanges
     for k in range(K):
@@ -299,34 +302,31 @@ def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray,
         swaps = np.count_nonzero(pivots != unmoved)
         value += np.log(lu.diagonal()).sum() + 1j * math.pi * swaps
         last = k == K - 1
-        if M < INVERSE_BELOW:
-            inverse, info = _getri(lu, pivots, overwrite_lu=1)
-            if info != 0:
-                return None
-            if dS is not None:
-                slope += np.einsum("ij,ji->", inverse, dS)  # tr(S^{-1} S')
-            if last:
-                break
-            X = inverse @ upper[k]
-            YX = None if dS is None else inverse @ dS @ X  # S^{-1} S' X
-        else:
-            right = (upper[k] if dS is None else dS if last
-                     else np.concatenate([upper[k], dS], axis=1))
-            if dS is None and last:
-                break
-            solved, info = _getrs(lu, pivots, right, overwrite_b=1)
-            if dS is not None:
-                slope += np.trace(solved[:, -M:])
-            if last:
-                break
-            X = solved[:, :M]
-            YX = None if dS is None else solved[:, M:] @ X
-        LX = lower[k] @ X
-        dS = -LX if YX is None else z * (lower[k] @ YX) - LX
-        S = diag[k + 1] - z * LX
+        if last and V is None:
+            break
+        solve = _solver(lu, pivots)
+        if solve is None:
+            return None
+        X = None if last else solve(upper[k])
+        if V is not None:
+            Y = -(X @ V) if chained and not last else solve(lower[k - 1] @ V)
+            slope += np.trace(Y)
+        if last:
+            break
+        V = -X if V is None else z * (Y @ X) - X
+        S = diag[k + 1] - z * (lower[k] @ X)
     if not (cmath.isfinite(value) and cmath.isfinite(slope)):
         return None
     return complex(value), complex(slope)
+
+
+def _solver(lu: np.ndarray, pivots: np.ndarray):
+    """right -> S^{-1} right from the LU of S (:func:`block_log_det`): by S^{-1} (?getri)
+    below INVERSE_BELOW rows, else by ?getrs; None if the inverse fails."""
+    if lu.shape[0] < INVERSE_BELOW:
+        inverse, info = _getri(lu, pivots, overwrite_lu=1)
+        return None if info != 0 else inverse.__matmul__
+    return lambda right: _getrs(lu, pivots, right)[0]
 
 
 def winding(log_g: LogDet, path: np.ndarray) -> int | None:
