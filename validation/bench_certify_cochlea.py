@@ -17,7 +17,12 @@ Measured (2 cores under a load of 6-7, one BLAS thread): 17 nodes where the stri
 below the spectrum (cap 0.0707): M = 128 1.7 s CPU, M = 256 10.1 s (dense eig of W: 3.8 s and
 26 s); 93-95 nodes where a zero lies near it (cap 0.24, which the dense path shows is not
 empty: 0.2108 at M = 128): 9.6 s at M = 128. Per node 3.0e-9 (M = 128) and 2.2e-9 (M = 256) s
-per (N + 1) M^3: solvers/cost.py's COUNT_SECONDS.
+per (N + 1) M^3: solvers/cost.py's COUNT_SECONDS. Since (issue 25, session 22; main's code
+and this one alternately, load ~3): cap 0.24 declined after 1 evaluation by the sign of g at
+the rectangle's corner (contour._odd_below), M = 64 1.6-1.8 s -> 0.02-0.03 s, M = 128
+8.3-8.7 s -> 0.14-0.16 s CPU; a node 25-35 % cheaper (contour.block_log_det: blocks below
+M = 128 inverted, chained couplings), e.g. the cap 0.24 count at M = 32 (18 nodes, proved)
+0.07-0.08 s -> 0.04-0.05 s. Nodes are counted as block_log_det evaluations.
 
 On a whole sweep (the gerbil cochlea, frequency 2, 5, 20 kHz x sigma 1.5e8, 5e8, tau <= 1/2,
 over_kinds = 'minimum', M refined to 128-256, serial): 188 s CPU before the certificate, 248 s
@@ -55,21 +60,22 @@ CAPS = (0.0707, 0.24)
 
 
 def counted(hill, tau_max):
-    """(proved, nodes, CPU s, wall s) of none_up_to, its nodes (LogDet.point calls) counted."""
+    """(proved, nodes, CPU s, wall s) of none_up_to, its nodes (block_log_det evaluations)
+    counted."""
     nodes = [0]
-    original = contour.LogDet.point
+    original = contour.block_log_det
 
-    def spy(self, z):
+    def spy(*args):
         nodes[0] += 1
-        return original(self, z)
+        return original(*args)
 
-    contour.LogDet.point = spy
+    contour.block_log_det = spy
     try:
         c0, w0 = time.process_time(), time.perf_counter()
         proved = contour.none_up_to(hill, tau_max)
         return proved, nodes[0], time.process_time() - c0, time.perf_counter() - w0
     finally:
-        contour.LogDet.point = original
+        contour.block_log_det = original
 
 
 def main(max_m: int) -> None:

@@ -71,6 +71,22 @@ odd number of real zeros inside at the cost of one evaluation (:func:`_odd_below
 proof is declined there (every correct count would be nonzero). An even number (a close pair)
 is left to the count, which can miss a pair under one segment of a thin strip: see
 tests/test_contour_blocks.py::test_count_misses_close_real_pair (known, not fixed).
+A node's block sweep (:func:`block_log_det`) inverts blocks below M = 128 from their LU
+instead of solving with them (OpenBLAS's triangular solves are slow per flop there), and on the
+cochlea's chained couplings (one matrix C: lower C, upper -C) takes the derivative recursion
+without a solve of its own. Issue 25, measured against the main branch (one BLAS thread, CPU
+time, best of 24 evaluations, the two codes run alternately, load ~3 on 2 cores; gerbil,
+5 kHz, N = 15): per node M = 32 4.4-5.1 -> 3.7-4.1 ms, M = 64 18.9-22.7 -> 13.0-15.7 ms,
+M = 128 106-120 -> 76-79 ms, M = 256 566-636 -> 419-437 ms; log g bitwise the same (the LUs
+are), its derivative to ~1e-15 relative. On 20 cells of the seeded Fig 5.18 sample
+(validation/bench_sweep.py's sample_points, every 5th, each alone, main's code and this one
+alternately per cell, load 4-5): 108.5 s -> 95.3 s CPU, the crowded cell (human, 63.6 Hz,
+sigma = 1.85e9) 53.9 -> 42.4 s and 53.9 -> 41.6 s, the others within noise; every returned
+variable of every cell bitwise equal. The shortcut fired on none of them (one count failed
+there, at M = 16 after its node budget, with g > 0 at the corner); on
+validation/bench_certify_cochlea.py's "none <= 0.24" (one real tau below) it declines after 1
+evaluation instead of 93-95 nodes: M = 64 1.6-1.8 s -> 0.02-0.03 s, M = 128 8.3-8.7 s ->
+0.14-0.16 s CPU.
 
 The value agrees with the dense eig of W (tests/test_contour.py: to 1e-10 relative, in practice
 ~1e-14, on Fig 6.13 cells); what differs is that only tau_min and ``complete_to`` are reported,
