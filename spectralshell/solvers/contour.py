@@ -341,7 +341,7 @@ def _solver(lu: np.ndarray, pivots: np.ndarray):
     below INVERSE_BELOW rows, else by ?getrs; None if the inverse fails."""
     if lu.shape[0] < INVERSE_BELOW:
         inverse, info = _getri(lu, pivots, overwrite_lu=1)
-        return None if info != 0 else inverse.__matmul__
+        return None if info != 0 else (lambda right: inverse @ right)
     return lambda right: _getrs(lu, pivots, right)[0]
 
 
