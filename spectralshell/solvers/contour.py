@@ -434,7 +434,8 @@ def none_up_to(hill: HillMatrices, tau_max: float) -> bool:
     False where it cannot (a complex eigenvalue within 1e-6 tau_max^2 of the real axis, a real
     one, a zero pivot, the node budget). For blocks larger than 2 x 2 a disk free of
     eigenvalues that holds every rectangle the count would walk (:func:`_free_disk`) proves it
-    first, at a few per cent of a count's cost."""
+    first, at a few per cent of a count's cost; else g < 0 at the rectangles' right corner
+    (:func:`_odd_below`, one evaluation) declines it before the count."""
     z_max = tau_max * tau_max
     right = z_max * (1 + 1e-6)
     if hill.diag.shape[1] > 2 and _free_disk(hill, math.hypot(right, max(BLOCK_STRIPS) * z_max)):
