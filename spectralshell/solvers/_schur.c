@@ -40,9 +40,10 @@
  * smallest(diag, lower, upper, rectangle, circle, hint_steps, strips, z_max, hint_z, disk,
  *   scan, max_bend, max_turn, max_nodes, root_rtol) -> float, NaN or None: every step of
  *   contour.smallest_real_tau for 2 x 2 blocks in one call (its module notes): a sign change
- *   of g on the real points hint_z (1 -+ hint_steps), else the count in the widest strip's
+ *   of g on the real points hint_z (1 -+ hint_steps), else the count in the first strip's
  *   rectangle up to z_max (1 + 1e-6) and a scan of scan + 1 points over [0, z_max], else the
- *   thinner strips; the root (root() to root_rtol, then to 4 eps inside its dyadic cell of width
+ *   other strips (a rectangle with g of opposite signs at its real ends is not walked: its
+ *   count is odd, so not zero; the real points are evaluated without the derivative); the root (root() to root_rtol, then to 4 eps inside its dyadic cell of width
  *   2^-30 |z|); the counts below z* - rho / 2 (strips in turn) and around the circle of radius
  *   rho = disk z*. rectangle: the upper half of [0, 1] x [-1, 1] (contour.UPPER_RECTANGLE),
  *   placed as left + (right - left) x + i a y; circle: the unit upper half circle, placed as
@@ -524,8 +525,8 @@ static int count_zeros(Contour *c, const Rules *r, const double complex *z, Py_s
 }
 
 /* contour._zeros_below: the zeros in [-a, right] x [-a, a], a = s z_max for the first strip s
- * of strips[first..last) that holds none; 0 when one does, 1 otherwise (some zeros, or the
- * thinnest count failed). The nodes are those of contour.rectangle: left + (right - left) x
+ * of strips[first..last) that holds none; 0 when one does, 1 otherwise (each holds some
+ * zeros, or its count failed). The nodes are those of contour.rectangle: left + (right - left) x
  * + i h y for x + i y of the rule's rectangle. */
 static int none_below(Contour *c, const Rules *r, double right, int first, int last)
 {

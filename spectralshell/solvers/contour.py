@@ -32,9 +32,11 @@ counts the zeros of g (real or not) inside
 
 which proves that no real tau lies below tau* = sqrt(z*) and no other one up to
 sqrt(z* + rho / 2): ``complete_to``. Without a sign change near the hint the rectangle of the
-widest strip runs to tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real
+first strip runs to tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real
 tau <= tau_max exists; holding some, the grid looks for the sign change, and only where it
-finds none are the thinner strips counted (none there: no real tau <= tau_max either).
+finds none are the other strips counted (none there: no real tau <= tau_max either).
+Where only whether a count is zero matters (every rectangle), g of opposite signs at the
+rectangle's two real ends answers it without the walk: the count is then odd.
 The count is the winding number of g along the boundary (:func:`winding`, in the compiled
 kernel ``_schur.c``; g takes conjugate values at conjugate points, so the upper half of each
 contour is read and its phase change doubled), and must lie within 0.05 of an integer. For
@@ -162,8 +164,14 @@ from . import _schur
 from .half_product import free_radius
 
 #: Half-heights (and left margins) of the counting rectangle, relative to tau_max^2, tried in
-#: turn until one holds no zero (:func:`_zeros_below`).
-STRIPS = (1e-2, 1e-4, 1e-6)
+#: turn until one holds no zero (:func:`_zeros_below`). A thinner rectangle lies inside a wider
+#: one, so it holds no more zeros: 1e-4 first, 1e-6 where that holds some (complex eigenvalues
+#: between the two), 1e-2 last, for a count of the others that failed. Issue 25: the 1e-2 strip
+#: first (as before) holds the viscous sphere's complex eigenvalues near the axis at low beat
+#: rates and its count walks 50-140 nodes there (Fig 6.13 at 50 bpm, m = 6, N = 40..80) against
+#: 40-60 for the 1e-4 strip's zero count; on 3 lines of the map the 1e-4 strip's counts take
+#: no more nodes than the 1e-2 strip's (11.6 against 11.9 per empty truncation).
+STRIPS = (1e-4, 1e-6, 1e-2)
 #: Radius of the disk around z* that must hold z* alone, relative to z*.
 DISK = 1e-3
 #: Nodes per contour before giving up (dense path instead).
@@ -178,7 +186,7 @@ MAX_BLOCK_NODES = 250
 #: eigenvalues within 1 % of the axis (86 at the gerbil, 116.9 Hz, sigma = 1.16e9, M = 32,
 #: N = 141), whose count in the 1e-2 strip took 1300 nodes against 210 for the zero count in
 #: the 1e-4 one (both around the closed rectangle; the upper half takes about half).
-BLOCK_STRIPS = STRIPS[1:]
+BLOCK_STRIPS = (1e-4, 1e-6)
 #: Largest mismatch (radians) between the phase change read between neighbouring nodes and
 #: the one predicted from g'/g, and largest change of dz g'/g along an edge (:func:`winding`).
 MAX_TURN = math.pi / 4
@@ -363,7 +371,7 @@ def _zeros_below(log_g: LogDet, right: float, z_max: float,
                  strips: tuple[float, ...] | None = None) -> int | None:
     """Zeros of g in the rectangle [-a, right] x [-a, a], a = s z_max for the first s of
     ``strips`` (by default STRIPS, BLOCK_STRIPS for blocks larger than 2 x 2) that finds none
-    (else the count in the thinnest; None if a count fails): complex eigenvalues close to the
+    (else the count in the last; None if a count fails): complex eigenvalues close to the
     real axis are left outside a thinner strip."""
     if strips is None:
         strips = STRIPS if log_g.compiled else BLOCK_STRIPS
@@ -420,8 +428,8 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
     Blocks of 2 x 2 only; larger ones have the count alone, :func:`none_up_to`.
 
     The steps run in the compiled kernel (``_schur.smallest``), one call per truncation: the
-    sign change near ``hint`` squared (HINT_STEPS), else the widest strip's count and the
-    real-axis scan (SCAN_POINTS), then the thinner strips; the root by safeguarded Newton to
+    sign change near ``hint`` squared (HINT_STEPS), else the first strip's count and the
+    real-axis scan (SCAN_POINTS), then the other strips; the root by safeguarded Newton to
     1e-13 and again inside its dyadic cell of width 2^-30 |z| (so that the answer does not
     depend on the hint); the counts of :func:`rectangle` (STRIPS) below z* - rho / 2 and of
     :func:`circle` around z*, each as :func:`winding` takes them. Called from Python, these
