@@ -43,9 +43,10 @@
  *   of g on the real points hint_z (1 -+ hint_steps), else the count in the first strip's
  *   rectangle up to z_max (1 + 1e-6) and a scan of scan + 1 points over [0, z_max], else the
  *   other strips (a rectangle with g of opposite signs at its real ends is not walked: its
- *   count is odd, so not zero; the real points are evaluated without the derivative); the root (root() to root_rtol, then to 4 eps inside its dyadic cell of width
- *   2^-30 |z|); the counts below z* - rho / 2 (strips in turn) and around the circle of radius
- *   rho = disk z*. rectangle: the upper half of [0, 1] x [-1, 1] (contour.UPPER_RECTANGLE),
+ *   count is odd, so not zero; the real points are evaluated without the derivative); the
+ *   root (root() to root_rtol, then to 4 eps inside its dyadic cell of width 2^-30 |z|);
+ *   the counts below z* - rho / 2 (strips in turn) and around the circle of radius rho =
+ *   disk z*. rectangle: the upper half of [0, 1] x [-1, 1] (contour.UPPER_RECTANGLE),
  *   placed as left + (right - left) x + i a y; circle: the unit upper half circle, placed as
  *   z* + rho u (the last node z* - rho). Returns z* = tau_min^2, NaN where no real
  *   tau^2 <= z_max exists, None where the certificate cannot be had.
@@ -77,17 +78,36 @@
 
 static inline double norm1(double complex z) { return fabs(creal(z)) + fabs(cimag(z)); }
 
-/* log det(A - tau B) at z = tau^2 into *out and its derivative in z into *slope (slope NULL:
- * the value alone, by the same arithmetic, for the real-axis points whose sign is all that is
- * read); 1 on a zero pivot or a non-finite value. The derivative is carried forward: with
- * M = L S^{-1} and X = S^{-1} U, S_k' = -M U + z M S' X, and (log det S)' = trace(S^{-1} S');
- * a coupling that is a multiple of the identity (checked per block, exactly) takes a shorter
- * form. Without the derivative a point costs about a third (issue 25). */
-static int schur_logdet(const double complex *diag, const double complex *lower,
-                        const double complex *upper, Py_ssize_t K, double complex z,
-                        double complex *out, double complex *slope)
+/* Whether the coupling blocks L, U (2 x 2) are l I and u I. */
+static inline int scalar_pair(const double complex *L, const double complex *U)
 {
-    const int derivative = slope != NULL; /* loop invariant: the compiler unswitches on it */
+    return L[1] == 0.0 && L[2] == 0.0 && L[0] == L[3] && U[1] == 0.0 && U[2] == 0.0 &&
+           U[0] == U[3];
+}
+
+/* Whether every coupling block pair of a pencil of K blocks is (l I, u I) (the sphere's):
+ * checked once per pencil rather than per block and point. */
+static int scalar_coupling(const double complex *lower, const double complex *upper,
+                           Py_ssize_t K)
+{
+    for (Py_ssize_t k = 0; k + 1 < K; k++)
+        if (!scalar_pair(lower + 4 * k, upper + 4 * k))
+            return 0;
+    return 1;
+}
+
+#if defined(__GNUC__)
+#define ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE static inline
+#endif
+
+/* The body of schur_logdet(), compiled once for each constant (scalar, derivative) there. */
+ALWAYS_INLINE int schur_steps(const double complex *diag, const double complex *lower,
+                              const double complex *upper, Py_ssize_t K, const int scalar,
+                              const int derivative, double complex z, double complex *out,
+                              double complex *slope)
+{
     double complex a = diag[0], b = diag[1], c = diag[2], d = diag[3];
     double complex da = 0.0, db = 0.0, dc = 0.0, dd = 0.0; /* S' */
     double complex det = 1.0, dlog = 0.0;
@@ -112,8 +132,7 @@ static int schur_logdet(const double complex *diag, const double complex *lower,
         const double complex *Ak = diag + 4 * k;
         /* N = M U, T = z M S' X (T with the derivative only) */
         double complex n00, n01, n10, n11, t00 = 0.0, t01 = 0.0, t10 = 0.0, t11 = 0.0;
-        if (L[1] == 0.0 && L[2] == 0.0 && L[0] == L[3] && U[1] == 0.0 && U[2] == 0.0 &&
-            U[0] == U[3]) {
+        if (scalar || scalar_pair(L, U)) {
             /* L = l I, U = u I (the sphere's coupling G = q I): with S^{-1} = r adj S,
              * N = l u r adj S and M S' X = l u r^2 (adj S) S' (adj S) */
             const double complex w = L[0] * U[0] * r;
@@ -170,6 +189,25 @@ static int schur_logdet(const double complex *diag, const double complex *lower,
     return 0;
 }
 
+/* log det(A - tau B) at z = tau^2 into *out and its derivative in z into *slope (slope NULL:
+ * the value alone, by the same arithmetic, for the real-axis points whose sign is all that is
+ * read); 1 on a zero pivot or a non-finite value. The derivative is carried forward: with
+ * M = L S^{-1} and X = S^{-1} U, S_k' = -M U + z M S' X, and (log det S)' = trace(S^{-1} S');
+ * a coupling that is a multiple of the identity (checked per block, exactly, unless
+ * ``scalar`` says that every one is: scalar_coupling) takes a shorter form. Issue 25: without
+ * the derivative a point costs about a third; the four variants compiled apart (no per-block
+ * test of the coupling or of the derivative), a point with it ~10 % less, same arithmetic. */
+static int schur_logdet(const double complex *diag, const double complex *lower,
+                        const double complex *upper, Py_ssize_t K, int scalar, double complex z,
+                        double complex *out, double complex *slope)
+{
+    if (slope != NULL)
+        return scalar ? schur_steps(diag, lower, upper, K, 1, 1, z, out, slope)
+                      : schur_steps(diag, lower, upper, K, 0, 1, z, out, slope);
+    return scalar ? schur_steps(diag, lower, upper, K, 1, 0, z, out, NULL)
+                  : schur_steps(diag, lower, upper, K, 0, 0, z, out, NULL);
+}
+
 static int complex_buffer(PyObject *obj, Py_buffer *view, const char *name, int ndim)
 {
     if (PyObject_GetBuffer(obj, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | PyBUF_WRITABLE) < 0)
@@ -219,6 +257,7 @@ static int pencil_buffers(PyObject *const *args, const char *usage, const char *
 typedef struct {
     const double complex *diag, *lower, *upper;
     Py_ssize_t K;
+    int scalar; /* scalar_coupling() of the pencil */
     PyObject *callback;
     double max_bend, max_turn;
     long budget; /* evaluations left */
@@ -272,6 +311,7 @@ static int contour_args(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t want
     *c = (Contour){.diag = (const double complex *)v[0].buf,
                    .lower = (const double complex *)v[1].buf,
                    .upper = (const double complex *)v[2].buf, .K = v[0].shape[0]};
+    c->scalar = scalar_coupling(c->lower, c->upper, c->K);
     return 0;
 }
 
@@ -285,7 +325,7 @@ static int evaluate(Contour *c, double complex z, double complex *value, double 
         double complex unused;
         return call_back(c->callback, z, value, slope != NULL ? slope : &unused);
     }
-    return schur_logdet(c->diag, c->lower, c->upper, c->K, z, value, slope);
+    return schur_logdet(c->diag, c->lower, c->upper, c->K, c->scalar, z, value, slope);
 }
 
 /* Phase change of g along the segment z0 -> z1 (values f, slopes s at the ends) into *turn:
@@ -552,11 +592,11 @@ static int first_change(Contour *c, const double *p, Py_ssize_t n, double *lo, d
                         double complex *known)
 {
     double complex f0, f, before = 0.0;
-    if (schur_logdet(c->diag, c->lower, c->upper, c->K, 0.0, &f0, NULL))
+    if (schur_logdet(c->diag, c->lower, c->upper, c->K, c->scalar, 0.0, &f0, NULL))
         return 1;
     double previous = 0.0;
     for (Py_ssize_t j = 0; j < n; j++) {
-        if (schur_logdet(c->diag, c->lower, c->upper, c->K, p[j], &f, NULL))
+        if (schur_logdet(c->diag, c->lower, c->upper, c->K, c->scalar, p[j], &f, NULL))
             return 1;
         double cosine = cos(cimag(f - f0));
         double sign = cosine > 0 ? 1.0 : (cosine < 0 ? -1.0 : 0.0);
@@ -720,10 +760,11 @@ static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nar
     int status = 0;
     Py_BEGIN_ALLOW_THREADS
     const double complex *z = (const double complex *)v[3].buf;
+    const double complex *diag = v[0].buf, *lower = v[1].buf, *upper = v[2].buf;
     double complex *out = (double complex *)v[4].buf, *slope = (double complex *)v[5].buf;
+    const int scalar = scalar_coupling(lower, upper, K);
     for (Py_ssize_t j = 0; j < n && !status; j++)
-        status = schur_logdet((const double complex *)v[0].buf, (const double complex *)v[1].buf,
-                              (const double complex *)v[2].buf, K, z[j], out + j, slope + j);
+        status = schur_logdet(diag, lower, upper, K, scalar, z[j], out + j, slope + j);
     Py_END_ALLOW_THREADS
     release(v, 6);
     return PyLong_FromLong(status);
