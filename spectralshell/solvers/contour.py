@@ -148,6 +148,25 @@ same has_tau masks; 2 of the 400,000 (cell, degree, kind) answers are empty with
 marked uncertified. Issue 25's 60 s goal is met. One sphere truncation (N = 40, 60, 80, both
 kinds, summed) in the same runs: 31.3x and 29.9x QZ, at the 30x goal, not reliably above it
 (the 57x above was measured under load).
+
+Then fewer and cheaper evaluations in the kernel (issue 25; the goal is >= 30x QZ at each N
+and kind, and N = 40 was at 12-19x): STRIPS tried from 1e-4 (the 1e-2 strip, tried first
+before, holds the sphere's near-axis complex eigenvalues at 50 bpm, and its count walked
+52-142 nodes before the scan and the 1e-4 strip's 41-57 that answered: 143-242 evaluations
+per empty truncation of the bench, now 41-57); a rectangle with g of opposite signs at its
+real ends not walked (its count is odd); the real-axis points of the hint, the scan and the
+root's brackets evaluated without the derivative (a third of a point); the log det compiled
+apart for the sphere's scalar coupling and for the value alone (~10 % less per point).
+Every answer bitwise equal to the main branch's kernel on the recorded calls of 8 full lines
+of the 200 x 200 map (sigma indices 0, 2, 50, 100, 101, 150, 198, 199; 32,332 truncations)
+and on the bench truncations. On lines 2, 101, 198 (12,128 truncations): 20.2 evaluations
+per truncation -> 15.6 with the derivative and 3.7 without; the kernel's CPU time on their
+calls, replayed alternately with main's kernel at load ~5: 0.79-0.90 s -> 0.61-0.63 s.
+``validation/bench_fig613.py``'s truncation rows (CPU time, best of 7, main's kernel and this
+one alternately in one process, load 4.5-6.5, three rounds): the sphere's lowest ratio (N = 40
+subharmonic) 11.7-14.2x -> 36.7-38.1x, N = 40 harmonic 20-22x -> 47-86x, N = 60 29x ->
+70-136x, N = 80 39-50x -> 167-278x; the fibre's lowest 35-40x -> 30-65x (its N = 40
+subharmonic: 49 evaluations -> 28 with the derivative and 7 without).
 """
 
 from __future__ import annotations
