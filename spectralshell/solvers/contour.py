@@ -165,8 +165,10 @@ calls, replayed alternately with main's kernel at load ~5: 0.79-0.90 s -> 0.61-0
 ``validation/bench_fig613.py``'s truncation rows (CPU time, best of 7, main's kernel and this
 one alternately in one process, load 4.5-6.5, three rounds): the sphere's lowest ratio (N = 40
 subharmonic) 11.7-14.2x -> 36.7-38.1x, N = 40 harmonic 20-22x -> 47-86x, N = 60 29x ->
-70-136x, N = 80 39-50x -> 167-278x; the fibre's lowest 35-40x -> 30-65x (its N = 40
-subharmonic: 49 evaluations -> 28 with the derivative and 7 without).
+70-136x, N = 80 39-50x -> 167-278x. The fibre's lowest, N = 40 subharmonic: 49 evaluations
+-> 28 with the derivative and 7 without, 0.375 -> 0.251 ms per truncation_taus call (CPU,
+best of 15 rounds of 20 calls, the two kernels alternately; its QZ time varies too much under
+load for the row's ratio, 26-40x -> 30-65x over those rounds, to show it).
 """
 
 from __future__ import annotations
