@@ -35,8 +35,9 @@ sqrt(z* + rho / 2): ``complete_to``. Without a sign change near the hint the rec
 first strip runs to tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real
 tau <= tau_max exists; holding some, the grid looks for the sign change, and only where it
 finds none are the other strips counted (none there: no real tau <= tau_max either).
-Where only whether a count is zero matters (every rectangle), g of opposite signs at the
-rectangle's two real ends answers it without the walk: the count is then odd.
+Where only whether a count is zero matters (every rectangle), the kernel reads g at the
+rectangle's two real ends first: of opposite signs there, g has an odd count inside, so not
+zero, and the rectangle is not walked.
 The count is the winding number of g along the boundary (:func:`winding`, in the compiled
 kernel ``_schur.c``; g takes conjugate values at conjugate points, so the upper half of each
 contour is read and its phase change doubled), and must lie within 0.05 of an integer. For
