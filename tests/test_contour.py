@@ -408,7 +408,7 @@ def test_kernel_steps_equal_python_composition_fibre(m, kappa, nu, kind):
 @pytest.mark.parametrize("budget", [20, 30, 60])
 def test_kernel_steps_equal_python_composition_when_counts_fail(monkeypatch, budget):
     """With a node budget so small that some counts stop (the certificate declined, or a
-    thinner strip tried after a failed wider one), the kernel still answers as the
+    strip tried after a failed other one), the kernel still answers as the
     composition, and declines (None) where it does."""
     monkeypatch.setattr(contour, "MAX_NODES", budget)
     outcomes = set()
@@ -470,3 +470,34 @@ def test_conditioning_values_equal_numpy_norms():
     assert _schur.conditioning(diag, equal, equal) == (np.inf, np.inf)
     diag[K // 2] = 0.0  # its norm times the inverse's is 0 inf: the coupled bound still says
     assert _schur.conditioning(diag, equal, equal)[1] == np.inf
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind", cells(8, seed=47) + [
+    (7000.0, 365.7894736842105, 3, "harmonic")])
+def test_opposite_signs_at_rectangle_ends_mean_an_odd_count(sigma, bpm, m, kind):
+    """The kernel does not walk a rectangle where g has opposite signs at its two real ends
+    (only whether the count is zero is asked there: an odd count is not). On rectangles
+    holding 0, 1 and 2 real zeros (QZ of the same truncation; complex ones come in conjugate
+    pairs), the sign test says odd exactly where the walk's count is odd, and that count is
+    QZ's; the kernel's answers with the test are those of the composition without it
+    (test_kernel_steps_equal_python_composition)."""
+    hill = two_sided(atrium(sigma, bpm, m), kind, 16)
+    log_g = contour.LogDet(hill)
+    z = qz_squares(hill)
+    real = np.sort(z.real[np.abs(z.imag) <= 1e-9 * np.abs(z)])
+    real = real[real > 0][:3]
+    rights = [real[0] / 2] + [(a + b) / 2 for a, b in zip(real, real[1:])]
+    checked = set()
+    for held, right in enumerate(rights):
+        for half in (1e-6, 1e-4, 1e-2):
+            left = -half
+            if np.any(inside(z, left, right, half, 1e-4 * half)
+                      & ~inside(z, left, right, half, -1e-4 * half)):
+                continue  # an eigenvalue on the edge
+            count = contour.winding(log_g, contour.rectangle(left, right, half))
+            assert count == np.count_nonzero(inside(z, left, right, half))
+            values, _ = log_g(np.array([right, left]))
+            opposite = np.cos(values[0].imag - values[1].imag) < 0
+            assert opposite == (count % 2 == 1) == (held % 2 == 1)
+            checked.add(held)
+    assert checked >= {0, 1} and (len(real) < 3 or 2 in checked)

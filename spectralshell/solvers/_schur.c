@@ -40,11 +40,13 @@
  * smallest(diag, lower, upper, rectangle, circle, hint_steps, strips, z_max, hint_z, disk,
  *   scan, max_bend, max_turn, max_nodes, root_rtol) -> float, NaN or None: every step of
  *   contour.smallest_real_tau for 2 x 2 blocks in one call (its module notes): a sign change
- *   of g on the real points hint_z (1 -+ hint_steps), else the count in the widest strip's
+ *   of g on the real points hint_z (1 -+ hint_steps), else the count in the first strip's
  *   rectangle up to z_max (1 + 1e-6) and a scan of scan + 1 points over [0, z_max], else the
- *   thinner strips; the root (root() to root_rtol, then to 4 eps inside its dyadic cell of width
- *   2^-30 |z|); the counts below z* - rho / 2 (strips in turn) and around the circle of radius
- *   rho = disk z*. rectangle: the upper half of [0, 1] x [-1, 1] (contour.UPPER_RECTANGLE),
+ *   other strips (a rectangle with g of opposite signs at its real ends is not walked: its
+ *   count is odd, so not zero; the real points are evaluated without the derivative); the
+ *   root (root() to root_rtol, then to 4 eps inside its dyadic cell of width 2^-30 |z|);
+ *   the counts below z* - rho / 2 (strips in turn) and around the circle of radius rho =
+ *   disk z*. rectangle: the upper half of [0, 1] x [-1, 1] (contour.UPPER_RECTANGLE),
  *   placed as left + (right - left) x + i a y; circle: the unit upper half circle, placed as
  *   z* + rho u (the last node z* - rho). Returns z* = tau_min^2, NaN where no real
  *   tau^2 <= z_max exists, None where the certificate cannot be had.
@@ -76,13 +78,35 @@
 
 static inline double norm1(double complex z) { return fabs(creal(z)) + fabs(cimag(z)); }
 
-/* log det(A - tau B) at z = tau^2 into *out and its derivative in z into *slope; 1 on a zero
- * pivot or a non-finite value. The derivative is carried forward: with M = L S^{-1} and
- * X = S^{-1} U, S_k' = -M U + z M S' X, and (log det S)' = trace(S^{-1} S'); a coupling
- * that is a multiple of the identity (checked per block, exactly) takes a shorter form. */
-static int schur_logdet(const double complex *diag, const double complex *lower,
-                        const double complex *upper, Py_ssize_t K, double complex z,
-                        double complex *out, double complex *slope)
+/* Whether the coupling blocks L, U (2 x 2) are l I and u I. */
+static inline int scalar_pair(const double complex *L, const double complex *U)
+{
+    return L[1] == 0.0 && L[2] == 0.0 && L[0] == L[3] && U[1] == 0.0 && U[2] == 0.0 &&
+           U[0] == U[3];
+}
+
+/* Whether every coupling block pair of a pencil of K blocks is (l I, u I) (the sphere's):
+ * checked once per pencil rather than per block and point. */
+static int scalar_coupling(const double complex *lower, const double complex *upper,
+                           Py_ssize_t K)
+{
+    for (Py_ssize_t k = 0; k + 1 < K; k++)
+        if (!scalar_pair(lower + 4 * k, upper + 4 * k))
+            return 0;
+    return 1;
+}
+
+#if defined(__GNUC__)
+#define ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE static inline
+#endif
+
+/* The body of schur_logdet(), compiled once for each constant (scalar, derivative) there. */
+ALWAYS_INLINE int schur_steps(const double complex *diag, const double complex *lower,
+                              const double complex *upper, Py_ssize_t K, const int scalar,
+                              const int derivative, double complex z, double complex *out,
+                              double complex *slope)
 {
     double complex a = diag[0], b = diag[1], c = diag[2], d = diag[3];
     double complex da = 0.0, db = 0.0, dc = 0.0, dd = 0.0; /* S' */
@@ -93,7 +117,8 @@ static int schur_logdet(const double complex *diag, const double complex *lower,
         if (dk == 0.0)
             return 1;
         const double complex r = 1.0 / dk;
-        dlog += r * (da * d + a * dd - db * c - b * dc);
+        if (derivative)
+            dlog += r * (da * d + a * dd - db * c - b * dc);
         det *= dk;
         if ((k & 7) == 0 || k == K) {
             int e;
@@ -105,45 +130,51 @@ static int schur_logdet(const double complex *diag, const double complex *lower,
             break;
         const double complex *L = lower + 4 * (k - 1), *U = upper + 4 * (k - 1);
         const double complex *Ak = diag + 4 * k;
-        double complex n00, n01, n10, n11, t00, t01, t10, t11; /* N = M U, T = z M S' X */
-        if (L[1] == 0.0 && L[2] == 0.0 && L[0] == L[3] && U[1] == 0.0 && U[2] == 0.0 &&
-            U[0] == U[3]) {
+        /* N = M U, T = z M S' X (T with the derivative only) */
+        double complex n00, n01, n10, n11, t00 = 0.0, t01 = 0.0, t10 = 0.0, t11 = 0.0;
+        if (scalar || scalar_pair(L, U)) {
             /* L = l I, U = u I (the sphere's coupling G = q I): with S^{-1} = r adj S,
              * N = l u r adj S and M S' X = l u r^2 (adj S) S' (adj S) */
-            const double complex w = L[0] * U[0] * r, v = z * w * r;
+            const double complex w = L[0] * U[0] * r;
             n00 = w * d;
             n01 = -w * b;
             n10 = -w * c;
             n11 = w * a;
-            double complex q00 = d * da - b * dc, q01 = d * db - b * dd; /* (adj S) S' */
-            double complex q10 = a * dc - c * da, q11 = a * dd - c * db;
-            t00 = v * (q00 * d - q01 * c);
-            t01 = v * (q01 * a - q00 * b);
-            t10 = v * (q10 * d - q11 * c);
-            t11 = v * (q11 * a - q10 * b);
+            if (derivative) {
+                const double complex v = z * w * r;
+                double complex q00 = d * da - b * dc, q01 = d * db - b * dd; /* (adj S) S' */
+                double complex q10 = a * dc - c * da, q11 = a * dd - c * db;
+                t00 = v * (q00 * d - q01 * c);
+                t01 = v * (q01 * a - q00 * b);
+                t10 = v * (q10 * d - q11 * c);
+                t11 = v * (q11 * a - q10 * b);
+            }
         } else {
             /* S^{-1} = r [[d, -b], [-c, a]]; M = L S^{-1}, X = S^{-1} U */
             double complex m00 = r * (L[0] * d - L[1] * c), m01 = r * (L[1] * a - L[0] * b);
             double complex m10 = r * (L[2] * d - L[3] * c), m11 = r * (L[3] * a - L[2] * b);
-            double complex x00 = r * (d * U[0] - b * U[2]), x01 = r * (d * U[1] - b * U[3]);
-            double complex x10 = r * (a * U[2] - c * U[0]), x11 = r * (a * U[3] - c * U[1]);
             n00 = m00 * U[0] + m01 * U[2];
             n01 = m00 * U[1] + m01 * U[3];
             n10 = m10 * U[0] + m11 * U[2];
             n11 = m10 * U[1] + m11 * U[3];
-            /* P = M S' (2 x 2), then T = z P X */
-            double complex p00 = m00 * da + m01 * dc, p01 = m00 * db + m01 * dd;
-            double complex p10 = m10 * da + m11 * dc, p11 = m10 * db + m11 * dd;
-            t00 = z * (p00 * x00 + p01 * x10);
-            t01 = z * (p00 * x01 + p01 * x11);
-            t10 = z * (p10 * x00 + p11 * x10);
-            t11 = z * (p10 * x01 + p11 * x11);
+            if (derivative) {
+                double complex x00 = r * (d * U[0] - b * U[2]), x01 = r * (d * U[1] - b * U[3]);
+                double complex x10 = r * (a * U[2] - c * U[0]), x11 = r * (a * U[3] - c * U[1]);
+                /* P = M S' (2 x 2), then T = z P X */
+                double complex p00 = m00 * da + m01 * dc, p01 = m00 * db + m01 * dd;
+                double complex p10 = m10 * da + m11 * dc, p11 = m10 * db + m11 * dd;
+                t00 = z * (p00 * x00 + p01 * x10);
+                t01 = z * (p00 * x01 + p01 * x11);
+                t10 = z * (p10 * x00 + p11 * x10);
+                t11 = z * (p10 * x01 + p11 * x11);
+            }
         }
-        /* S_k' = -N + T */
-        da = -n00 + t00;
-        db = -n01 + t01;
-        dc = -n10 + t10;
-        dd = -n11 + t11;
+        if (derivative) { /* S_k' = -N + T */
+            da = -n00 + t00;
+            db = -n01 + t01;
+            dc = -n10 + t10;
+            dd = -n11 + t11;
+        }
         a = Ak[0] - z * n00;
         b = Ak[1] - z * n01;
         c = Ak[2] - z * n10;
@@ -153,8 +184,28 @@ static int schur_logdet(const double complex *diag, const double complex *lower,
         !isfinite(cimag(dlog)))
         return 1;
     *out = clog(det) + scale * M_LN2;
-    *slope = dlog;
+    if (derivative)
+        *slope = dlog;
     return 0;
+}
+
+/* log det(A - tau B) at z = tau^2 into *out and its derivative in z into *slope (slope NULL:
+ * the value alone, by the same arithmetic, for the real-axis points whose sign is all that is
+ * read); 1 on a zero pivot or a non-finite value. The derivative is carried forward: with
+ * M = L S^{-1} and X = S^{-1} U, S_k' = -M U + z M S' X, and (log det S)' = trace(S^{-1} S');
+ * a coupling that is a multiple of the identity (checked per block, exactly, unless
+ * ``scalar`` says that every one is: scalar_coupling) takes a shorter form. Issue 25: without
+ * the derivative a point costs about a third; the four variants compiled apart (no per-block
+ * test of the coupling or of the derivative), a point with it ~10 % less, same arithmetic. */
+static int schur_logdet(const double complex *diag, const double complex *lower,
+                        const double complex *upper, Py_ssize_t K, int scalar, double complex z,
+                        double complex *out, double complex *slope)
+{
+    if (slope != NULL)
+        return scalar ? schur_steps(diag, lower, upper, K, 1, 1, z, out, slope)
+                      : schur_steps(diag, lower, upper, K, 0, 1, z, out, slope);
+    return scalar ? schur_steps(diag, lower, upper, K, 1, 0, z, out, NULL)
+                  : schur_steps(diag, lower, upper, K, 0, 0, z, out, NULL);
 }
 
 static int complex_buffer(PyObject *obj, Py_buffer *view, const char *name, int ndim)
@@ -206,6 +257,7 @@ static int pencil_buffers(PyObject *const *args, const char *usage, const char *
 typedef struct {
     const double complex *diag, *lower, *upper;
     Py_ssize_t K;
+    int scalar; /* scalar_coupling() of the pencil */
     PyObject *callback;
     double max_bend, max_turn;
     long budget; /* evaluations left */
@@ -259,16 +311,21 @@ static int contour_args(PyObject *const *args, Py_ssize_t nargs, Py_ssize_t want
     *c = (Contour){.diag = (const double complex *)v[0].buf,
                    .lower = (const double complex *)v[1].buf,
                    .upper = (const double complex *)v[2].buf, .K = v[0].shape[0]};
+    c->scalar = scalar_coupling(c->lower, c->upper, c->K);
     return 0;
 }
 
+/* (log g, slope) at z into *value, *slope (slope NULL: log g alone), one of the budget; 1 on
+ * failure (the budget spent, a zero pivot, the callback's None or exception). */
 static int evaluate(Contour *c, double complex z, double complex *value, double complex *slope)
 {
     if (c->budget-- <= 0)
         return 1;
-    if (c->callback != NULL)
-        return call_back(c->callback, z, value, slope);
-    return schur_logdet(c->diag, c->lower, c->upper, c->K, z, value, slope);
+    if (c->callback != NULL) {
+        double complex unused;
+        return call_back(c->callback, z, value, slope != NULL ? slope : &unused);
+    }
+    return schur_logdet(c->diag, c->lower, c->upper, c->K, c->scalar, z, value, slope);
 }
 
 /* Phase change of g along the segment z0 -> z1 (values f, slopes s at the ends) into *turn:
@@ -297,16 +354,26 @@ static int segment(Contour *c, double complex z0, double complex f0, double comp
 
 /* Phase change (radians) of g along the path z[0..n-1] into *turn, each edge refined by
  * segment(); 1 on failure. The one walk of winding() and winding_of(): the GIL is released
- * only for the compiled evaluator (the callback needs it held). */
-static int contour_turns(Contour *c, const double complex *z, Py_ssize_t n, double *turn)
+ * only for the compiled evaluator (the callback needs it held). ends: NULL, or (log g, slope)
+ * at z[0] and at z[n-1] (four values), evaluated already and not again. */
+static int contour_turns(Contour *c, const double complex *z, Py_ssize_t n,
+                         const double complex *ends, double *turn)
 {
     int failed = 0;
     PyThreadState *saved = c->callback == NULL ? PyEval_SaveThread() : NULL;
     double complex f0, s0, f1, s1;
-    failed = evaluate(c, z[0], &f0, &s0);
+    if (ends != NULL) {
+        f0 = ends[0];
+        s0 = ends[1];
+    } else
+        failed = evaluate(c, z[0], &f0, &s0);
     for (Py_ssize_t j = 0; j + 1 < n && !failed; j++) {
-        failed = evaluate(c, z[j + 1], &f1, &s1) ||
-                 segment(c, z[j], f0, s0, z[j + 1], f1, s1, 0, turn);
+        if (ends != NULL && j + 2 == n) {
+            f1 = ends[2];
+            s1 = ends[3];
+        } else
+            failed = evaluate(c, z[j + 1], &f1, &s1);
+        failed = failed || segment(c, z[j], f0, s0, z[j + 1], f1, s1, 0, turn);
         f0 = f1;
         s0 = s1;
     }
@@ -343,7 +410,7 @@ static PyObject *py_winding(PyObject *self, PyObject *const *args, Py_ssize_t na
         return NULL;
     }
     double turn = 0.0;
-    int failed = contour_turns(&c, (const double complex *)v[3].buf, v[3].shape[0], &turn);
+    int failed = contour_turns(&c, (const double complex *)v[3].buf, v[3].shape[0], NULL, &turn);
     release(v, 4);
     return turns_result(failed, turn);
 }
@@ -367,7 +434,7 @@ static PyObject *py_winding_of(PyObject *self, PyObject *const *args, Py_ssize_t
         return NULL;
     }
     double turn = 0.0;
-    int failed = contour_turns(&c, (const double complex *)v.buf, v.shape[0], &turn);
+    int failed = contour_turns(&c, (const double complex *)v.buf, v.shape[0], NULL, &turn);
     PyBuffer_Release(&v);
     return turns_result(failed, turn);
 }
@@ -392,17 +459,17 @@ static int real_root(Contour *c, double lo, double hi, double rtol, const double
     double complex f, s;
     if (n_known > 0)
         f = known[0];
-    else if (evaluate(c, 0.0, &f, &s))
+    else if (evaluate(c, 0.0, &f, NULL))
         return 1;
     double phase0 = cimag(f);
     if (n_known > 1)
         f = known[1];
-    else if (evaluate(c, lo, &f, &s))
+    else if (evaluate(c, lo, &f, NULL))
         return 1;
     int sign_lo = real_sign(f, phase0);
     if (n_known > 2)
         f = known[2];
-    else if (evaluate(c, hi, &f, &s))
+    else if (evaluate(c, hi, &f, NULL))
         return 1;
     if (real_sign(f, phase0) == sign_lo)
         return 2;
@@ -473,13 +540,22 @@ typedef struct {
 
 /* Zeros inside the contour whose upper half is z[0..n) (contour.winding): 0 with the count in
  * *count, 1 where it cannot be trusted (a zero pivot, the budget, a count farther than 0.05
- * from an integer). */
+ * from an integer). With ``nonzero_enough`` (the caller asks only whether the count is zero),
+ * 2 without the walk where g has opposite signs at the two real ends of the path: the walk's
+ * phase change is that between the ends modulo 2 pi (each step's reading is), here pi, so the
+ * count would be odd, not zero. The ends are evaluated first either way and not again by the
+ * walk, which thus spends the same evaluations of the same budget (issue 25). */
 static int count_zeros(Contour *c, const Rules *r, const double complex *z, Py_ssize_t n,
-                       long *count)
+                       int nonzero_enough, long *count)
 {
     double turn = 0.0;
+    double complex ends[4];
     c->budget = r->max_nodes;
-    if (contour_turns(c, z, n, &turn))
+    if (evaluate(c, z[0], &ends[0], &ends[1]) || evaluate(c, z[n - 1], &ends[2], &ends[3]))
+        return 1;
+    if (nonzero_enough && cos(cimag(ends[0] - ends[2])) < 0)
+        return 2;
+    if (contour_turns(c, z, n, ends, &turn))
         return 1;
     double total = turn / M_PI, nearest = round(total);
     if (!(fabs(total - nearest) <= 0.05))
@@ -489,8 +565,8 @@ static int count_zeros(Contour *c, const Rules *r, const double complex *z, Py_s
 }
 
 /* contour._zeros_below: the zeros in [-a, right] x [-a, a], a = s z_max for the first strip s
- * of strips[first..last) that holds none; 0 when one does, 1 otherwise (some zeros, or the
- * thinnest count failed). The nodes are those of contour.rectangle: left + (right - left) x
+ * of strips[first..last) that holds none; 0 when one does, 1 otherwise (each holds some
+ * zeros, or its count failed). The nodes are those of contour.rectangle: left + (right - left) x
  * + i h y for x + i y of the rule's rectangle. */
 static int none_below(Contour *c, const Rules *r, double right, int first, int last)
 {
@@ -502,7 +578,7 @@ static int none_below(Contour *c, const Rules *r, double right, int first, int l
         for (Py_ssize_t i = 0; i < r->n_rect; i++)
             nodes[i] = CMPLX(left + width * creal(r->rect[i]), side * cimag(r->rect[i]));
         long count;
-        if (!count_zeros(c, r, nodes, r->n_rect, &count) && count == 0)
+        if (!count_zeros(c, r, nodes, r->n_rect, 1, &count) && count == 0)
             return 0;
     }
     return 1;
@@ -515,12 +591,12 @@ static int none_below(Contour *c, const Rules *r, double right, int first, int l
 static int first_change(Contour *c, const double *p, Py_ssize_t n, double *lo, double *hi,
                         double complex *known)
 {
-    double complex f0, f, s, before = 0.0;
-    if (schur_logdet(c->diag, c->lower, c->upper, c->K, 0.0, &f0, &s))
+    double complex f0, f, before = 0.0;
+    if (schur_logdet(c->diag, c->lower, c->upper, c->K, c->scalar, 0.0, &f0, NULL))
         return 1;
     double previous = 0.0;
     for (Py_ssize_t j = 0; j < n; j++) {
-        if (schur_logdet(c->diag, c->lower, c->upper, c->K, p[j], &f, &s))
+        if (schur_logdet(c->diag, c->lower, c->upper, c->K, c->scalar, p[j], &f, NULL))
             return 1;
         double cosine = cos(cimag(f - f0));
         double sign = cosine > 0 ? 1.0 : (cosine < 0 ? -1.0 : 0.0);
@@ -603,7 +679,7 @@ static int smallest_root(Contour *c, const Rules *r, double hint_z, double *z)
         nodes[i] = CMPLX(x + rho * creal(r->unit[i]), rho * cimag(r->unit[i]));
     nodes[r->n_unit - 1] = CMPLX(x - rho, 0.0);
     long count;
-    if (count_zeros(c, r, nodes, r->n_unit, &count) || count != 1)
+    if (count_zeros(c, r, nodes, r->n_unit, 0, &count) || count != 1)
         return 1;
     *z = x;
     return 0;
@@ -684,10 +760,11 @@ static PyObject *py_logdet(PyObject *self, PyObject *const *args, Py_ssize_t nar
     int status = 0;
     Py_BEGIN_ALLOW_THREADS
     const double complex *z = (const double complex *)v[3].buf;
+    const double complex *diag = v[0].buf, *lower = v[1].buf, *upper = v[2].buf;
     double complex *out = (double complex *)v[4].buf, *slope = (double complex *)v[5].buf;
+    const int scalar = scalar_coupling(lower, upper, K);
     for (Py_ssize_t j = 0; j < n && !status; j++)
-        status = schur_logdet((const double complex *)v[0].buf, (const double complex *)v[1].buf,
-                              (const double complex *)v[2].buf, K, z[j], out + j, slope + j);
+        status = schur_logdet(diag, lower, upper, K, scalar, z[j], out + j, slope + j);
     Py_END_ALLOW_THREADS
     release(v, 6);
     return PyLong_FromLong(status);

@@ -32,9 +32,12 @@ counts the zeros of g (real or not) inside
 
 which proves that no real tau lies below tau* = sqrt(z*) and no other one up to
 sqrt(z* + rho / 2): ``complete_to``. Without a sign change near the hint the rectangle of the
-widest strip runs to tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real
+first strip runs to tau_max^2 (1 + 1e-6) first; holding no zero, it proves that no real
 tau <= tau_max exists; holding some, the grid looks for the sign change, and only where it
-finds none are the thinner strips counted (none there: no real tau <= tau_max either).
+finds none are the other strips counted (none there: no real tau <= tau_max either).
+Where only whether a count is zero matters (every rectangle), the kernel reads g at the
+rectangle's two real ends first: of opposite signs there, g has an odd count inside, so not
+zero, and the rectangle is not walked.
 The count is the winding number of g along the boundary (:func:`winding`, in the compiled
 kernel ``_schur.c``; g takes conjugate values at conjugate points, so the upper half of each
 contour is read and its phase change doubled), and must lie within 0.05 of an integer. For
@@ -168,6 +171,27 @@ same has_tau masks; 2 of the 400,000 (cell, degree, kind) answers are empty with
 marked uncertified. Issue 25's 60 s goal is met. One sphere truncation (N = 40, 60, 80, both
 kinds, summed) in the same runs: 31.3x and 29.9x QZ, at the 30x goal, not reliably above it
 (the 57x above was measured under load).
+
+Then fewer and cheaper evaluations in the kernel (issue 25; the goal is >= 30x QZ at each N
+and kind, and N = 40 was at 12-19x): STRIPS tried from 1e-4 (the 1e-2 strip, tried first
+before, holds the sphere's near-axis complex eigenvalues at 50 bpm, and its count walked
+52-142 nodes before the scan and the 1e-4 strip's 41-57 that answered: 143-242 evaluations
+per empty truncation of the bench, now 41-57); a rectangle with g of opposite signs at its
+real ends not walked (its count is odd); the real-axis points of the hint, the scan and the
+root's brackets evaluated without the derivative (a third of a point); the log det compiled
+apart for the sphere's scalar coupling and for the value alone (~10 % less per point).
+Every answer bitwise equal to the main branch's kernel on the recorded calls of 8 full lines
+of the 200 x 200 map (sigma indices 0, 2, 50, 100, 101, 150, 198, 199; 32,332 truncations)
+and on the bench truncations. On lines 2, 101, 198 (12,128 truncations): 20.2 evaluations
+per truncation -> 15.6 with the derivative and 3.7 without; the kernel's CPU time on their
+calls, replayed alternately with main's kernel at load ~5: 0.79-0.90 s -> 0.61-0.63 s.
+``validation/bench_fig613.py``'s truncation rows (CPU time, best of 7, main's kernel and this
+one alternately in one process, load 4.5-6.5, three rounds): the sphere's lowest ratio (N = 40
+subharmonic) 11.7-14.2x -> 36.7-38.1x, N = 40 harmonic 20-22x -> 47-86x, N = 60 29x ->
+70-136x, N = 80 39-50x -> 167-278x. The fibre's lowest, N = 40 subharmonic: 49 evaluations
+-> 28 with the derivative and 7 without, 0.375 -> 0.251 ms per truncation_taus call (CPU,
+best of 15 rounds of 20 calls, the two kernels alternately; its QZ time varies too much under
+load for the row's ratio, 26-40x -> 30-65x over those rounds, to show it).
 """
 
 from __future__ import annotations
@@ -184,8 +208,14 @@ from . import _schur
 from .half_product import free_radius
 
 #: Half-heights (and left margins) of the counting rectangle, relative to tau_max^2, tried in
-#: turn until one holds no zero (:func:`_zeros_below`).
-STRIPS = (1e-2, 1e-4, 1e-6)
+#: turn until one holds no zero (:func:`_zeros_below`). A thinner rectangle lies inside a wider
+#: one, so it holds no more zeros: 1e-4 first, 1e-6 where that holds some (complex eigenvalues
+#: between the two), 1e-2 last, for a count of the others that failed. Issue 25: the 1e-2 strip
+#: first (as before) holds the viscous sphere's complex eigenvalues near the axis at low beat
+#: rates and its count walks 50-140 nodes there (Fig 6.13 at 50 bpm, m = 6, N = 40..80) against
+#: 40-60 for the 1e-4 strip's zero count; on 3 lines of the map the 1e-4 strip's counts take
+#: no more nodes than the 1e-2 strip's (11.6 against 11.9 per empty truncation).
+STRIPS = (1e-4, 1e-6, 1e-2)
 #: Radius of the disk around z* that must hold z* alone, relative to z*.
 DISK = 1e-3
 #: Nodes per contour before giving up (dense path instead).
@@ -200,7 +230,7 @@ MAX_BLOCK_NODES = 250
 #: eigenvalues within 1 % of the axis (86 at the gerbil, 116.9 Hz, sigma = 1.16e9, M = 32,
 #: N = 141), whose count in the 1e-2 strip took 1300 nodes against 210 for the zero count in
 #: the 1e-4 one (both around the closed rectangle; the upper half takes about half).
-BLOCK_STRIPS = STRIPS[1:]
+BLOCK_STRIPS = (1e-4, 1e-6)
 #: Blocks of fewer rows are inverted, not solved, in :func:`block_log_det`.
 INVERSE_BELOW = 128
 #: Largest mismatch (radians) between the phase change read between neighbouring nodes and
@@ -414,7 +444,7 @@ def _zeros_below(log_g: LogDet, right: float, z_max: float,
                  strips: tuple[float, ...] | None = None) -> int | None:
     """Zeros of g in the rectangle [-a, right] x [-a, a], a = s z_max for the first s of
     ``strips`` (by default STRIPS, BLOCK_STRIPS for blocks larger than 2 x 2) that finds none
-    (else the count in the thinnest; None if a count fails): complex eigenvalues close to the
+    (else the count in the last; None if a count fails): complex eigenvalues close to the
     real axis are left outside a thinner strip."""
     if strips is None:
         strips = STRIPS if log_g.compiled else BLOCK_STRIPS
@@ -489,8 +519,8 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
     Blocks of 2 x 2 only; larger ones have the count alone, :func:`none_up_to`.
 
     The steps run in the compiled kernel (``_schur.smallest``), one call per truncation: the
-    sign change near ``hint`` squared (HINT_STEPS), else the widest strip's count and the
-    real-axis scan (SCAN_POINTS), then the thinner strips; the root by safeguarded Newton to
+    sign change near ``hint`` squared (HINT_STEPS), else the first strip's count and the
+    real-axis scan (SCAN_POINTS), then the other strips; the root by safeguarded Newton to
     1e-13 and again inside its dyadic cell of width 2^-30 |z| (so that the answer does not
     depend on the hint); the counts of :func:`rectangle` (STRIPS) below z* - rho / 2 and of
     :func:`circle` around z*, each as :func:`winding` takes them. Called from Python, these

@@ -790,7 +790,7 @@ def empty_not_certified(kind: str, n_prev: int, n: int, tau_max: float) -> Conve
     return ConvergenceError(
         f"{kind}: no marginal tau <= tau_max={tau_max:g} at n_temporal={n_prev} and {n}, but "
         "the zero count cannot prove that none exists (an eigenvalue within "
-        f"{STRIPS[-1]:g} tau_max^2 of the real axis, or the count's node budget): the "
+        f"{min(STRIPS):g} tau_max^2 of the real axis, or the count's node budget): the "
         "truncations' near-axis complex eigenvalues could hide one; give a smaller or larger "
         "tau_max=, or fix n_temporal= to get the values with what is proved (complete_to)")
 
