@@ -72,8 +72,9 @@ tau lies below the cap the count would walk ~95 nodes to find it (cochlea, M = 6
 instead, as g(0) = 1 and g is real on the axis, g < 0 at the rectangles' right corner shows an
 odd number of real zeros inside at the cost of one evaluation (:func:`_odd_below`), and the
 proof is declined there (every correct count would be nonzero). An even number (a close pair)
-is left to the count, which can miss a pair under one segment of a thin strip: see
-tests/test_contour_blocks.py::test_count_misses_close_real_pair (known, not fixed).
+is left to the count, whose walk checks log |g| against its prediction as well as the phase:
+with the phase alone, a pair under one segment of a thin strip went unseen (2 pi modulo 2 pi;
+tests/test_contour_blocks.py::test_count_sees_close_real_pair, found in session 22).
 A node's block sweep (:func:`block_log_det`) inverts blocks below M = 128 from their LU
 instead of solving with them (OpenBLAS's triangular solves are slow per flop there), and on the
 cochlea's chained couplings (one matrix C: lower C, upper -C) takes the derivative recursion
@@ -233,8 +234,9 @@ MAX_BLOCK_NODES = 250
 BLOCK_STRIPS = (1e-4, 1e-6)
 #: Blocks of fewer rows are inverted, not solved, in :func:`block_log_det`.
 INVERSE_BELOW = 128
-#: Largest mismatch (radians) between the phase change read between neighbouring nodes and
-#: the one predicted from g'/g, and largest change of dz g'/g along an edge (:func:`winding`).
+#: Largest mismatch between the change of log g read between neighbouring nodes and the one
+#: predicted from g'/g, in the phase (radians) and in log |g|, and largest change of dz g'/g
+#: along an edge (:func:`winding`).
 MAX_TURN = math.pi / 4
 MAX_BEND = 1.0
 #: Relative offsets of the bracket tried around a hint, innermost first.
@@ -389,7 +391,9 @@ def winding(log_g: LogDet, path: np.ndarray) -> int | None:
     trapezoid rule on g'/g, Im (dz (g'/g(z_0) + g'/g(z_1)) / 2), and read modulo 2 pi from the
     two values of log g; a segment is bisected until dz g'/g changes along it by at most
     MAX_BEND (the prediction then errs by much less than pi) and the reading agrees with the
-    prediction within MAX_TURN, which fixes the multiple of 2 pi. A zero close to an edge makes
+    prediction within MAX_TURN, which fixes the multiple of 2 pi, and so does the change of
+    log |g| with the trapezoid's real part (a pair of zeros under one segment turns the phase
+    by 2 pi, which the reading cannot see, but not log |g|). A zero close to an edge makes
     g'/g vary there like 1/distance and forces the nodes closer (a zero pair between two far
     nodes would otherwise turn the phase by 2 pi unseen); the many far-away zeros, which make
     |g'/g| large but smooth, do not."""
