@@ -628,12 +628,19 @@ class TruncationSchedule:
         """The schedule of ``system`` up to ``n_max``."""
         return cls(min(math.ceil(system.n_resonant) + FIRST_MARGIN, coarser(n_max)), n_max)
 
-    def sequence(self) -> list[int]:
+    def sequence(self) -> tuple[int, ...]:
         """x_0 < x_1 < ... <= n_max."""
-        out = [self.first]
-        while out[-1] < self.n_max:
-            out.append(min(finer(out[-1]), self.n_max))
-        return out
+        return _schedule(self.first, self.n_max)
+
+
+@functools.lru_cache(maxsize=1024)
+def _schedule(first: int, n_max: int) -> tuple[int, ...]:
+    """:meth:`TruncationSchedule.sequence`, kept per (first, n_max): a sweep's continuation
+    reads it at every point and kind."""
+    out = [first]
+    while out[-1] < n_max:
+        out.append(min(finer(out[-1]), n_max))
+    return tuple(out)
 
 
 def _matched(tau: np.ndarray, previous: np.ndarray, tol: float) -> np.ndarray:
