@@ -168,7 +168,8 @@ def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real",
     if form == "two-sided":
         s_k = truncation_frequencies(kind, n_temporal, two_sided=True)
         diag = np.asarray(system.unforced(s_k + shift if shift != 0 else s_k), dtype=complex)
-        lower = np.full((len(s_k) - 1, b, b), 1j * G)
+        lower = np.empty((len(s_k) - 1, b, b), dtype=complex)
+        lower[...] = 1j * G
         upper = -lower
     else:
         D = np.asarray(system.unforced(truncation_frequencies(kind, n_temporal, two_sided=False)),

@@ -25,6 +25,7 @@ X'' + lambda0^2 (1 + 2 tau sin t) X = 0 with lambda0^2 = kappa m(m+1)(m-1)(m+2)/
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 
@@ -62,6 +63,9 @@ FLUID_STEP = 16
 FLUID_TOP = 512
 #: The offsets gamma of the two kinds' frequencies (harmonic, subharmonic), one table each.
 FLUID_GAMMAS = (0.0, 0.5)
+#: The 2 x 2 identity of the poloidal forcing G = q I (read-only).
+IDENTITY = np.eye(2)
+IDENTITY.setflags(write=False)
 
 
 def poloidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:
@@ -157,9 +161,9 @@ def hill_system(*, m: int, kappa: float, nu: float, component: str = "poloidal")
     if component == "toroidal":
         return HillSystem(name="sphere", block_size=1, forcing=np.array([[q]]),
                           unforced=lambda s: toroidal_unforced(s, m=m, kappa=kappa, nu=nu))
-    return HillSystem(name="sphere", block_size=2, forcing=q * np.eye(2),
+    return HillSystem(name="sphere", block_size=2, forcing=q * IDENTITY,
                       unforced=lambda s: poloidal_unforced(s, m=m, kappa=kappa, nu=nu),
-                      n_resonant=float(np.sqrt(lam2)))
+                      n_resonant=math.sqrt(lam2))
 
 
 def _hill_system(p: SphereParams) -> HillSystem:

@@ -626,11 +626,18 @@ class TruncationSchedule:
     @classmethod
     def of(cls, system: HillSystem, n_max: int = N_MAX) -> TruncationSchedule:
         """The schedule of ``system`` up to ``n_max``."""
-        return cls(min(math.ceil(system.n_resonant) + FIRST_MARGIN, coarser(n_max)), n_max)
+        return _schedule_of(cls, math.ceil(system.n_resonant), n_max)
 
     def sequence(self) -> tuple[int, ...]:
         """x_0 < x_1 < ... <= n_max."""
         return _schedule(self.first, self.n_max)
+
+
+@functools.lru_cache(maxsize=1024)
+def _schedule_of(cls: type, resonant: int, n_max: int) -> TruncationSchedule:
+    """:meth:`TruncationSchedule.of` a system whose resonant index rounds up to ``resonant``,
+    kept (the schedules are few, and a sweep asks at every point and kind)."""
+    return cls(min(resonant + FIRST_MARGIN, coarser(n_max)), n_max)
 
 
 @functools.lru_cache(maxsize=1024)
