@@ -25,7 +25,6 @@ X'' + lambda0^2 (1 + 2 tau sin t) X = 0 with lambda0^2 = kappa m(m+1)(m-1)(m+2)/
 from __future__ import annotations
 
 import functools
-import math
 
 import numpy as np
 
@@ -163,7 +162,7 @@ def hill_system(*, m: int, kappa: float, nu: float, component: str = "poloidal")
                           unforced=lambda s: toroidal_unforced(s, m=m, kappa=kappa, nu=nu))
     return HillSystem(name="sphere", block_size=2, forcing=q * IDENTITY,
                       unforced=lambda s: poloidal_unforced(s, m=m, kappa=kappa, nu=nu),
-                      n_resonant=math.sqrt(lam2))
+                      n_resonant=float(np.sqrt(lam2)))
 
 
 def _hill_system(p: SphereParams) -> HillSystem:
