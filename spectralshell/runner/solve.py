@@ -420,8 +420,9 @@ def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
                     hint = hints[kind] if continuing else None
                     sol = solve_kind(system, kind, spec.options, hint, tau_hints[kind])
                     hints[kind] = (sol.n_previous, sol.n_temporal) if sol.has_tau else None
+                    # a fallback: continuation was tried (it had a start) and not accepted
                     fallbacks += (not sol.continued
-                                  and continuation_start(system, hint) is not None)  # tried
+                                  and continuation_start(system, hint) is not None)
                     if spec.spatial:
                         sol = dataclasses.replace(sol, n_spatial=_fixed_modes(params))
                 if spec.options.continuation:
