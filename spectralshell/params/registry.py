@@ -306,7 +306,7 @@ def make_params(model: str, values: dict[str, Any]):
     """
     cls = get_model(model).params
     names = _field_names(cls)
-    unknown = sorted(set(values) - set(names))
+    unknown = sorted(set(values).difference(names))
     if unknown:
         raise ParameterError(f"{unknown[0]} is not a parameter of model {model!r}: "
                              f"expected {', '.join(names)}")

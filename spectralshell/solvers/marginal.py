@@ -676,6 +676,8 @@ def unconfirmed(tau: np.ndarray, prev: np.ndarray, tol: float, tau_max: float) -
     second tau is 0.7602 at N = 12 and 0.75999 from N = 17 on, while tau_min = 0.605133 settles
     at N = 15)."""
     out = np.inf
+    if not tau.size and not prev.size:  # most of a map's truncation pairs (issue 25)
+        return out
     for a, b in ((_capped(tau, tau_max), prev), (_capped(prev, tau_max), tau)):
         if not a.size:
             continue
