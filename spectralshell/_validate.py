@@ -60,44 +60,49 @@ def _real(name: str, value: object, allowed: str) -> float:
     return v + 0.0  # -0.0 becomes 0.0
 
 
+#: The allowed ranges of :func:`require_real`, :func:`require_nonnegative` and
+#: :func:`require_positive` as their messages state them (formatted once: a sweep validates
+#: the parameters of every point).
+REAL_ALLOWED = f"a finite real number, 0 or of magnitude in [{REAL_MIN:g}, {REAL_MAX:g}]"
+NONNEGATIVE_ALLOWED = f"a finite real number >= 0: 0 or in [{REAL_MIN:g}, {REAL_MAX:g}]"
+POSITIVE_ALLOWED = f"a finite real number > 0, in [{REAL_MIN:g}, {REAL_MAX:g}]"
+
+
 def require_real(name: str, value: object) -> float:
     """Return ``value`` as a float of magnitude 0 or in [REAL_MIN, REAL_MAX]."""
-    return _real(name, value, f"a finite real number, 0 or of magnitude in [{REAL_MIN:g}, "
-                              f"{REAL_MAX:g}]")
+    return _real(name, value, REAL_ALLOWED)
 
 
 def require_nonnegative(name: str, value: object) -> float:
     """Return ``value`` as a float, 0 or in [REAL_MIN, REAL_MAX]."""
-    allowed = f"a finite real number >= 0: 0 or in [{REAL_MIN:g}, {REAL_MAX:g}]"
-    v = _real(name, value, allowed)
+    v = _real(name, value, NONNEGATIVE_ALLOWED)
     if v < 0:
-        raise invalid(name, value, allowed)
+        raise invalid(name, value, NONNEGATIVE_ALLOWED)
     return v
 
 
 def require_positive(name: str, value: object) -> float:
     """Return ``value`` as a float in [REAL_MIN, REAL_MAX]."""
-    allowed = f"a finite real number > 0, in [{REAL_MIN:g}, {REAL_MAX:g}]"
-    v = _real(name, value, allowed)
+    v = _real(name, value, POSITIVE_ALLOWED)
     if v <= 0:
-        raise invalid(name, value, allowed)
+        raise invalid(name, value, POSITIVE_ALLOWED)
     return v
 
 
 def require_int_in_range(name: str, value: object, lo: int, hi: int | None = None) -> int:
     """Return ``value`` (an integer, or an integral float; no str, no bool) as an int with
     ``lo <= value <= hi`` (``hi=None``: no upper bound)."""
-    allowed = f"an integer >= {lo}" if hi is None else f"an integer in [{lo}, {hi}]"
     if isinstance(value, bool):
-        raise invalid(name, value, allowed)
-    if type(value) is int or isinstance(value, numbers.Integral):
+        v = None
+    elif type(value) is int or isinstance(value, numbers.Integral):
         v = int(value)
     elif isinstance(value, numbers.Real) and float(value).is_integer():
         v = int(value)
     else:
-        raise invalid(name, value, allowed)
-    if v < lo or (hi is not None and v > hi):
-        raise invalid(name, value, allowed)
+        v = None
+    if v is None or v < lo or (hi is not None and v > hi):
+        raise invalid(name, value, f"an integer >= {lo}" if hi is None else
+                      f"an integer in [{lo}, {hi}]")
     return v
 
 

@@ -18,6 +18,8 @@ Fourier indices of a truncation at N:
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .._validate import require_choice
@@ -51,3 +53,19 @@ def real_indices(n_temporal: int) -> np.ndarray:
 def frequencies(kind: str, indices: np.ndarray) -> np.ndarray:
     """Complex frequencies s_k = gamma + i k of the Fourier components."""
     return 1j * (GAMMA[check_kind(kind)] + np.asarray(indices, dtype=float))
+
+
+def truncation_frequencies(kind: str, n_temporal: int, two_sided: bool) -> np.ndarray:
+    """The frequencies s_k of a truncation's Fourier indices, :func:`frequencies` of
+    :func:`two_sided_indices` (``two_sided``) or of :func:`real_indices`: a new array, copied
+    from one kept per (kind, N, form), since a map's sweep assembles the same few truncations
+    at every point (issue 25)."""
+    return _kept_frequencies(check_kind(kind), int(n_temporal), bool(two_sided)).copy()
+
+
+@functools.lru_cache(maxsize=1024)
+def _kept_frequencies(kind: str, n_temporal: int, two_sided: bool) -> np.ndarray:
+    indices = two_sided_indices(kind, n_temporal) if two_sided else real_indices(n_temporal)
+    out = frequencies(kind, indices)
+    out.setflags(write=False)
+    return out

@@ -33,7 +33,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..models.base import HillSystem
-from .fourier import check_kind, frequencies, real_indices, two_sided_indices
+from .fourier import check_kind, truncation_frequencies
 
 FORMS = ("real", "two-sided")
 
@@ -166,14 +166,14 @@ def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real",
     G = np.asarray(system.forcing, dtype=float)
     self_coupling = None
     if form == "two-sided":
-        k = two_sided_indices(kind, n_temporal)
-        s_k = frequencies(kind, k)
+        s_k = truncation_frequencies(kind, n_temporal, two_sided=True)
         diag = np.asarray(system.unforced(s_k + shift if shift != 0 else s_k), dtype=complex)
-        lower = np.full((len(k) - 1, b, b), 1j * G)
+        lower = np.empty((len(s_k) - 1, b, b), dtype=complex)
+        lower[...] = 1j * G
         upper = -lower
     else:
-        n = real_indices(n_temporal)
-        D = np.asarray(system.unforced(frequencies(kind, n)), dtype=complex)
+        D = np.asarray(system.unforced(truncation_frequencies(kind, n_temporal, two_sided=False)),
+                       dtype=complex)
         JG = _rotation_kron(G)
         diag = realify(D)
         lower = np.broadcast_to(JG, (n_temporal, 2 * b, 2 * b))

@@ -62,6 +62,9 @@ FLUID_STEP = 16
 FLUID_TOP = 512
 #: The offsets gamma of the two kinds' frequencies (harmonic, subharmonic), one table each.
 FLUID_GAMMAS = (0.0, 0.5)
+#: The 2 x 2 identity of the poloidal forcing G = q I (read-only).
+IDENTITY = np.eye(2)
+IDENTITY.setflags(write=False)
 
 
 def poloidal_unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:
@@ -157,7 +160,7 @@ def hill_system(*, m: int, kappa: float, nu: float, component: str = "poloidal")
     if component == "toroidal":
         return HillSystem(name="sphere", block_size=1, forcing=np.array([[q]]),
                           unforced=lambda s: toroidal_unforced(s, m=m, kappa=kappa, nu=nu))
-    return HillSystem(name="sphere", block_size=2, forcing=q * np.eye(2),
+    return HillSystem(name="sphere", block_size=2, forcing=q * IDENTITY,
                       unforced=lambda s: poloidal_unforced(s, m=m, kappa=kappa, nu=nu),
                       n_resonant=float(np.sqrt(lam2)))
 

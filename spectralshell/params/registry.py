@@ -263,7 +263,7 @@ def parameters_doc() -> str:
 
 def param_names(model: str) -> tuple[str, ...]:
     """Names of the parameters of ``model``."""
-    return tuple(f.name for f in param_fields(model))
+    return _field_names(get_model(model).params)
 
 
 def int_bounds(model: str, name: str) -> tuple[int, int | None]:
@@ -283,6 +283,13 @@ def physical_values(model: str, values: dict[str, Any]) -> tuple[dict[str, Any],
 
 
 @functools.cache
+def _field_names(cls: type) -> tuple[str, ...]:
+    """The field names of a parameter class, in order (read once per class, as
+    :func:`_required_fields`)."""
+    return tuple(f.name for f in dataclasses.fields(cls))
+
+
+@functools.cache
 def _required_fields(cls: type) -> tuple[dataclasses.Field, ...]:
     """The fields of a parameter class without a default, in order (read once per class: a
     sweep makes the parameters of every point)."""
@@ -298,8 +305,8 @@ def make_params(model: str, values: dict[str, Any]):
     ParameterError : unknown model, unknown or missing parameter, or a value out of range.
     """
     cls = get_model(model).params
-    names = param_names(model)
-    unknown = sorted(set(values) - set(names))
+    names = _field_names(cls)
+    unknown = sorted(set(values).difference(names))
     if unknown:
         raise ParameterError(f"{unknown[0]} is not a parameter of model {model!r}: "
                              f"expected {', '.join(names)}")

@@ -89,8 +89,11 @@ def chunk_points(spec: SweepSpec, chunk: Chunk) -> Iterator[tuple[int, dict[str,
 
 def block_index(spec: SweepSpec, j: int, kind_position: int) -> tuple[int, ...]:
     """Index in the chunk's block of point j along the line and kind number ``kind_position``."""
-    return tuple(kind_position if a.name == "kind" else j if i == spec.line_axis else 0
-                 for i, a in enumerate(spec.axes))
+    at = [0] * len(spec.axes)
+    if spec.line_axis is not None:
+        at[spec.line_axis] = j
+    at[spec.dims.index("kind")] = kind_position
+    return tuple(at)
 
 
 def chunk_key(spec: SweepSpec, chunk: Chunk) -> str:

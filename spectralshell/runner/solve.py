@@ -57,6 +57,7 @@ kind resolved only below it, up to M = 1024), starting with the neighbour's mini
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
 import functools
 import math
@@ -193,7 +194,7 @@ def continuation_start(system: HillSystem, hint: tuple[int, int] | None) -> int 
     if hint is None:
         return None
     seq = TruncationSchedule.of(system).sequence()
-    k = int(np.searchsorted(seq, hint[0], side="right")) - 1  # largest x_k <= hint[0]
+    k = bisect.bisect_right(seq, hint[0]) - 1  # largest x_k <= hint[0]
     return k - 1 if k >= 3 else None
 
 
@@ -376,6 +377,7 @@ def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
     shape = block_shape(spec, chunk)
     names = variables(spec)
     arrays = {name: np.zeros(shape, dtype=dtype) for name, dtype in names.items()}
+    stored = tuple(name for name in names if name != "complete_to")  # complete_to: capped
     point_seconds = np.zeros(shape)
     hints: dict[str, tuple[int, int] | None] = {k: None for k in spec.kinds}
     spatial_hints: dict[str, int | None] = {k: None for k in spec.kinds}
@@ -416,20 +418,20 @@ def solve_chunk(spec: SweepSpec, chunk: Chunk) -> ChunkResult:
                     spatial_hints[kind] = sol.n_spatial_previous
                 else:
                     hint = hints[kind] if continuing else None
-                    tried = continuation_start(system, hint) is not None
                     sol = solve_kind(system, kind, spec.options, hint, tau_hints[kind])
                     hints[kind] = (sol.n_previous, sol.n_temporal) if sol.has_tau else None
-                    fallbacks += tried and not sol.continued
+                    # a fallback: continuation was tried (it had a start) and not accepted
+                    fallbacks += (not sol.continued
+                                  and continuation_start(system, hint) is not None)
                     if spec.spatial:
                         sol = dataclasses.replace(sol, n_spatial=_fixed_modes(params))
                 if spec.options.continuation:
                     tau_hints[kind] = sol.tau_min if sol.has_tau else None
                 continued += sol.continued
                 at = block_index(spec, j, q)
-                sol = dataclasses.replace(sol, complete_to=min(sol.complete_to,
-                                                               spec.options.tau_max))
-                for name in names:
+                for name in stored:
                     arrays[name][at] = getattr(sol, name)
+                arrays["complete_to"][at] = min(sol.complete_to, spec.options.tau_max)
                 # the joint solve's time is booked on the first kind (a cell sums its kinds)
                 point_seconds[at] = (time.perf_counter() - started if joint is None else
                                      joint_seconds if q == 0 else 0.0)

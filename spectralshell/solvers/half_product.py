@@ -271,8 +271,9 @@ def well_conditioned(hill: HillMatrices) -> bool:
     ||adj A_k||_1 / |det A_k| in closed form (the contour path needs the answer only)."""
     if hill.diag.shape[1] != 2 or hill.self_coupling is not None:
         return block_inverses(hill) is not None
-    cond, coupled = _schur.conditioning(*(np.ascontiguousarray(x, dtype=complex)
-                                          for x in (hill.diag, hill.lower, hill.upper)))
+    cond, coupled = _schur.conditioning(np.ascontiguousarray(hill.diag, dtype=complex),
+                                        np.ascontiguousarray(hill.lower, dtype=complex),
+                                        np.ascontiguousarray(hill.upper, dtype=complex))
     return cond <= COND_LIMIT and coupled <= COND_LIMIT  # NaN: False
 
 

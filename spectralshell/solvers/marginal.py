@@ -626,14 +626,28 @@ class TruncationSchedule:
     @classmethod
     def of(cls, system: HillSystem, n_max: int = N_MAX) -> TruncationSchedule:
         """The schedule of ``system`` up to ``n_max``."""
-        return cls(min(math.ceil(system.n_resonant) + FIRST_MARGIN, coarser(n_max)), n_max)
+        return _schedule_of(cls, math.ceil(system.n_resonant), n_max)
 
-    def sequence(self) -> list[int]:
+    def sequence(self) -> tuple[int, ...]:
         """x_0 < x_1 < ... <= n_max."""
-        out = [self.first]
-        while out[-1] < self.n_max:
-            out.append(min(finer(out[-1]), self.n_max))
-        return out
+        return _schedule(self.first, self.n_max)
+
+
+@functools.lru_cache(maxsize=1024)
+def _schedule_of(cls: type, resonant: int, n_max: int) -> TruncationSchedule:
+    """:meth:`TruncationSchedule.of` a system whose resonant index rounds up to ``resonant``,
+    kept (the schedules are few, and a sweep asks at every point and kind)."""
+    return cls(min(resonant + FIRST_MARGIN, coarser(n_max)), n_max)
+
+
+@functools.lru_cache(maxsize=1024)
+def _schedule(first: int, n_max: int) -> tuple[int, ...]:
+    """:meth:`TruncationSchedule.sequence`, kept per (first, n_max): a sweep's continuation
+    reads it at every point and kind."""
+    out = [first]
+    while out[-1] < n_max:
+        out.append(min(finer(out[-1]), n_max))
+    return tuple(out)
 
 
 def _matched(tau: np.ndarray, previous: np.ndarray, tol: float) -> np.ndarray:
@@ -662,6 +676,8 @@ def unconfirmed(tau: np.ndarray, prev: np.ndarray, tol: float, tau_max: float) -
     second tau is 0.7602 at N = 12 and 0.75999 from N = 17 on, while tau_min = 0.605133 settles
     at N = 15)."""
     out = np.inf
+    if not tau.size and not prev.size:  # most of a map's truncation pairs (issue 25)
+        return out
     for a, b in ((_capped(tau, tau_max), prev), (_capped(prev, tau_max), tau)):
         if not a.size:
             continue
