@@ -37,7 +37,7 @@ truncation:
   |tau| below the wanted ones) or A is ill conditioned, the truncation is solved by the dense
   path instead, and the Arnoldi work is lost.
   The run gives up past ARNOLDI_WORK_FRACTION (= 1) of the dense solve's estimated work
-  (:func:`~spectralshell.solvers.shift_invert.dense_work`, counted in operator products):
+  (:func:`krylov_budget`, counted in operator products):
   where the wanted eigenvalues cluster ARPACK otherwise restarts up to 10 n times (on one
   Fig 5.18 point, 290 s of its 392 s; 148 s in all with the cap).
   With a finite tau_max that run is cut to one Arnoldi step (k = 8 eigenvalues of W, 16 of T),
@@ -214,7 +214,7 @@ from .contour import STRIPS, none_up_to, smallest_real_tau
 from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
                            smallest_taus, tau_from_squares, tridiagonal_half_product,
                            well_conditioned)
-from .shift_invert import Shift, dense_work, interval_taus
+from .shift_invert import Shift, interval_taus
 
 ZERO_CLUSTER = 1e-6
 N_MAX = 400
@@ -241,8 +241,12 @@ COUNT_MIN_N = 60
 #: about the same.
 BLOCK_KRYLOV_MIN_ORDER = 250
 #: The smallest-|tau| Arnoldi run of a truncation gives up past this fraction of the estimated
-#: cost of its dense solve (:func:`~spectralshell.solvers.shift_invert.dense_work`).
+#: cost of its dense solve (:func:`krylov_budget`).
 ARNOLDI_WORK_FRACTION = 1.0
+#: :func:`krylov_budget`'s model: a product costs K (s0^2 + s^2), s0 = KRYLOV_BLOCK_OVERHEAD,
+#: dense eig K^2 s^3 / KRYLOV_DENSE_RATE of them.
+KRYLOV_BLOCK_OVERHEAD = 137.0
+KRYLOV_DENSE_RATE = 7.6
 EPS = np.finfo(float).eps
 #: A non-real eigenvalue certifies "no real tau here" once its distance from the real axis is
 #: SEPARATION x its change between two truncations (:func:`certified_bound`); measured: 1e3..1e13
@@ -504,6 +508,20 @@ class Pencils:
         return hill
 
 
+def krylov_budget(hill: HillMatrices) -> float:
+    """Operator products the smallest-|tau| Arnoldi run of this truncation may spend:
+    ARNOLDI_WORK_FRACTION of the estimated cost of dense eig of W, counted in products that
+    cost K (s0^2 + s^2) (s0 = KRYLOV_BLOCK_OVERHEAD, a per-block overhead), i.e.
+    K^2 s^3 / (KRYLOV_DENSE_RATE (s^2 + s0^2)) for a bipartite real-form pencil, 2.5 times that
+    otherwise. This is the shift-invert cover's model before its solves were compiled (issue
+    25; fitted then to timings with one BLAS thread for s = 4..256 within a factor ~1.5): the
+    run's own products (numpy block products with the inverses of A) were not measured again,
+    so its budget is unchanged."""
+    K, s, _ = hill.diag.shape
+    cost = K * K * s**3 / (KRYLOV_DENSE_RATE * (s * s + KRYLOV_BLOCK_OVERHEAD**2))
+    return ARNOLDI_WORK_FRACTION * cost * (1.0 if hill.bipartite and hill.is_real else 2.5)
+
+
 def krylov_form(kind: str, block_size: int) -> str:
     """The form the Arnoldi run of ``method = "krylov"`` works on: the real one (real
     arithmetic, exactly real tau), except for the subharmonic kind of blocks larger than 2 x 2,
@@ -569,7 +587,7 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
         bounded = bool(np.isfinite(tau_max))
         found = None if inv is None else smallest_taus(
             hill, tau_max=tau_max, inverses=inv, max_rounds=1 if bounded else None,
-            max_products=ARNOLDI_WORK_FRACTION * dense_work(hill))
+            max_products=krylov_budget(hill))
         if found is not None and (found.tau.size or found.complete_to >= tau_max):
             return Truncation(tau=found.tau, method="krylov", complete_to=found.complete_to)
         if bounded and inv is not None:
