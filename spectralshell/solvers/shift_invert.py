@@ -84,7 +84,9 @@ dense eig K^2 s^3 / 7.6. Measured since on the cell above (unlimited cover again
 of the same truncation, CPU time), the cover takes 0.55-0.2 of the dense time for the
 subharmonic kind at s = 32 and the harmonic at s = 64, where that model gave up and sent it
 to dense eig (it charged dense eig 2-5x too little there), and about as long as dense for the
-harmonic kind at s = 32, where both models give up.
+harmonic kind at s = 32, where both models give up. Outside the fit, at s = 4 (the sphere,
+m = 6, N = 150 and 300, both kinds, one disk each) the cover took 0.06-1.2 of the dense time;
+the model before gave up there at once (its limit below one disk), this one covers.
 
 A real tau found by two overlapping disks is reported once: real tau within MERGE_RTOL of each
 other form a cluster, counted with the largest multiplicity any single disk found in it, with
