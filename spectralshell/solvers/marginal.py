@@ -149,11 +149,11 @@ The shift-invert cover's work model, refitted to the compiled solves
 now the cheaper path to it instead of dense eig: on the crowded cell the subharmonic kind at
 M = 16 and the harmonic at M = 32 (dense eig 6.9 -> 0.6 s of the cell's CPU; the Krylov run's
 budget, :func:`krylov_budget`, is unchanged). Measured (each cell alone in its own process as
-validation/bench_sweep.py solves it, one BLAS thread, CPU time, the two codes alternately, 2
-cores under a load of 2-5): the crowded cell's work besides the zero counts 25.1 and 28.3 s
-before, 21.3 and 24.4 s after (whole cell 55.6, 61.2 -> 51.0, 55.5 s); gerbil 175.4 Hz,
-sigma = 1.69e9 4.2 and 4.7 -> 2.7 and 3.6 s; the 20 cells in all 123.1 and 110.1 s before,
-116.9 and 113.3 s after, within the load's noise. Values: 16 of the 20 cells bitwise equal;
+validation/bench_sweep.py solves it, one BLAS thread, CPU time, the code before (47c4bd3) and
+this one alternately, 2 cores under a load of 3-5): the crowded cell 52.6, 51.7 s before,
+44.4, 51.3 s after; gerbil 175.4 Hz, sigma = 1.69e9 5.0 -> 3.5 s; the 20 cells (best of the
+crowded cell's two) 111.3 s before, 100.5 s after, the 19 others 59.6 -> 56.1 s (mostly
+within the load's noise). Values: 16 of the 20 cells bitwise equal;
 in the other four the truncations that changed path move tau_min by at most 5.6e-16 (error
 estimates 1.6e-15), each within 3.4e-15 of dense eig at its (M, N), the same n_temporal,
 n_spatial and has_tau.
