@@ -278,7 +278,8 @@ def test_arnoldi_runs_stop_at_their_product_budget(monkeypatch):
     """ARPACK's restarts are capped from the budget (half_product.arpack_restarts): the
     smallest-|tau| run (max_products) and each shift-invert disk (the cover's work_limit) give
     up (None) within their budget where, uncapped, they apply the operator more often (a disk
-    ran to its end before the work was checked: 131 products against a limit of 120)."""
+    ran to its end before the work was checked: 131 products against a limit of 120); a
+    disk's products count with Arnoldi's own work (shift_invert.cover_costs)."""
     from spectralshell.solvers import half_product
 
     hill = assemble(low_omega_cochlea(16), "subharmonic", 10, "real")
@@ -296,5 +297,8 @@ def test_arnoldi_runs_stop_at_their_product_budget(monkeypatch):
     b_products = _counting(shift_invert, "_b_product", monkeypatch)
     assert interval_taus(hill, 0.5, work_limit=np.inf).work > 500  # three disks, the first ~170
     b_products.clear()
-    assert interval_taus(hill, 0.5, work_limit=120.0) is None  # stopped inside the first disk
-    assert 64 <= len(b_products) <= 120
+    limit = 300.0  # the first disk's Arnoldi space (64 products) and part of a restart
+    assert interval_taus(hill, 0.5, work_limit=limit) is None  # stopped inside the first disk
+    orthogonalisation, factorisation = shift_invert.cover_costs(hill, 64)
+    # each product weighted by Arnoldi's own work; one more for the backward error's solve
+    assert 64 <= len(b_products) <= 1 + (limit - factorisation) / (1 + orthogonalisation)

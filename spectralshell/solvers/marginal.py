@@ -37,7 +37,7 @@ truncation:
   |tau| below the wanted ones) or A is ill conditioned, the truncation is solved by the dense
   path instead, and the Arnoldi work is lost.
   The run gives up past ARNOLDI_WORK_FRACTION (= 1) of the dense solve's estimated work
-  (:func:`~spectralshell.solvers.shift_invert.dense_work`, counted in operator products):
+  (:func:`krylov_budget`, counted in operator products):
   where the wanted eigenvalues cluster ARPACK otherwise restarts up to 10 n times (on one
   Fig 5.18 point, 290 s of its 392 s; 148 s in all with the cap).
   With a finite tau_max that run is cut to one Arnoldi step (k = 8 eigenvalues of W, 16 of T),
@@ -144,6 +144,19 @@ crowded cell 66.8 -> 46.0 s and, measured again, 59.0 -> 44.2 s; 59.9 Hz 7.0 -> 
 cells without covers unchanged within the load's +-30 % noise); every returned variable of
 every cell bitwise equal. After it (profiled again, under a heavier load): the counts 48 %, the
 covers 35 % (their solves 11 %, ARPACK's own work 14 %), the dense eig 12 %.
+The shift-invert cover's work model, refitted to the compiled solves
+(:mod:`~spectralshell.solvers.shift_invert`, "Cover"), sends the truncations where the cover is
+now the cheaper path to it instead of dense eig: on the crowded cell the subharmonic kind at
+M = 16 and the harmonic at M = 32 (dense eig 6.9 -> 0.6 s of the cell's CPU; the Krylov run's
+budget, :func:`krylov_budget`, is unchanged). Measured (each cell alone in its own process as
+validation/bench_sweep.py solves it, one BLAS thread, CPU time, the code before (47c4bd3) and
+this one alternately, 2 cores under a load of 3-5): the crowded cell 52.6, 51.7 s before,
+44.4, 51.3 s after; gerbil 175.4 Hz, sigma = 1.69e9 5.0 -> 3.5 s; the 20 cells (best of the
+crowded cell's two) 111.3 s before, 100.5 s after, the 19 others 59.6 -> 56.1 s (mostly
+within the load's noise). Values: 16 of the 20 cells bitwise equal;
+in the other four the truncations that changed path move tau_min by at most 5.6e-16 (error
+estimates 1.6e-15), each within 3.4e-15 of dense eig at its (M, N), the same n_temporal,
+n_spatial and has_tau.
 
 What an answer proves
 ---------------------
@@ -214,7 +227,7 @@ from .contour import STRIPS, none_up_to, smallest_real_tau
 from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
                            smallest_taus, tau_from_squares, tridiagonal_half_product,
                            well_conditioned)
-from .shift_invert import Shift, dense_work, interval_taus
+from .shift_invert import Shift, interval_taus
 
 ZERO_CLUSTER = 1e-6
 N_MAX = 400
@@ -241,8 +254,12 @@ COUNT_MIN_N = 60
 #: about the same.
 BLOCK_KRYLOV_MIN_ORDER = 250
 #: The smallest-|tau| Arnoldi run of a truncation gives up past this fraction of the estimated
-#: cost of its dense solve (:func:`~spectralshell.solvers.shift_invert.dense_work`).
+#: cost of its dense solve (:func:`krylov_budget`).
 ARNOLDI_WORK_FRACTION = 1.0
+#: :func:`krylov_budget`'s model: a product costs K (s0^2 + s^2), s0 = KRYLOV_BLOCK_OVERHEAD,
+#: dense eig K^2 s^3 / KRYLOV_DENSE_RATE of them.
+KRYLOV_BLOCK_OVERHEAD = 137.0
+KRYLOV_DENSE_RATE = 7.6
 EPS = np.finfo(float).eps
 #: A non-real eigenvalue certifies "no real tau here" once its distance from the real axis is
 #: SEPARATION x its change between two truncations (:func:`certified_bound`); measured: 1e3..1e13
@@ -504,6 +521,20 @@ class Pencils:
         return hill
 
 
+def krylov_budget(hill: HillMatrices) -> float:
+    """Operator products the smallest-|tau| Arnoldi run of this truncation may spend:
+    ARNOLDI_WORK_FRACTION of the estimated cost of dense eig of W, counted in products that
+    cost K (s0^2 + s^2) (s0 = KRYLOV_BLOCK_OVERHEAD, a per-block overhead), i.e.
+    K^2 s^3 / (KRYLOV_DENSE_RATE (s^2 + s0^2)) for a bipartite real-form pencil, 2.5 times that
+    otherwise. This is the shift-invert cover's model before its solves were compiled (issue
+    25; fitted then to timings with one BLAS thread for s = 4..256 within a factor ~1.5): the
+    run's own products (numpy block products with the inverses of A) were not measured again,
+    so its budget is unchanged."""
+    K, s, _ = hill.diag.shape
+    cost = K * K * s**3 / (KRYLOV_DENSE_RATE * (s * s + KRYLOV_BLOCK_OVERHEAD**2))
+    return ARNOLDI_WORK_FRACTION * cost * (1.0 if hill.bipartite and hill.is_real else 2.5)
+
+
 def krylov_form(kind: str, block_size: int) -> str:
     """The form the Arnoldi run of ``method = "krylov"`` works on: the real one (real
     arithmetic, exactly real tau), except for the subharmonic kind of blocks larger than 2 x 2,
@@ -569,7 +600,7 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
         bounded = bool(np.isfinite(tau_max))
         found = None if inv is None else smallest_taus(
             hill, tau_max=tau_max, inverses=inv, max_rounds=1 if bounded else None,
-            max_products=ARNOLDI_WORK_FRACTION * dense_work(hill))
+            max_products=krylov_budget(hill))
         if found is not None and (found.tau.size or found.complete_to >= tau_max):
             return Truncation(tau=found.tau, method="krylov", complete_to=found.complete_to)
         if bounded and inv is not None:

@@ -52,10 +52,7 @@ Python each of the ~4 K block products cost a call of ~2 us. Measured on the coc
 Fig 5.18 cell (human, 63.6 Hz, sigma = 1.85e9; N = 51, K = 52 blocks, one BLAS thread, CPU
 time): 0.44 -> 0.05 ms per solve at M = 16, 0.48 -> 0.11 ms at M = 32, 0.95 -> 0.49 ms at
 M = 64; a plain C loop instead of zgemv was 2x slower than numpy at M = 64, a sparse LU
-(SuperLU, natural order) 1.5-9x slower per solve than the block elimination. The work model
-below is unchanged (it still prices the numpy loop's overhead): every decision it takes -- the
-disks' restarts, giving up to dense -- is the one it took before, so the covers return the
-same disks.
+(SuperLU, natural order) 1.5-9x slower per solve than the block elimination.
 
 Cover
 -----
@@ -68,14 +65,28 @@ k starts at K_START and doubles (up to K_MAX) while the uncovered length would n
 SHIFTS_TARGET disks of the last radius. ``smallest_only``: the target shrinks to the smallest
 real tau found so far (only [0, tau_min] must be covered to certify tau_min).
 
-The work is counted in products with S^{-1} B (each costs ~ K (s0^2 + s^2): a per-block call
-overhead, s0 = BLOCK_OVERHEAD, and the block products), each weighted up by Arnoldi's own
-orthogonalisation (~ K s ncv), a factorisation as 2 + s^2 / 1000 of them (measured ratios). It
-is capped at ``work_limit``, by default WORK_FRACTION of the estimated cost of dense eig of the
-same truncation (:func:`dense_work`), within each disk too (ARPACK's restarts are capped by
-what is left); past it (or past MAX_SHIFTS disks) the function returns
-None and the caller solves the truncation densely; when the limit is below one disk it returns
-None at once.
+The work is counted in products with S^{-1} B of the truncation: a model of CPU seconds (one
+BLAS thread) divided by that of one product, so that the limit compares like with like
+(:func:`cover_costs`). A product costs P0 + K (q0 + q2 s^2) (a fixed Python cost, the compiled
+sweeps' per-block call and block products), Arnoldi's own work per product R0 + r K s ncv
+(ARPACK's reverse communication and orthogonalisation), a factorisation K (f0 + f3 s^3), and
+the dense eig that the caller falls back to c2 n^2 + c3 n^3 for the real W of order
+n = K s / 2 of a bipartite real-form pencil (2.5 times that otherwise: the complex W of the
+two-sided form); the constants are least-squares fits (relative error) to timings of the
+cochlea of a Fig 5.18 cell (human, 63.6 Hz, sigma = 1.85e9; s = 32..128, K = 16..115, both
+kinds; each within ~1.4x). The work is capped at ``work_limit``, by default WORK_FRACTION of
+the dense estimate (:func:`dense_work`), within each disk too (ARPACK's restarts are capped by
+what is left); past it (or past MAX_SHIFTS disks) the function returns None and the caller
+solves the truncation densely; when the limit is below one disk it returns None at once.
+The model before (issue 25) priced the numpy loop that the compiled sweeps replaced: a
+product K (137^2 + s^2), Arnoldi's work 2.5 K s ncv, a factorisation 2 + s^2 / 1000 products,
+dense eig K^2 s^3 / 7.6. Measured since on the cell above (unlimited cover against dense eig
+of the same truncation, CPU time), the cover takes 0.55-0.2 of the dense time for the
+subharmonic kind at s = 32 and the harmonic at s = 64, where that model gave up and sent it
+to dense eig (it charged dense eig 2-5x too little there), and about as long as dense for the
+harmonic kind at s = 32, where both models give up. Outside the fit, at s = 4 (the sphere,
+m = 6, N = 150 and 300, both kinds, one disk each) the cover took 0.06-1.2 of the dense time;
+the model before gave up there at once (its limit below one disk), this one covers.
 
 A real tau found by two overlapping disks is reported once: real tau within MERGE_RTOL of each
 other form a cluster, counted with the largest multiplicity any single disk found in it, with
@@ -106,8 +117,14 @@ SHIFTS_TARGET = 6
 BACKWARD_LIMIT = 1e-10
 WORK_FRACTION = 0.6
 MERGE_RTOL = 1e-8
-DENSE_RATE = 7.6        # work model (dense_work), measured with one BLAS thread
-BLOCK_OVERHEAD = 137.0  # per-block cost of a product, as a block size (the numpy loop: notes)
+#: Cost model (module notes, "Cover"), CPU seconds with one BLAS thread: a product
+#: P0 + K (q0 + q2 s^2), Arnoldi's own work per product R0 + r K s ncv, a factorisation
+#: K (f0 + f3 s^3), dense eig c2 n^2 + c3 n^3 (n = K s / 2, real W).
+PRODUCT_SECONDS = (5.7e-5, 9.3e-8, 7.8e-10)    # P0, q0, q2
+ARNOLDI_SECONDS = (9.9e-5, 8.4e-10)            # R0, r
+FACTOR_SECONDS = (4.1e-5, 3.5e-10)             # f0, f3
+DENSE_SECONDS = (6.8e-7, 1.36e-10)             # c2, c3
+COMPLEX_DENSE = 2.5     # dense eig of the complex W of a pencil that is not bipartite and real
 MAX_SHIFTS = 200
 CLOSE_LIMIT = 1e4       # a shift closer to an eigenvalue than 1/CLOSE_LIMIT of the radius is moved
 HINT_OFFSET = 1e-3      # the hint's shift sits this fraction below it (a hint is often an eigenvalue)
@@ -141,23 +158,33 @@ class IntervalTaus:
     work: float
 
 
-def _product_cost(s: int) -> float:
-    """Cost of one product with S^{-1} B per block, in units of the s = BLOCK_OVERHEAD one: a
-    fixed call overhead plus the s^2 block products."""
-    return 1.0 + (s / BLOCK_OVERHEAD) ** 2
+def _product_seconds(K: int, s: int) -> float:
+    """Modelled CPU seconds of one product with S^{-1} B of K blocks of size s."""
+    p0, q0, q2 = PRODUCT_SECONDS
+    return p0 + K * (q0 + q2 * s * s)
+
+
+def cover_costs(hill: HillMatrices, ncv: int) -> tuple[float, float]:
+    """(Arnoldi's own work per product, one factorisation), in products with S^{-1} B of
+    this truncation (module notes, "Cover"), for an Arnoldi space of ``ncv`` vectors."""
+    K, s, _ = hill.diag.shape
+    r0, r = ARNOLDI_SECONDS
+    f0, f3 = FACTOR_SECONDS
+    product = _product_seconds(K, s)
+    return (r0 + r * K * s * ncv) / product, K * (f0 + f3 * s**3) / product
 
 
 def dense_work(hill: HillMatrices) -> float:
     """Estimated cost of dense eig of the half product W of this truncation (what the caller
-    falls back to), in products with S^{-1} B: ~(K s / 2)^3 flops against K (s0^2 + s^2) per
-    product, i.e. K^2 s^3 / (DENSE_RATE (s^2 + s0^2)), s0 = BLOCK_OVERHEAD, for a bipartite
-    real-form pencil (real W of order K s / 2); 2.5 times that otherwise (complex W of the
-    two-sided form).
-    Fitted to timings with one BLAS thread for s = 4..256 (validation/bench_hill_large.py), to
-    within a factor ~1.5."""
+    falls back to), in products with S^{-1} B (module notes, "Cover"): c2 n^2 + c3 n^3
+    seconds for the real W of order n = K s / 2 of a bipartite real-form pencil, COMPLEX_DENSE
+    times that otherwise (the complex W of the two-sided form), over the seconds of one
+    product."""
     K, s, _ = hill.diag.shape
-    cost = K * K * s**3 / (DENSE_RATE * (s * s + BLOCK_OVERHEAD**2))
-    return cost * (1.0 if hill.bipartite and hill.is_real else 2.5)
+    n = K * s / 2
+    c2, c3 = DENSE_SECONDS
+    seconds = (c2 + c3 * n) * n * n * (1.0 if hill.bipartite and hill.is_real else COMPLEX_DENSE)
+    return seconds / _product_seconds(K, s)
 
 
 def _inner(blocks: np.ndarray, packed: bool, factor: float = 1.0) -> np.ndarray:
@@ -276,8 +303,7 @@ def _disk(hill: HillMatrices, sigma: float, k: int, b_product,
     K, s, _ = hill.diag.shape
     n = K * s
     ncv = min(n - 1, 2 * k + NCV_EXTRA)
-    orthogonalisation = 2.5 * s * ncv / (BLOCK_OVERHEAD**2 * _product_cost(s))
-    factorisation = 2.0 + s * s / 1000.0
+    orthogonalisation, factorisation = cover_costs(hill, ncv)
     maxiter = arpack_restarts((work_left - factorisation) / (1.0 + orthogonalisation), k, ncv)
     if maxiter == 0:
         return None
