@@ -11,7 +11,7 @@ from spectralshell.params.sweep_grid import sweep_spec
 from spectralshell.reports.figures import fig_5_18_scene
 from spectralshell.runner.solve import spatial_system
 from spectralshell.solvers import _schur, contour
-from spectralshell.solvers.marginal import Pencils
+from spectralshell.solvers.marginal import Pencils, structured_spectrum
 
 
 def random_pencil(blocks: int, size: int, seed: int, symmetric: bool = False) -> HillMatrices:
@@ -256,3 +256,26 @@ def test_odd_count_shortcut_random_pencils():
             assert contour._odd_below(log_g, right, right) == expected
             checked += 1
     assert checked >= 8
+
+
+def test_crowded_cell_count_within_budget():
+    """The crowded Fig 5.18 cell (human, 63.62 Hz, sigma = 1.85e9, M = 32, subharmonic, N = 51)
+    has no eigenvalue in the 1e-4 strip up to the harmonic tau_min 0.49439^2 (dense eig of the
+    half-size W), but complex ones 5.6e-4..1e-3 tau_max^2 from the axis near its right end (6)
+    and tens more within 1e-2: the walk needs 276 nodes there since it checks log |g| too (242 before), and the count
+    must still prove the strip empty within MAX_BLOCK_NODES (at 250 it gave up, the pair
+    (32, 64) went unproved and the cell refined on to M = 128, 3.7x its time; issue 25)."""
+    spec = sweep_spec(fig_5_18_scene("human"))
+    system = spatial_system(spec.model, spec.params_at({"frequency": 63.62, "sigma": 1.85e9}), 32)
+    hill = Pencils(system, "subharmonic").pencil(51, "two-sided")
+    tau_max = 0.4943905090478546
+    z_max = tau_max ** 2
+    lam, floor, _ = structured_spectrum(hill)
+    z = 1.0 / lam[np.abs(lam) > floor]
+    side = contour.BLOCK_STRIPS[0] * z_max
+    assert not np.any(inside(z, -side, z_max * (1 + 1e-6), side, side))
+    crowd = inside(z, -side, z_max, 1e-3 * z_max)
+    assert np.count_nonzero(crowd) >= 5  # what makes the walk long
+    log_g = contour.LogDet(hill)
+    assert contour.winding(log_g, contour.rectangle(-side, z_max * (1 + 1e-6), side,
+                                                    contour.BLOCK_RECTANGLE)) == 0
