@@ -70,19 +70,39 @@ def chained_pencil(blocks: int, size: int, seed: int) -> HillMatrices:
                         diag=hill.diag, lower=hill.lower, upper=upper, self_coupling=None)
 
 
-@pytest.mark.parametrize("chained", [False, True])
+def uniform_pencil(blocks: int, size: int, seed: int, real: bool) -> HillMatrices:
+    """A random pencil (:func:`random_pencil`) whose every coupling block is one skew-Hermitian
+    L: lower L, upper -L, as the cochlea's two-sided pencils (L = i kappa C, C real symmetric:
+    ``real``), else L = i H with H complex Hermitian."""
+    hill = random_pencil(blocks, size, seed)
+    rng = np.random.default_rng(seed + 100)
+    H = rng.standard_normal((size, size))
+    if not real:
+        H = H + 1j * rng.standard_normal((size, size))
+    L = 1j * (H + H.conj().T) / 2
+    lower = np.broadcast_to(L, hill.lower.shape).copy()
+    return HillMatrices(kind="harmonic", form="two-sided", n_temporal=hill.n_temporal,
+                        diag=hill.diag, lower=lower, upper=-lower, self_coupling=None)
+
+
+@pytest.mark.parametrize("coupling", ["any", "chained", "uniform real", "uniform complex"])
 @pytest.mark.parametrize("inverse_below", [contour.INVERSE_BELOW, 0])
 @pytest.mark.parametrize("size, seed", [(3, 1), (5, 2), (8, 3)])
-def test_block_log_det_matches_dense_lu(size, seed, inverse_below, chained, monkeypatch):
+def test_block_log_det_matches_dense_lu(size, seed, inverse_below, coupling, monkeypatch):
     """log g and d log g / dz of M x M block pencils against slogdet of the assembled matrix,
     the derivative against central differences of it; by each of block_log_det's ways to
     S^{-1} U and S^{-1} S' (inverse and products, or LU solves: INVERSE_BELOW 0; chained
-    couplings, upper[k] = -lower[k - 1], with one solve fewer)."""
+    couplings, upper[k] = -lower[k - 1], with one solve fewer), and by diagonal_log_det where
+    every coupling block is one skew-Hermitian L (rotated_coupling)."""
     monkeypatch.setattr(contour, "INVERSE_BELOW", inverse_below)
-    hill = (chained_pencil if chained else random_pencil)(7, size, seed)
+    hill = {"any": lambda: random_pencil(7, size, seed),
+            "chained": lambda: chained_pencil(7, size, seed),
+            "uniform real": lambda: uniform_pencil(7, size, seed, real=True),
+            "uniform complex": lambda: uniform_pencil(7, size, seed, real=False)}[coupling]()
     log_g = contour.LogDet(hill)
     assert not log_g.compiled
-    assert log_g.chained == chained
+    assert log_g.chained == (coupling != "any")
+    assert (log_g.rotated is not None) == coupling.startswith("uniform")
     for z in (0.05 + 0.01j, 0.3 - 0.2j, 0.13 + 0.0j, -0.4 + 0.1j):
         value, slope = log_g.point(z)
         modulus, phase = dense_log_g(hill, z)
@@ -91,6 +111,22 @@ def test_block_log_det_matches_dense_lu(size, seed, inverse_below, chained, monk
         h = 1e-6
         (up, p_up), (down, p_down) = dense_log_g(hill, z + h), dense_log_g(hill, z - h)
         assert slope == pytest.approx((up - down + np.log(p_up / p_down)) / (2 * h), rel=1e-5)
+
+
+@pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
+def test_rotated_coupling_cochlea(kind):
+    """The cochlea's two-sided pencils have one coupling L = i kappa C (C real symmetric): the
+    rotation to diagonal coupling applies, and diagonal_log_det gives block_log_det's log g and
+    slope on the unrotated blocks (M = 16, N = 10) to rounding."""
+    hill = Pencils(cochlea(16), kind).get(10, "two-sided")[0]
+    log_g = contour.LogDet(hill)
+    assert log_g.rotated is not None and not np.any(log_g.rotated[1].real)
+    base = contour.block_log_det(*log_g.blocks, 0.0, log_g.chained)[0]
+    for z in (0.05 + 0.01j, 0.3 - 0.2j, 0.13 + 0.0j):
+        value, slope = contour.block_log_det(*log_g.blocks, z, log_g.chained)
+        rotated, rotated_slope = log_g.point(z)
+        assert np.exp(rotated - (value - base)) == pytest.approx(1.0, abs=1e-10)
+        assert rotated_slope == pytest.approx(slope, rel=1e-10)
 
 
 def test_block_path_matches_compiled_kernel():

@@ -91,6 +91,14 @@ there, at M = 16 after its node budget, with g > 0 at the corner); on
 validation/bench_certify_cochlea.py's "none <= 0.24" (one real tau below) it declines after 1
 evaluation instead of 93-95 nodes: M = 64 1.6-1.8 s -> 0.02-0.03 s, M = 128 8.3-8.7 s ->
 0.14-0.16 s CPU.
+The cochlea's two-sided pencils have one coupling block L = i kappa C, C real symmetric: the
+similarity by diag(U, ..., U), C = U diag U^T, leaves g unchanged and makes the coupling
+diagonal (:func:`rotated_coupling`), and each node then costs one LU, one inverse and two
+products per block (:func:`diagonal_log_det`) instead of a solve and four products. Issue 25
+(one BLAS thread, best of 5, gerbil 5 kHz, N = 15): per node M = 32 2.3 -> 1.9 ms, 64 9.7 ->
+7.4 ms, 128 64 -> 57 ms, 256 382 -> 321 ms, log g to ~1e-12 of block_log_det's; on the seeded
+100-point Fig 5.18 sample (validation/bench_sweep.py's sample_points, 2 processes) the counts
+took 126.8 -> 100.2 s CPU, every returned variable of every point bitwise equal.
 
 The value agrees with the dense eig of W (tests/test_contour.py: to 1e-10 relative, in practice
 ~1e-14, on Fig 6.13 cells); what differs is that only tau_min and ``complete_to`` are reported,
@@ -268,12 +276,15 @@ class LogDet:
             raise ValueError("LogDet needs a bipartite pencil (no self-coupling in B)")
         self.blocks = _kernel_blocks(hill)
         self.compiled = self.blocks[0].shape[1] == 2
-        if not self.compiled:  # log det A, which the compiled kernel reads at z = 0 instead
-            sign, modulus = np.linalg.slogdet(self.blocks[0])
-            self.offset = complex(modulus.sum(), np.angle(sign).sum())
+        if not self.compiled:
             self.last = None  # (z, point(z)) of the last point evaluated
             lower, upper = self.blocks[1:]
             self.chained = bool(np.array_equal(upper[1:], -lower[:-1]))  # block_log_det
+            self.rotated = rotated_coupling(*self.blocks)  # diagonal_log_det where not None
+            # log det A, which the compiled kernel reads at z = 0 instead
+            sign, modulus = np.linalg.slogdet(self.blocks[0] if self.rotated is None
+                                              else self.rotated[0])
+            self.offset = complex(modulus.sum(), np.angle(sign).sum())
 
     def __call__(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
         if self.compiled:  # log det A as the first point: g = det(A - tau B) / det A
@@ -298,7 +309,8 @@ class LogDet:
         count's first node)."""
         if self.last is not None and self.last[0] == z:
             return self.last[1]
-        found = block_log_det(*self.blocks, z, self.chained)
+        found = (block_log_det(*self.blocks, z, self.chained) if self.rotated is None
+                 else diagonal_log_det(*self.rotated, z))
         if found is not None:
             value = found[0] - self.offset
             found = complex(value.real, math.remainder(value.imag, 2 * math.pi)), found[1]
@@ -369,6 +381,76 @@ def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray, z: com
             break
         V = -X if V is None else z * (Y @ X) - X
         S = diag[k + 1] - z * (lower[k] @ X)
+    if not (cmath.isfinite(value) and cmath.isfinite(slope)):
+        return None
+    return complex(value), complex(slope)
+
+
+def rotated_coupling(diag: np.ndarray, lower: np.ndarray,
+                     upper: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """(U^H A_k U for every diagonal block A_k, the eigenvalues l of L) where every coupling
+    block is one skew-Hermitian L (lower[k] = L, upper[k] = -L), L = U diag(l) U^H with U
+    unitary; None for any other coupling. The cochlea's two-sided pencils have L = i kappa C,
+    C real symmetric (thesis 5.2), so U is real orthogonal and l = i kappa eig(C).
+
+    The similarity by the block diagonal diag(U, ..., U) leaves det(A - tau B) and det A, hence
+    g, unchanged, keeps every block's LU as stable as before (U unitary), and makes every
+    coupling block diagonal (:func:`diagonal_log_det`)."""
+    coupling = lower[0]
+    if not (np.array_equal(lower, np.broadcast_to(coupling, lower.shape))
+            and np.array_equal(upper, np.broadcast_to(-coupling, upper.shape))
+            and np.array_equal(coupling, -coupling.conj().T)):
+        return None
+    hermitian = 1j * coupling  # L = -i H: l = -i h
+    if not hermitian.imag.any():
+        h, U = np.linalg.eigh(hermitian.real)
+        rotated = (U.T @ diag.real @ U) + 1j * (U.T @ diag.imag @ U)
+    else:
+        h, U = np.linalg.eigh(hermitian)
+        rotated = U.conj().T @ diag @ U
+    return np.ascontiguousarray(rotated, dtype=complex), -1j * h
+
+
+def diagonal_log_det(diag: np.ndarray, coupling: np.ndarray,
+                     z: complex) -> tuple[complex, complex] | None:
+    """(log det(A - tau B), its derivative in z) at z = tau^2 of a bipartite block-tridiagonal
+    pencil whose coupling blocks are one diagonal L = diag(``coupling``): lower L, upper -L (the
+    cochlea's after :func:`rotated_coupling`); None as :func:`block_log_det`.
+
+    The Schur complements of :func:`block_log_det` with U = -L become
+    S_{k+1} = A_{k+1} + z L S_k^{-1} L, and their derivatives
+    S_{k+1}' = L (S_k^{-1} - z Y_k S_k^{-1}) L with Y_k = S_k^{-1} S_k' (S_0' = 0), so
+    (log det)' = sum_k tr Y_k: per block one LU, the inverse (?getri below INVERSE_BELOW rows,
+    else ?getrs on the identity, the faster of the two there) and two products, where
+    block_log_det's chained recursion takes the inverse (or a solve with M right-hand sides)
+    and four products; the scalings by L cost O(M^2)."""
+    K, M, _ = diag.shape
+    outer = coupling[:, None] * coupling[None, :]  # L X L = outer * X elementwise
+    S, slope_S = diag[0].copy(), None  # S_k, S_k'
+    value, slope = 0.0j, 0.0j
+    unmoved, identity = np.arange(M), np.eye(M, dtype=complex)
+    for k in range(K):
+        lu, pivots, info = _getrf(S, overwrite_a=1)
+        if info != 0:
+            return None
+        value += np.log(lu.diagonal()).sum() + 1j * math.pi * np.count_nonzero(pivots != unmoved)
+        last = k == K - 1
+        if last and slope_S is None:
+            break
+        inverse, info = (_getri(lu, pivots, overwrite_lu=1) if M < INVERSE_BELOW
+                         else _getrs(lu, pivots, identity))
+        if info != 0:
+            return None
+        if last:  # tr(S^{-1} S') without the product
+            slope += np.sum(inverse * slope_S.T)
+            break
+        if slope_S is None:
+            slope_S = outer * inverse
+        else:
+            Y = inverse @ slope_S
+            slope += np.trace(Y)
+            slope_S = outer * (inverse - z * (Y @ inverse))
+        S = diag[k + 1] + z * (outer * inverse)
     if not (cmath.isfinite(value) and cmath.isfinite(slope)):
         return None
     return complex(value), complex(slope)
