@@ -235,11 +235,12 @@ MAX_NODES = 4000
 #: sigma = 1.16e9, M = 32, N = 141, tau_max = 1/2, 1e-4 strip: 106 harmonic, 92 subharmonic;
 #: the whole closed rectangle took 211 and 183, and the budget was 500 then). Raised from 250
 #: to 400 when the walk began to check log |g| too: the crowded cell (human, 63.62 Hz,
-#: sigma = 1.85e9, M = 32, N = 51, subharmonic) then took 276 nodes (242 before), gave up at
-#: 250, and its refinement went on from the pair (32, 64) to (64, 128): 141.6 -> 38.3 s CPU,
-#: tau_min moved by 2.8e-6 (tests/test_contour_blocks.py::test_crowded_cell_count_within_budget).
-#: On the seeded 100-point sample of validation/bench_sweep.py no count fails at 400 (the
-#: largest took 342 nodes), so the higher budget costs nothing there (issue 25).
+#: sigma = 1.85e9, M = 32, N = 51, subharmonic) then took 276 nodes (242 before; 270 from
+#: UPPER_RECTANGLE's starting nodes), gave up at 250, and its refinement went on from the pair
+#: (32, 64) to (64, 128): 141.6 -> 38.3 s CPU, tau_min moved by 2.8e-6
+#: (tests/test_contour_blocks.py::test_crowded_cell_count_within_budget). On the seeded
+#: 100-point sample of validation/bench_sweep.py no count fails at 400 (the largest took 342
+#: nodes, 336 from UPPER_RECTANGLE's), so the higher budget costs nothing there (issue 25).
 MAX_BLOCK_NODES = 400
 #: The strips tried for such blocks: the viscous cochlea's truncations carry tens of complex
 #: eigenvalues within 1 % of the axis (86 at the gerbil, 116.9 Hz, sigma = 1.16e9, M = 32,
@@ -500,14 +501,14 @@ def _upper_rectangle(top: int, side: int) -> np.ndarray:
     return np.concatenate([1 + 1j * sides, tops + 1j, 1j * (1 - sides), [0.0]])
 
 
-#: The starting nodes of the counting rectangle for 2 x 2 blocks: 4 segments along the top,
-#: one on each side (the rectangles are 50-10^6 times wider than high, so each side is short);
-#: the walk (:func:`winding`) bisects them under the same rule as any others. Issue 25: on 3
-#: lines of the Fig 6.13 grid (12128 truncations) the kernel's time fell by 24 % against the 8
-#: top segments and 4 per side before, every answer bitwise the same.
+#: The starting nodes of the counting rectangle: 4 segments along the top, one on each side
+#: (the rectangles are 50-10^6 times wider than high, so each side is short); the walk
+#: (:func:`winding`) bisects them under the same rule as any others. Issue 25: against the 8
+#: top segments and 4 per side before, on 3 lines of the Fig 6.13 grid (12128 truncations,
+#: 2 x 2 blocks) the kernel's time fell by 24 %, and on the seeded 100-point Fig 5.18 sample
+#: (validation/bench_sweep.py's sample_points; the cochlea's M x M blocks) the counts' nodes by
+#: 12 % (11473 -> 10073; none failed, the largest took 336), every answer bitwise the same.
 UPPER_RECTANGLE = _upper_rectangle(4, 1)
-#: Those of blocks larger than 2 x 2 (the cochlea's counts, MAX_BLOCK_NODES was tuned on them).
-BLOCK_RECTANGLE = _upper_rectangle(8, 4)
 
 
 def rectangle(left: float, right: float, half_height: float,
@@ -540,11 +541,10 @@ def _zeros_below(log_g: LogDet, right: float, z_max: float,
     real axis are left outside a thinner strip."""
     if strips is None:
         strips = STRIPS if log_g.compiled else BLOCK_STRIPS
-    shape = UPPER_RECTANGLE if log_g.compiled else BLOCK_RECTANGLE
     count = None
     for strip in strips:
         side = strip * z_max
-        count = winding(log_g, rectangle(-side, right, side, shape))
+        count = winding(log_g, rectangle(-side, right, side))
         if count == 0:
             break
     return count
@@ -576,7 +576,7 @@ def _odd_below(log_g: LogDet, right: float, z_max: float) -> bool:
     node, kept by :meth:`LogDet.point`) instead of the tens to hundreds of nodes a count takes
     to find them. False where g there is not clearly real (its phase farther than pi/3 from
     0 or pi) or not evaluated (a zero pivot): the counts decide then. Issue 25."""
-    corner = min(rectangle(-s * z_max, right, s * z_max, BLOCK_RECTANGLE)[0].real
+    corner = min(rectangle(-s * z_max, right, s * z_max)[0].real
                  for s in BLOCK_STRIPS)
     found = log_g.point(complex(corner))
     return found is not None and math.cos(found[0].imag) < -0.5
