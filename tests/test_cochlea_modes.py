@@ -83,6 +83,7 @@ def test_units_and_errors(capsys):
     assert data["params"]["zeta"] == pytest.approx(0.02 / np.sqrt(6e5 * (3.5 / np.pi)**3))
 
 
+@pytest.mark.slow  # 50-70 s: make test-all
 def test_modes_just_above_the_cut_are_on_the_sheet_by_an_independent_count():
     """zeta = 1e-2, alpha = 1.56, M = 20: the three least damped modes are nearly real decays
     1e-8..1e-6 above the branch cut s < -zeta (thesis Fig 5.7 right). Each is on the principal

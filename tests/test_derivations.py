@@ -9,9 +9,15 @@ import pytest
 DERIVATIONS = Path(__file__).resolve().parents[1] / "derivations"
 
 
-@pytest.mark.parametrize("script", ["mathieu_mapping.py", "sphere_linear.py", "fibre_linear.py",
-                                    "cochlea_linear.py", "cochlea_wkb.py", "fibre_modes.py",
-                                    "fibre_radial.py", "cochlea_vertical.py"])
+#: The scripts that take 17-40 s each run with the slow tests (make test-all), the others
+#: with make test (kept under 10 minutes).
+LONG = pytest.mark.slow
+
+
+@pytest.mark.parametrize("script", [
+    "mathieu_mapping.py", pytest.param("sphere_linear.py", marks=LONG),
+    pytest.param("fibre_linear.py", marks=LONG), "cochlea_linear.py", "cochlea_wkb.py",
+    "fibre_modes.py", pytest.param("fibre_radial.py", marks=LONG), "cochlea_vertical.py"])
 def test_derivation_script_passes(script):
     done = subprocess.run([sys.executable, str(DERIVATIONS / script)], capture_output=True, text=True,
                           timeout=300)

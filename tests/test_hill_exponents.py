@@ -199,6 +199,7 @@ def test_count_falls_back_to_the_default_slit_when_an_exponent_lies_on_the_conto
         _slit_count(lambda s: np.array([[s - edge]]), -2.0, 1.0, 1e-9, 0.0)
 
 
+@pytest.mark.slow  # 50-70 s: make test-all
 def test_exponents_next_to_the_cut_are_counted():
     """The fibre at m = 12, kappa = nu = 1, tau = -1.138 (found by test_stress): an exponent a
     few 1e-11 off the cut made the slit as narrow and the count failed with 'an eigenvalue lies
