@@ -397,6 +397,8 @@ def rotated_coupling(diag: np.ndarray, lower: np.ndarray,
     The similarity by the block diagonal diag(U, ..., U) leaves det(A - tau B) and det A, hence
     g, unchanged, keeps every block's LU as stable as before (U unitary), and makes every
     coupling block diagonal (:func:`diagonal_log_det`)."""
+    if not len(lower):  # one block: no coupling to rotate
+        return None
     coupling = lower[0]
     if not (np.array_equal(lower, np.broadcast_to(coupling, lower.shape))
             and np.array_equal(upper, np.broadcast_to(-coupling, upper.shape))
