@@ -297,10 +297,10 @@ def test_crowded_cell_count_within_budget():
     """The crowded Fig 5.18 cell (human, 63.62 Hz, sigma = 1.85e9, M = 32, subharmonic, N = 51)
     has no eigenvalue in the 1e-4 strip up to the harmonic tau_min 0.49439^2 (dense eig of the
     half-size W), but complex ones 5.6e-4..1e-3 tau_max^2 from the axis near its right end (6)
-    and tens more within 1e-2: the walk needs 270 nodes there since it checks log |g| too (276 from the earlier starting
-    nodes, 242 before the check), and the count
-    must still prove the strip empty within MAX_BLOCK_NODES (at 250 it gave up, the pair
-    (32, 64) went unproved and the cell refined on to M = 128, 3.7x its time; issue 25)."""
+    and tens more within 1e-2: the walk needs 270 nodes there since it checks log |g| too (276
+    from the earlier starting nodes, 242 before the check), and the count must still prove the
+    strip empty within MAX_BLOCK_NODES (at 250 it gave up, the pair (32, 64) went unproved and
+    the cell refined on to M = 128, 3.7x its time; issue 25)."""
     spec = sweep_spec(fig_5_18_scene("human"))
     system = spatial_system(spec.model, spec.params_at({"frequency": 63.62, "sigma": 1.85e9}), 32)
     hill = Pencils(system, "subharmonic").pencil(51, "two-sided")

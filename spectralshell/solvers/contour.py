@@ -363,11 +363,11 @@ def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray, z: com
     value, slope = 0.0j, 0.0j
     unmoved = np.arange(M)  # the pivots of an LU without row exchanges
     for k in range(K):
-        lu, pivots, info = _getrf(S, overwrite_a=1)
-        if info != 0:
+        factored = _log_lu(S, unmoved)
+        if factored is None:
             return None
-        swaps = np.count_nonzero(pivots != unmoved)
-        value += np.log(lu.diagonal()).sum() + 1j * math.pi * swaps
+        lu, pivots, log_det = factored
+        value += log_det
         last = k == K - 1
         if last and V is None:
             break
@@ -385,6 +385,17 @@ def block_log_det(diag: np.ndarray, lower: np.ndarray, upper: np.ndarray, z: com
     if not (cmath.isfinite(value) and cmath.isfinite(slope)):
         return None
     return complex(value), complex(slope)
+
+
+def _log_lu(S: np.ndarray, unmoved: np.ndarray) -> tuple[np.ndarray, np.ndarray, complex] | None:
+    """(LU, pivots, log det S) of the block S (overwritten) by LAPACK ?getrf, the pivots' row
+    exchanges counted against ``unmoved`` (np.arange(M)) as i pi each; None on an exactly
+    singular S."""
+    lu, pivots, info = _getrf(S, overwrite_a=1)
+    if info != 0:
+        return None
+    swaps = np.count_nonzero(pivots != unmoved)
+    return lu, pivots, np.log(lu.diagonal()).sum() + 1j * math.pi * swaps
 
 
 def rotated_coupling(diag: np.ndarray, lower: np.ndarray,
@@ -433,10 +444,11 @@ def diagonal_log_det(diag: np.ndarray, coupling: np.ndarray,
     value, slope = 0.0j, 0.0j
     unmoved, identity = np.arange(M), np.eye(M, dtype=complex)
     for k in range(K):
-        lu, pivots, info = _getrf(S, overwrite_a=1)
-        if info != 0:
+        factored = _log_lu(S, unmoved)
+        if factored is None:
             return None
-        value += np.log(lu.diagonal()).sum() + 1j * math.pi * np.count_nonzero(pivots != unmoved)
+        lu, pivots, log_det = factored
+        value += log_det
         last = k == K - 1
         if last and slope_S is None:
             break
