@@ -5,9 +5,10 @@ checked against dense QZ of the same truncations and against the count itself.""
 import numpy as np
 import pytest
 
-from spectralshell.solvers import contour
+from spectralshell.solvers import contour, marginal
 from spectralshell.solvers.half_product import free_radius
-from spectralshell.solvers.marginal import Pencils, TruncationSchedule, finer, marginal_tau
+from spectralshell.solvers.marginal import (Pencils, TruncationSchedule, certify_empty_answer,
+                                             finer, marginal_tau)
 
 from test_contour_blocks import cochlea, qz_squares, random_pencil
 
@@ -87,3 +88,39 @@ def test_certified_empty_equals_count_only(kind, monkeypatch):
     assert fast.complete_to == counted.complete_to == tau_max
     assert (fast.n_temporal, fast.n_previous) == (counted.n_temporal, counted.n_previous)
     assert (fast.n_previous, fast.n_temporal) == (first, finer(first))
+
+
+@pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
+def test_expected_empty_answer_proved_by_the_disk(kind, monkeypatch):
+    """expect_empty (a kind with nothing below its cap at the coarser M, issue 25): where the
+    disk bound proves both truncations empty, the answer is the plain solve's (the same
+    truncation pair, nothing below tau_max, which QZ confirms at both truncations), proved
+    (empty_proved, method 'contour'), and its certification walks no count; where the bound
+    fails (tau_max above the smallest real tau), the same tau_min as the plain solve."""
+    system = cochlea(16, 3000.0)
+    first = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    pair = (first, finer(first))
+    tau_max = 0.5 * min(free_radius(pencils.pencil(n, "two-sided")) for n in pair)
+    plain = marginal_tau(system, kind, tol=1e-4, tau_max=tau_max)
+    expected = marginal_tau(system, kind, tol=1e-4, tau_max=tau_max, expect_empty=True)
+    assert plain.tau_min is None and not plain.empty_proved and plain.method != "contour"
+    assert expected.tau_min is None and expected.empty_proved and expected.method == "contour"
+    assert (expected.n_previous, expected.n_temporal) == (plain.n_previous, plain.n_temporal)
+    assert expected.complete_to == tau_max
+    for n in pair:  # no eigenvalue at all with |tau| <= tau_max
+        assert np.abs(qz_squares(pencils.pencil(n, "two-sided"))).min() > tau_max**2
+
+    def walked(*args, **kwargs):
+        raise AssertionError("a proved answer was counted again")
+
+    monkeypatch.setattr(marginal, "none_up_to", walked)
+    proved = certify_empty_answer(system, kind, expected, tau_max, True)
+    assert proved.complete_to == tau_max and proved.empty_proved
+    monkeypatch.undo()
+    z = qz_squares(pencils.pencil(finer(first), "two-sided"))
+    real = float(np.sqrt(z[(np.abs(z.imag) <= 1e-9 * np.abs(z)) & (z.real > 0)].real.min()))
+    above = 1.01 * real
+    found = marginal_tau(system, kind, tol=1e-4, tau_max=above, expect_empty=True)
+    assert found.tau_min == marginal_tau(system, kind, tol=1e-4, tau_max=above).tau_min
+    assert found.tau_min == pytest.approx(real, rel=1e-4) and not found.empty_proved

@@ -243,10 +243,10 @@ def test_empty_answers_proved_at_the_returned_pair_only(monkeypatch):
     factory = _factory(600.0, 1e9)
     options = {"tol": 1e-4, "tau_max": 0.5, "certify_empty": "mark"}
     proved = []
-    count = marginal.none_up_to
+    walk = marginal.none_up_to
     monkeypatch.setattr(marginal, "none_up_to",
-                        lambda hill, tau_max: proved.append(hill.diag.shape[1])
-                        or count(hill, tau_max))
+                        lambda hill, tau_max, count=True: proved.append(hill.diag.shape[1])
+                        or walk(hill, tau_max, count))
     joint = sr.refine_minimum(factory, KINDS, options=options, tol_spatial=0.05)
     other = joint.taus["subharmonic"]
     cap = joint.caps["subharmonic"]
@@ -271,7 +271,7 @@ def test_empty_answers_proved_at_the_returned_pair_only(monkeypatch):
                                    tau_max=cap, certify_empty="mark")
     assert other.complete_to == former.complete_to == cap
     assert (other.n_temporal, other.n_previous) == (former.n_temporal, former.n_previous)
-    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max: False)
+    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, count=True: False)
     marked = sr.refine_minimum(factory, KINDS, options=options, tol_spatial=0.05, strict=False)
     assert marked.taus["subharmonic"].complete_to == 0.0
     assert not marked.converged and marked.change["subharmonic"] is None

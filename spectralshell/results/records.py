@@ -125,6 +125,10 @@ class MarginalTau(Record):
     complete_to : ``tau`` is complete up to this value: every real tau <= complete_to (and
         <= tau_max) of both truncations was computed, and beyond it none was looked for; inf
         when both were solved completely (dense), else the smaller Krylov radius.
+    empty_proved : no tau <= tau_max at either truncation, and that proved by the argument
+        principle's zero count (or the disk bound that implies it) at both: by the solve's
+        own path or by ``certify_empty`` (:func:`~spectralshell.solvers.marginal.marginal_tau`);
+        False otherwise (an empty answer may still be proved by other means, see complete_to).
     """
 
     kind: str
@@ -135,6 +139,7 @@ class MarginalTau(Record):
     error_estimate: float | None
     method: str
     complete_to: float = np.inf
+    empty_proved: bool = False
 
     def unproved_empty(self, cap: float) -> bool:
         """No tau found, and their absence not proved up to ``cap`` (complete_to below it: the

@@ -158,6 +158,23 @@ in the other four the truncations that changed path move tau_min by at most 5.6e
 estimates 1.6e-15), each within 3.4e-15 of dense eig at its (M, N), the same n_temporal,
 n_spatial and has_tau.
 
+Expected empty answers. A refinement in M solves the kind that does not attain the minimum
+with tau_max lowered to the other kind's tau_min (:mod:`spectralshell.solvers.spatial_refinement`),
+and where that kind had nothing below its cap at the coarser M it usually has nothing at the
+finer one either. ``marginal_tau(..., expect_empty=True)`` then tries each truncation first by
+the disk bound of the count (``none_up_to(..., count=False)``, :func:`truncation_taus`'
+``disk_first``; the next truncation only if this one was so proved): where it succeeds the
+truncation is proved empty (method ``"contour"``) without the Krylov solve, and an answer whose
+two truncations were both so proved carries ``empty_proved``, so that its later certification
+(:func:`certify_empty_answer`) costs nothing; where the bound fails the truncation is solved as
+before. The values do not depend on it: a truncation the disk proves empty is empty on every
+path. Measured on the seeded 100-cell Fig 5.18 sample (validation/bench_sweep.py's points, each
+alone by ``run_sweep(executor="serial")``, one BLAS thread, CPU time, the code before and this
+one side by side on the 2 cores): 403.0 s before, 347.4 s after (1.16x), every stored variable
+of every cell bitwise equal; a cell ending at M = 256 (human, 6565 Hz, sigma = 3.19e8: the
+harmonic kind empty below the subharmonic 0.0277) 4.70 -> 3.18 s, its M = 256 harmonic solve
+and proof 1.05 + 1.05 s -> 0.83 s (two disk bounds).
+
 What an answer proves
 ---------------------
 Each truncation states ``complete_to``: its list of real tau is complete up to it (for the
@@ -558,7 +575,7 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
                     tau_max: float = np.inf, method: str = "auto",
                     pencils: Pencils | None = None, hint: float | None = None,
                     plan: tuple[Shift, ...] = (), count_first: bool = False,
-                    fell_back: bool = False) -> Truncation:
+                    disk_first: bool = False, fell_back: bool = False) -> Truncation:
     """Real tau >= 0 of one truncation by ``method`` (module notes): 'dense' lists all of them;
     'krylov' (and 'auto' when ``half_order`` >= :func:`krylov_min_order`, given ``fell_back``)
     at least every real tau <= min(tau_min, tau_max), on the form of :func:`krylov_form`,
@@ -576,15 +593,19 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
     and 'smallest' first try to prove by the argument principle's zero count that this one has
     none either (:func:`~spectralshell.solvers.contour.none_up_to`; result ``method =
     "contour"``, ``complete_to`` = tau_max), from N = COUNT_MIN_N on, and solve as before
-    where it cannot."""
+    where it cannot. ``disk_first`` (none is expected: the caller's ``expect_empty``, or the
+    previous truncation was proved empty): below COUNT_MIN_N the same proof by the count's
+    disk bound alone (``none_up_to(..., count=False)``), a fraction of the Krylov solve's cost
+    where it succeeds (module notes, "Expected empty answers")."""
     if method not in METHODS:
         raise ValueError(f"method = {method!r} is invalid: must be one of {METHODS}")
     if not np.count_nonzero(system.forcing):
         return Truncation(tau=np.empty(0), method="structured")  # no finite marginal amplitude
     pencils = Pencils(system, kind) if pencils is None else pencils
-    if (count_first and system.block_size > 2 and n_temporal >= COUNT_MIN_N
+    counted = count_first and n_temporal >= COUNT_MIN_N
+    if ((counted or disk_first) and system.block_size > 2
             and method in ("auto", "smallest") and math.isfinite(tau_max)
-            and none_up_to(pencils.pencil(n_temporal, "two-sided"), tau_max)):
+            and none_up_to(pencils.pencil(n_temporal, "two-sided"), tau_max, count=counted)):
         return Truncation(tau=np.empty(0), method="contour", complete_to=tau_max)
     if method == "smallest" and system.block_size == 2 and math.isfinite(tau_max):
         found = (smallest_real_tau(pencils.pencil(n_temporal, "two-sided"), tau_max, hint)
@@ -721,10 +742,11 @@ def unconfirmed(tau: np.ndarray, prev: np.ndarray, tol: float, tau_max: float) -
 
 
 def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_max,
-            bound: float) -> MarginalTau:
+            bound: float, empty_proved: bool = False) -> MarginalTau:
     """The answer of a pair of truncations: tau_min of ``found`` with its error estimate, the tau
     that reappear in ``previous`` within max(tol, error), and ``complete_to``: the pair's
-    certified ``bound``, lowered to the smallest tau left out (:func:`unconfirmed`)."""
+    certified ``bound``, lowered to the smallest tau left out (:func:`unconfirmed`);
+    ``empty_proved`` as the zero count found it (:func:`marginal_tau`)."""
     tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
     err = _tau_min_error(tau, prev, found.spread)
     match = max(tol, err or 0.0)
@@ -734,7 +756,8 @@ def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_m
     return MarginalTau(kind=kind, tau=kept, tau_min=float(tau[0]) if tau.size else None,
                        n_temporal=n, n_previous=n_prev, error_estimate=err, method=found.method,
                        complete_to=min(bound, unconfirmed(found.tau, previous.tau, match,
-                                                                     tau_max)))
+                                                          tau_max)),
+                       empty_proved=empty_proved)
 
 
 def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
@@ -828,8 +851,13 @@ def _empty_certified(pencils: Pencils, pair: tuple[tuple[Truncation, int], ...],
     (:func:`certified_bound`), and one of them may be a real tau displaced by rounding. The
     count proves a strip of half-height 1e-6..1e-2 tau_max^2 around the real axis free of any
     eigenvalue."""
-    return all((found.method == "contour" and found.complete_to >= tau_max)
+    return all(_counted_empty(found, tau_max)
                or none_up_to(pencils.pencil(n, "two-sided"), tau_max) for found, n in pair)
+
+
+def _counted_empty(found: Truncation, tau_max: float) -> bool:
+    """Whether the truncation's own path proved it empty up to tau_max (the contour path)."""
+    return found.method == "contour" and found.complete_to >= tau_max
 
 
 def empty_not_certified(kind: str, n_prev: int, n: int, tau_max: float) -> ConvergenceError:
@@ -857,6 +885,8 @@ def certify_empty_answer(system: HillSystem, kind: str, answer: MarginalTau, tau
     if not certify_empty or answer.tau_min is not None or not answer.n_temporal \
             or system.polynomial is not None or not math.isfinite(tau_max):
         return answer
+    if answer.empty_proved:  # both truncations proved empty by the solve's own path
+        return dataclasses.replace(answer, complete_to=min(answer.complete_to, tau_max))
     pencils = Pencils(system, kind)
     pencils.reserve = answer.n_temporal
     previous = Truncation(tau=np.empty(0), method="", complete_to=0.0)  # nothing proved yet
@@ -874,7 +904,7 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                  n_temporal: int | None = None, n_max: int = N_MAX,
                  tau_max: float = np.inf, method: str = "auto",
                  hint: float | None = None, every: bool = False,
-                 certify_empty: bool | str = False) -> MarginalTau:
+                 certify_empty: bool | str = False, expect_empty: bool = False) -> MarginalTau:
     """Marginal amplitudes tau of one Floquet kind, converged in the truncation N.
 
     Parameters
@@ -915,7 +945,14 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         ``'mark'``: the same proof, but an empty answer it cannot give is returned with
         ``complete_to`` = 0 (proved for no tau: the maps' sweeps store it as uncertified)
         instead of raising. Without it such an empty answer
-        rests on two dense truncations agreeing (:func:`certified_bound`).
+        rests on two dense truncations agreeing (:func:`certified_bound`). Where the solve's
+        own path has proved both truncations empty (the contour path, e.g. ``expect_empty``),
+        the answer says so (``empty_proved``) with or without it, and the proof is not repeated.
+    expect_empty : the caller expects no tau <= a finite ``tau_max`` (e.g. none at a coarser
+        spatial truncation, :mod:`spectralshell.solvers.spatial_refinement`): for blocks larger
+        than 2 x 2 the first truncation, and each one after a truncation so proved, is first
+        tried by the zero count's disk bound alone (:func:`truncation_taus`' ``disk_first``).
+        The answer does not depend on it (module notes, "Expected empty answers").
 
     Raises
     ------
@@ -927,7 +964,7 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                              "(every tau up to it is converged)")
     pencils = Pencils(system, kind)
     start = {"hint": hint, "plan": (), "count_first": False,  # from one truncation to the next
-             "fell_back": False}
+             "disk_first": expect_empty, "fell_back": False}
 
     def solve(n: int) -> Truncation:
         found = truncation_taus(system, kind, n, tau_max=tau_max, method=method,
@@ -940,17 +977,23 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
             start.update(plan=found.shifts,
                          hint=None if found.shifts else float(capped[0]))
         start["count_first"] = not capped.size
+        start["disk_first"] = _counted_empty(found, tau_max)
         return found
 
     def proved(found: Truncation, previous: Truncation, n: int, n_prev: int,
-               bound: float) -> float | None:
-        """The pair's certified_bound ``bound``; with certify_empty, for an empty pair that
-        needs it, tau_max where the count proves it and None where it cannot."""
-        if not certify_empty or not _empty_pair(system, found, previous, tau_max):
-            return bound
+               bound: float) -> tuple[float | None, bool]:
+        """(the pair's certified_bound ``bound``, whether its empty answer is proved by the zero
+        count at both truncations): proved where both truncations' own path proved them
+        (:func:`_counted_empty`); else with certify_empty, for an empty pair that needs it, the
+        count decides: tau_max where it proves it and None where it cannot."""
+        empty = _empty_pair(system, found, previous, tau_max)
+        if empty and _counted_empty(found, tau_max) and _counted_empty(previous, tau_max):
+            return min(bound, tau_max), True
+        if not certify_empty or not empty:
+            return bound, False
         if _empty_certified(pencils, ((found, n), (previous, n_prev)), tau_max):
-            return min(bound, tau_max)
-        return None
+            return min(bound, tau_max), True
+        return None, False
 
     if not np.count_nonzero(system.forcing):  # no finite marginal amplitude at all
         return MarginalTau(kind=kind, tau=np.empty(0), tau_min=None, n_temporal=0, n_previous=0,
@@ -958,9 +1001,10 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
     if n_temporal is not None:
         n_prev = coarser(n_temporal)
         found, previous = solve(n_temporal), solve(n_prev)
-        bound = proved(found, previous, n_temporal, n_prev, certified_bound(found, previous))
+        bound, counted = proved(found, previous, n_temporal, n_prev,
+                                certified_bound(found, previous))
         return _result(kind, found, previous, n_temporal, n_prev, tol, tau_max,
-                       0.0 if bound is None else bound)
+                       0.0 if bound is None else bound, counted)
     if system.n_resonant >= n_max:
         raise ConvergenceError(
             f"{kind} tau_min needs more than n_temporal={n_max} Fourier terms: the natural "
@@ -974,11 +1018,11 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
         found = solve(n)
         bound = certified_bound(found, previous)  # once per pair: O(N^2) for Mathieu
         if _passes(found, previous, tol, tau_max, bound, every):
-            bound = proved(found, previous, n, n_prev, bound)
+            bound, counted = proved(found, previous, n, n_prev, bound)
             if bound is None and certify_empty != "mark":
                 raise empty_not_certified(kind, n_prev, n, tau_max)
             return _result(kind, found, previous, n, n_prev, tol, tau_max,
-                           0.0 if bound is None else bound)
+                           0.0 if bound is None else bound, counted)
         if n >= n_max:
             raise _not_converged(kind, found, previous, n, tol, tau_max, bound, every)
         previous, n_prev = found, n

@@ -90,6 +90,11 @@ the harmonic 0.4944, where the disk bound fails and the count walks) 58.6 and 64
 few per cent: human 8353 Hz, sigma = 5.7e8 (M = 128, 256) 0.13 s of 3.2 s; gerbil 35.5 kHz,
 sigma = 1.54e8 (M = 256, 512) 0.71 s of 13.9 s.
 
+A kind with no tau below its cap at the coarser M is solved at the finer M with
+``expect_empty`` (:func:`~spectralshell.solvers.marginal.marginal_tau`): its truncations are
+tried first by the count's disk bound, which replaces the Krylov solve where it proves them
+empty and makes their later proof free (``empty_proved``); the values are the same.
+
 The model is seen only through ``factory(M) -> HillSystem``: this module never knows which
 model it solves.
 """
@@ -225,16 +230,19 @@ def minimum(taus: dict[str, MarginalTau]) -> float | None:
 
 
 def _solve(system: HillSystem, kinds: tuple[str, ...], options: dict[str, Any], joint: bool,
-           hints: dict[str, float | None] | None = None) -> tuple[dict[str, MarginalTau],
-                                                                 dict[str, float]]:
+           hints: dict[str, float | None] | None = None,
+           empty: Iterable[str] = ()) -> tuple[dict[str, MarginalTau], dict[str, float]]:
     """(marginal_tau of each kind, the tau_max each was solved with), the kinds in the given
     order; ``joint``: each kind's tau_max is lowered to the smallest tau_min found before it.
-    ``hints``: kind -> marginal_tau's ``hint`` in place of options' (dropped above the cap)."""
+    ``hints``: kind -> marginal_tau's ``hint`` in place of options' (dropped above the cap).
+    ``empty``: the kinds solved with ``expect_empty`` (none below their cap at the coarser M)."""
     cap = options.get("tau_max") or math.inf
     taus, caps = {}, {}
     for k in kinds:
         caps[k] = cap
         own = {} if hints is None else {"hint": _below(hints.get(k), cap)}
+        if k in empty:
+            own["expect_empty"] = True
         taus[k] = marginal_tau(system, k, **{**options, "tau_max": cap, **own})
         if joint and taus[k].tau_min is not None:
             cap = min(cap, taus[k].tau_min)
@@ -332,7 +340,8 @@ def _refine(factory: Callable[[int], HillSystem], kinds: tuple[str, ...], option
         fine_system = factory(m_fine)
         order = _leader_first(kinds, coarse) if joint else kinds
         fine, fine_caps = _solve(fine_system, order, options, joint,
-                                 coarser_hints(coarse, hints, options.get("hint")))
+                                 coarser_hints(coarse, hints, options.get("hint")),
+                                 [k for k, m in coarse.items() if m.tau_min is None])
         fine, fine_caps = {k: fine[k] for k in kinds}, {k: fine_caps[k] for k in kinds}
         caps = {k: min(fine_caps[k], coarse_caps[k]) for k in kinds}
         change = {k: spatial_change(fine[k], coarse[k], caps[k]) for k in kinds}
