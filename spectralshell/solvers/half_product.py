@@ -298,9 +298,11 @@ def dense_half_product(hill: HillMatrices, inverses: BlockInverses) -> np.ndarra
 
 
 def _coupled_solves(hill: HillMatrices):
-    """k -> (C-_k, C+_k) = (A_k^{-1} B_{k,k-1}, A_k^{-1} B_{k,k+1}) (None outside the pencil) by
-    LAPACK's LU of A_k, one solve for both when B_{k,k+1} = -B_{k,k-1} (the forcing's i G,
-    -i G); None for a block whose 1-norm condition exceeds COND_LIMIT (or a singular one)."""
+    """(solve, negated): solve is k -> (C-_k, C+_k) = (A_k^{-1} B_{k,k-1}, A_k^{-1} B_{k,k+1})
+    (None outside the pencil) by LAPACK's LU of A_k, one solve for both when
+    B_{k,k+1} = -B_{k,k-1} for every 0 < k < K - 1 (``negated``: the forcing's i G, -i G; then
+    C+_k = -C-_k exactly there); None for a block whose 1-norm condition exceeds COND_LIMIT (or a
+    singular one)."""
     K = len(hill.diag)
     getrf, gecon, getrs = sla.lapack.get_lapack_funcs(("getrf", "gecon", "getrs"),
                                                       (hill.diag[0], hill.lower[:1]))
@@ -327,7 +329,7 @@ def _coupled_solves(hill: HillMatrices):
             return x, None
         return (x, -x) if negated else (x[:, :s], x[:, s:])
 
-    return solve
+    return solve, negated
 
 
 def free_radius(hill: HillMatrices) -> float:
@@ -345,14 +347,18 @@ def free_radius(hill: HillMatrices) -> float:
     C-_k, C+_k of T are formed by one LU per block of A (blocks with 1-norm condition above
     COND_LIMIT give r = 0, so that their rounding, <~ M eps COND_LIMIT relative, stays far below
     a caller's margin); each block of W is formed, never W itself: O(K s^3), about 3.7 K s^3
-    complex flops, and O(s^2) memory beyond the pencil's.
+    complex flops, and O(s^2) memory beyond the pencil's. Where C+_k = -C-_k (``negated``,
+    the cochlea's forcing), the blocks of W come in pairs that differ in sign only,
+    W_{p,p} = -(C-_p C-_{p-1} + C-_p C-_{p+1}) and W_{p,p+-2} = C-_p C-_{p+-1} away from the
+    ends: one product per block of A instead of two, about 2.7 K s^3, with the same numbers
+    (negating a factor negates a product exactly). Issue 25.
     """
     if not hill.bipartite:
         raise ValueError("free_radius needs a bipartite pencil (no self-coupling in B)")
     K = len(hill.diag)
     if K == 1:  # B = 0: no finite eigenvalue
         return np.inf
-    solve = _coupled_solves(hill)
+    solve, negated = _coupled_solves(hill)
     norms = {"diag": [], "up": [], "low": []}  # each entry (1-norm, inf-norm)
 
     def measure(block: np.ndarray | None) -> tuple[float, float]:
@@ -368,16 +374,17 @@ def free_radius(hill: HillMatrices) -> float:
             return 0.0
         cm, cp = here
         if k % 2 == 0:  # even p = k: W_{p,p} starts with C-_p C+_{p-1}; W_{p,p-2} = C-_p C-_{p-1}
-            pending = None if k == 0 else cm @ previous[1]
+            low = cm @ previous[0] if k >= 2 else None
+            pending = None if k == 0 else -low if negated else cm @ previous[1]
             if k >= 2:
-                norms["low"].append(measure(cm @ previous[0]))
+                norms["low"].append(measure(low))
             if k + 1 == K:
                 norms["diag"].append(measure(pending))
         else:  # odd k = p + 1: W_{p,p} += C+_p C-_{p+1}; W_{p,p+2} = C+_p C+_{p+1}
             term = previous[1] @ cm
             norms["diag"].append(measure(term if pending is None else pending + term))
             if cp is not None and k + 1 < K:
-                norms["up"].append(measure(previous[1] @ cp))
+                norms["up"].append(measure(-term if negated else previous[1] @ cp))
         previous = here
     radius = 0.0
     for which in (0, 1):  # either norm bounds rho(W): the larger radius holds
