@@ -170,8 +170,10 @@ two truncations were both so proved carries ``empty_proved``, so that its later 
 before. The values do not depend on it: a truncation the disk proves empty is empty on every
 path. Measured on the seeded 100-cell Fig 5.18 sample (validation/bench_sweep.py's points, each
 alone by ``run_sweep(executor="serial")``, one BLAS thread, CPU time, the code before and this
-one side by side on the 2 cores): 403.0 s before, 347.4 s after (1.16x), every stored variable
-of every cell bitwise equal; a cell ending at M = 256 (human, 6565 Hz, sigma = 3.19e8: the
+one side by side on the 2 cores): 403.0 s before, 347.4 s after (1.16x); measured again with
+the pairs of equal W blocks of :func:`~spectralshell.solvers.half_product.free_radius` formed
+once, 391.3 s before, 351.0 s after (1.11x; single cells vary by up to +-40 % between such
+runs); every stored variable of every cell bitwise equal in both; a cell ending at M = 256 (human, 6565 Hz, sigma = 3.19e8: the
 harmonic kind empty below the subharmonic 0.0277) 4.70 -> 3.18 s, its M = 256 harmonic solve
 and proof 1.05 + 1.05 s -> 0.83 s (two disk bounds).
 
