@@ -5,6 +5,7 @@ checked against dense QZ of the same truncations and against the count itself.""
 import numpy as np
 import pytest
 
+from spectralshell.errors import ConvergenceError
 from spectralshell.solvers import contour, marginal
 from spectralshell.solvers.half_product import free_radius
 from spectralshell.solvers.marginal import (Pencils, TruncationSchedule, certify_empty_answer,
@@ -124,3 +125,59 @@ def test_expected_empty_answer_proved_by_the_disk(kind, monkeypatch):
     found = marginal_tau(system, kind, tol=1e-4, tau_max=above, expect_empty=True)
     assert found.tau_min == marginal_tau(system, kind, tol=1e-4, tau_max=above).tau_min
     assert found.tau_min == pytest.approx(real, rel=1e-4) and not found.empty_proved
+
+
+@pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
+def test_expected_empty_answer_proved_by_the_count(kind, monkeypatch):
+    """expect_empty where the disk bound cannot prove the truncations empty (tau_max above its
+    radius at both) but QZ finds no eigenvalue with |tau| <= tau_max: the zero count proves
+    both, so the answer is the plain solve's (the same pair, nothing below tau_max) with
+    empty_proved, and its certification walks no count again."""
+    system = cochlea(16, 3000.0)
+    first = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    pair = [pencils.pencil(n, "two-sided") for n in (first, finer(first))]
+    radius = max(free_radius(hill) for hill in pair)
+    nearest = min(smallest_modulus(hill) for hill in pair)
+    tau_max = float(np.sqrt(radius * nearest))
+    assert radius < 0.9 * tau_max and tau_max < 0.9 * nearest  # the disk fails, QZ: none
+    plain = marginal_tau(system, kind, tol=1e-4, tau_max=tau_max)
+    expected = marginal_tau(system, kind, tol=1e-4, tau_max=tau_max, expect_empty=True)
+    assert plain.tau_min is None and expected.tau_min is None
+    assert expected.empty_proved and expected.method == "contour" and not expected.count_failed
+    assert (expected.n_previous, expected.n_temporal) == (plain.n_previous, plain.n_temporal)
+
+    def walked(*args, **kwargs):
+        raise AssertionError("a proved answer was counted again")
+
+    monkeypatch.setattr(marginal, "none_up_to", walked)
+    assert certify_empty_answer(system, kind, expected, tau_max, True).complete_to == tau_max
+
+
+def test_failed_count_is_not_walked_again(monkeypatch):
+    """A count the solve walked that fails (here made to fail: none_up_to answers False) is
+    recorded on the truncation and the answer (count_failed), the next truncation is solved
+    without one, and a later proof at the same tau_max fails at once without walking it
+    again: the answer marked (complete_to 0) with 'mark', a ConvergenceError otherwise."""
+    system = cochlea(16, 3000.0)
+    kind = "harmonic"
+    first = TruncationSchedule.of(system).first
+    tau_max = 0.5 * free_radius(Pencils(system, kind).pencil(first, "two-sided"))
+    walks = []
+
+    def failing(hill, cap, count=True):
+        walks.append((hill.n_temporal, cap, count))
+        return False
+
+    monkeypatch.setattr(marginal, "none_up_to", failing)
+    answer = marginal_tau(system, kind, tol=1e-4, tau_max=tau_max, expect_empty=True)
+    assert answer.tau_min is None and answer.count_failed and not answer.empty_proved
+    assert walks == [(first, tau_max, True)]
+
+    def walked(*args, **kwargs):
+        raise AssertionError("a failed count was walked again")
+
+    monkeypatch.setattr(marginal, "none_up_to", walked)
+    assert certify_empty_answer(system, kind, answer, tau_max, "mark").complete_to == 0.0
+    with pytest.raises(ConvergenceError, match="cannot prove"):
+        certify_empty_answer(system, kind, answer, tau_max, True)

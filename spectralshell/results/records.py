@@ -129,6 +129,10 @@ class MarginalTau(Record):
         principle's zero count (or the disk bound that implies it) at both: by the solve's
         own path or by ``certify_empty`` (:func:`~spectralshell.solvers.marginal.marginal_tau`);
         False otherwise (an empty answer may still be proved by other means, see complete_to).
+    count_failed : the solve walked the zero count of one of the pair's truncations at
+        tau_max and it could not prove that truncation empty: a later proof of the empty answer
+        at the same tau_max (:func:`~spectralshell.solvers.marginal.certify_empty_answer`)
+        fails the same way, and is not walked again.
     """
 
     kind: str
@@ -140,6 +144,7 @@ class MarginalTau(Record):
     method: str
     complete_to: float = np.inf
     empty_proved: bool = False
+    count_failed: bool = False
 
     def unproved_empty(self, cap: float) -> bool:
         """No tau found, and their absence not proved up to ``cap`` (complete_to below it: the

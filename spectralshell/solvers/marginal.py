@@ -162,20 +162,30 @@ Expected empty answers. A refinement in M solves the kind that does not attain t
 with tau_max lowered to the other kind's tau_min (:mod:`spectralshell.solvers.spatial_refinement`),
 and where that kind had nothing below its cap at the coarser M it usually has nothing at the
 finer one either. ``marginal_tau(..., expect_empty=True)`` then tries each truncation first by
-the disk bound of the count (``none_up_to(..., count=False)``, :func:`truncation_taus`'
-``disk_first``; the next truncation only if this one was so proved): where it succeeds the
-truncation is proved empty (method ``"contour"``) without the Krylov solve, and an answer whose
-two truncations were both so proved carries ``empty_proved``, so that its later certification
-(:func:`certify_empty_answer`) costs nothing; where the bound fails the truncation is solved as
-before. The values do not depend on it: a truncation the disk proves empty is empty on every
-path. Measured on the seeded 100-cell Fig 5.18 sample (validation/bench_sweep.py's points, each
-alone by ``run_sweep(executor="serial")``, one BLAS thread, CPU time, the code before and this
-one side by side on the 2 cores): 403.0 s before, 347.4 s after (1.16x); measured again with
-the pairs of equal W blocks of :func:`~spectralshell.solvers.half_product.free_radius` formed
-once, 391.3 s before, 351.0 s after (1.11x; single cells vary by up to +-40 % between such
-runs); every stored variable of every cell bitwise equal in both; a cell ending at M = 256 (human, 6565 Hz, sigma = 3.19e8: the
-harmonic kind empty below the subharmonic 0.0277) 4.70 -> 3.18 s, its M = 256 harmonic solve
-and proof 1.05 + 1.05 s -> 0.83 s (two disk bounds).
+the zero count (:func:`~spectralshell.solvers.contour.none_up_to`: its disk bound, then the
+count; :func:`truncation_taus`' ``expect_empty``; the next truncation only if this one was so
+proved): where it succeeds the truncation is proved empty (method ``"contour"``) without the
+Krylov solve or the shift-invert cover, and an answer whose two truncations were both so proved
+carries ``empty_proved``, so that its later certification (:func:`certify_empty_answer`) costs
+nothing. Where the count fails the truncation is solved as before and marked
+``count_failed``, and so is the answer whose pair holds it: its certification at the same
+tau_max (the refinement's, at the kind's cap) fails at once instead of walking the same
+deterministic count again. The values do not depend on any of it: a truncation the count
+proves empty is empty on every path.
+Measured on the seeded 100-cell Fig 5.18 sample (validation/bench_sweep.py's points, each
+alone by ``run_sweep(executor="serial")``, one BLAS thread, CPU time, the code before and
+after side by side on the 2 cores), every stored variable of every cell bitwise equal each
+time: with the disk bound alone (``none_up_to(..., count=False)``), 403.0 s before, 347.4 s
+after (1.16x); again with the pairs of equal W blocks of
+:func:`~spectralshell.solvers.half_product.free_radius` formed once, 391.3 s before, 351.0 s
+after (1.11x; single cells vary by up to +-40 % between such runs); with the full count and
+the record of failed counts, 358.7 s before, 330.6 s after (1.085x): human, 313.8 Hz,
+sigma = 7.08e8 (pair M = 64, 128; its subharmonic empty below the harmonic 0.4216) 13.9 ->
+10.5 s, its M = 128 subharmonic solve and proof 3.5 + 4.7 s -> 5.5 s. Where the counts go
+then (the same sample, CPU time): counts the solves walked first 114 s, of which 10.5 s at an
+M below the final pair (where the proof is not asked, 3.9 s of it failed counts), and
+certifications of answers not so solved 49 s. A full count tried without the record of
+failures (a failed count walked twice) made cells slower, e.g. gerbil 192.7 Hz.
 
 What an answer proves
 ---------------------
@@ -405,6 +415,9 @@ class Truncation:
     paths), and ``spectrum``: every finite eigenvalue tau
     (complex, folded by :func:`_folded`) where the path computed them all (dense and QZ) and
     the model's D(s) is a matrix polynomial (:func:`certified_bound`), else None.
+    ``count_failed``: the zero count of this truncation at tau_max was walked first and could
+    not prove it empty (:func:`~spectralshell.solvers.contour.none_up_to` is deterministic, so
+    a proof asked for later at the same tau_max fails without walking it again).
     """
 
     tau: np.ndarray
@@ -413,6 +426,7 @@ class Truncation:
     complete_to: float = np.inf
     shifts: tuple[Shift, ...] = ()
     spectrum: np.ndarray | None = None
+    count_failed: bool = False
 
 
 def _folded(tau: np.ndarray) -> np.ndarray:
@@ -577,7 +591,7 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
                     tau_max: float = np.inf, method: str = "auto",
                     pencils: Pencils | None = None, hint: float | None = None,
                     plan: tuple[Shift, ...] = (), count_first: bool = False,
-                    disk_first: bool = False, fell_back: bool = False) -> Truncation:
+                    expect_empty: bool = False, fell_back: bool = False) -> Truncation:
     """Real tau >= 0 of one truncation by ``method`` (module notes): 'dense' lists all of them;
     'krylov' (and 'auto' when ``half_order`` >= :func:`krylov_min_order`, given ``fell_back``)
     at least every real tau <= min(tau_min, tau_max), on the form of :func:`krylov_form`,
@@ -595,20 +609,25 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
     and 'smallest' first try to prove by the argument principle's zero count that this one has
     none either (:func:`~spectralshell.solvers.contour.none_up_to`; result ``method =
     "contour"``, ``complete_to`` = tau_max), from N = COUNT_MIN_N on, and solve as before
-    where it cannot. ``disk_first`` (none is expected: the caller's ``expect_empty``, or the
-    previous truncation was proved empty): below COUNT_MIN_N the same proof by the count's
-    disk bound alone (``none_up_to(..., count=False)``), a fraction of the Krylov solve's cost
-    where it succeeds (module notes, "Expected empty answers")."""
+    where it cannot. ``expect_empty`` (none is expected: the caller's ``expect_empty``, or the
+    previous truncation was proved empty): the same proof at any N (the disk bound first, then
+    the count), which replaces the solve where it succeeds (module notes, "Expected empty
+    answers"). A count walked here that fails marks the result ``count_failed``."""
     if method not in METHODS:
         raise ValueError(f"method = {method!r} is invalid: must be one of {METHODS}")
     if not np.count_nonzero(system.forcing):
         return Truncation(tau=np.empty(0), method="structured")  # no finite marginal amplitude
     pencils = Pencils(system, kind) if pencils is None else pencils
-    counted = count_first and n_temporal >= COUNT_MIN_N
-    if ((counted or disk_first) and system.block_size > 2
-            and method in ("auto", "smallest") and math.isfinite(tau_max)
-            and none_up_to(pencils.pencil(n_temporal, "two-sided"), tau_max, count=counted)):
-        return Truncation(tau=np.empty(0), method="contour", complete_to=tau_max)
+    counted = expect_empty or (count_first and n_temporal >= COUNT_MIN_N)
+    if (counted and system.block_size > 2
+            and method in ("auto", "smallest") and math.isfinite(tau_max)):
+        if none_up_to(pencils.pencil(n_temporal, "two-sided"), tau_max, count=counted):
+            return Truncation(tau=np.empty(0), method="contour", complete_to=tau_max)
+        if counted:  # the count was walked and failed: a later proof need not walk it again
+            return dataclasses.replace(
+                truncation_taus(system, kind, n_temporal, tau_max=tau_max, method=method,
+                                pencils=pencils, hint=hint, plan=plan, fell_back=fell_back),
+                count_failed=True)
     if method == "smallest" and system.block_size == 2 and math.isfinite(tau_max):
         found = (smallest_real_tau(pencils.pencil(n_temporal, "two-sided"), tau_max, hint)
                  if pencils.well_conditioned(n_temporal, "two-sided") else None)
@@ -748,7 +767,8 @@ def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_m
     """The answer of a pair of truncations: tau_min of ``found`` with its error estimate, the tau
     that reappear in ``previous`` within max(tol, error), and ``complete_to``: the pair's
     certified ``bound``, lowered to the smallest tau left out (:func:`unconfirmed`);
-    ``empty_proved`` as the zero count found it (:func:`marginal_tau`)."""
+    ``empty_proved`` as the zero count found it (:func:`marginal_tau`), ``count_failed`` where
+    a count walked at either truncation failed."""
     tau, prev = _capped(found.tau, tau_max), _capped(previous.tau, tau_max)
     err = _tau_min_error(tau, prev, found.spread)
     match = max(tol, err or 0.0)
@@ -759,7 +779,8 @@ def _result(kind, found: Truncation, previous: Truncation, n, n_prev, tol, tau_m
                        n_temporal=n, n_previous=n_prev, error_estimate=err, method=found.method,
                        complete_to=min(bound, unconfirmed(found.tau, previous.tau, match,
                                                           tau_max)),
-                       empty_proved=empty_proved)
+                       empty_proved=empty_proved,
+                       count_failed=found.count_failed or previous.count_failed)
 
 
 def _capped(tau: np.ndarray, tau_max: float) -> np.ndarray:
@@ -852,9 +873,11 @@ def _empty_certified(pencils: Pencils, pair: tuple[tuple[Truncation, int], ...],
     truncations carry complex eigenvalues within ~1 % of the real axis that drift with N
     (:func:`certified_bound`), and one of them may be a real tau displaced by rounding. The
     count proves a strip of half-height 1e-6..1e-2 tau_max^2 around the real axis free of any
-    eigenvalue."""
+    eigenvalue. A truncation whose count at tau_max was already walked and failed
+    (``count_failed``) is not proved, without walking it again."""
     return all(_counted_empty(found, tau_max)
-               or none_up_to(pencils.pencil(n, "two-sided"), tau_max) for found, n in pair)
+               or (not found.count_failed and none_up_to(pencils.pencil(n, "two-sided"), tau_max))
+               for found, n in pair)
 
 
 def _counted_empty(found: Truncation, tau_max: float) -> bool:
@@ -889,6 +912,8 @@ def certify_empty_answer(system: HillSystem, kind: str, answer: MarginalTau, tau
         return answer
     if answer.empty_proved:  # both truncations proved empty by the solve's own path
         return dataclasses.replace(answer, complete_to=min(answer.complete_to, tau_max))
+    if answer.count_failed:  # the solve walked one of the counts at tau_max and it failed
+        return _unproved_answer(answer, kind, tau_max, certify_empty)
     pencils = Pencils(system, kind)
     pencils.reserve = answer.n_temporal
     previous = Truncation(tau=np.empty(0), method="", complete_to=0.0)  # nothing proved yet
@@ -897,6 +922,13 @@ def certify_empty_answer(system: HillSystem, kind: str, answer: MarginalTau, tau
     if _empty_certified(pencils, ((found, answer.n_temporal), (previous, answer.n_previous)),
                         tau_max):
         return dataclasses.replace(answer, complete_to=min(answer.complete_to, tau_max))
+    return _unproved_answer(answer, kind, tau_max, certify_empty)
+
+
+def _unproved_answer(answer: MarginalTau, kind: str, tau_max: float,
+                     certify_empty: bool | str) -> MarginalTau:
+    """An empty answer the count could not prove: marked (complete_to 0) with 'mark', else the
+    ConvergenceError of :func:`empty_not_certified`."""
     if certify_empty != "mark":
         raise empty_not_certified(kind, answer.n_previous, answer.n_temporal, tau_max)
     return dataclasses.replace(answer, complete_to=0.0)
@@ -953,8 +985,9 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
     expect_empty : the caller expects no tau <= a finite ``tau_max`` (e.g. none at a coarser
         spatial truncation, :mod:`spectralshell.solvers.spatial_refinement`): for blocks larger
         than 2 x 2 the first truncation, and each one after a truncation so proved, is first
-        tried by the zero count's disk bound alone (:func:`truncation_taus`' ``disk_first``).
-        The answer does not depend on it (module notes, "Expected empty answers").
+        tried by the zero count (its disk bound first; :func:`truncation_taus`'
+        ``expect_empty``). The answer does not depend on it (module notes, "Expected empty
+        answers").
 
     Raises
     ------
@@ -966,7 +999,7 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                              "(every tau up to it is converged)")
     pencils = Pencils(system, kind)
     start = {"hint": hint, "plan": (), "count_first": False,  # from one truncation to the next
-             "disk_first": expect_empty, "fell_back": False}
+             "expect_empty": expect_empty, "fell_back": False}
 
     def solve(n: int) -> Truncation:
         found = truncation_taus(system, kind, n, tau_max=tau_max, method=method,
@@ -979,7 +1012,7 @@ def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
             start.update(plan=found.shifts,
                          hint=None if found.shifts else float(capped[0]))
         start["count_first"] = not capped.size
-        start["disk_first"] = _counted_empty(found, tau_max)
+        start["expect_empty"] = _counted_empty(found, tau_max)
         return found
 
     def proved(found: Truncation, previous: Truncation, n: int, n_prev: int,

@@ -92,8 +92,10 @@ sigma = 1.54e8 (M = 256, 512) 0.71 s of 13.9 s.
 
 A kind with no tau below its cap at the coarser M is solved at the finer M with
 ``expect_empty`` (:func:`~spectralshell.solvers.marginal.marginal_tau`): its truncations are
-tried first by the count's disk bound, which replaces the Krylov solve where it proves them
-empty and makes their later proof free (``empty_proved``); the values are the same.
+tried first by the zero count (its disk bound first), which replaces the Krylov solve where it
+proves them empty and makes their later proof free (``empty_proved``); where it fails, the
+proof of that answer at its cap fails at once (``count_failed``: the same count, not walked
+twice). The values are the same.
 
 The model is seen only through ``factory(M) -> HillSystem``: this module never knows which
 model it solves.
