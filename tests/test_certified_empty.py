@@ -73,7 +73,7 @@ def test_uncertified_empty_answer_is_refused(monkeypatch):
     """Where the count cannot prove the strip empty, the solve raises (saying what to
     change), a fixed truncation claims nothing (complete_to 0), and without certify_empty
     the answer is as before."""
-    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, count=True: False)
+    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, solves=None: False)
     with pytest.raises(ss.ConvergenceError, match="zero count cannot prove.*tau_max="):
         marginal_tau(system(), "harmonic", tol=1e-9, tau_max=0.5, certify_empty=True)
     fixed = marginal_tau(system(), "harmonic", n_temporal=20, tau_max=0.5, certify_empty=True)
@@ -99,7 +99,7 @@ def test_floquet_cli_states_the_certified_bound(monkeypatch):
     assert rc == 0
     for kind in ("harmonic", "subharmonic"):
         assert data[kind]["tau"] == [] and data[kind]["complete_to"] == 0.5
-    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, count=True: False)
+    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, solves=None: False)
     rc, out, err = run(argv)
     assert rc == 1 and "zero count cannot prove" in err
     assert len(err.strip().splitlines()) == 1

@@ -39,7 +39,7 @@ def sphere_map():
 def _uncertifiable(monkeypatch):
     """No empty answer can be proved: the contour path declines, the zero count fails."""
     monkeypatch.setattr(marginal, "smallest_real_tau", lambda *args, **kwargs: None)
-    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, count=True: False)
+    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, solves=None: False)
 
 
 def test_certified_empty_points_have_no_real_tau_by_qz(sphere_map):

@@ -38,7 +38,7 @@ def sphere(l_max):
 
 def no_count(monkeypatch):
     """The zero count made to fail: no empty answer can be proved."""
-    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, count=True: False)
+    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, solves=None: False)
 
 
 def test_empty_kind_is_proved_in_every_sector_by_qz():

@@ -24,7 +24,7 @@ TONGUES = {"kappa": "0.1:1.5:5", "m": 2, "nu": 0.05, "tau_max": 0.5, "tips": Fal
 def _uncertifiable(monkeypatch):
     """No empty answer can be proved: the contour path declines, the zero count fails."""
     monkeypatch.setattr(marginal, "smallest_real_tau", lambda *args, **kwargs: None)
-    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, count=True: False)
+    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, solves=None: False)
 
 
 def run(argv):

@@ -107,7 +107,7 @@ def test_no_parametric_response_only_where_proved(monkeypatch, n_temporal):
                  n_temporal=n_temporal)
     with pytest.raises(ParameterError, match="proved up to it"):
         api.response("cochlea", **point)
-    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, count=True: False)
+    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, solves=None: False)
     with pytest.raises(ConvergenceError) as err:
         api.response("cochlea", **point)
     assert "proved" in str(err.value) and "proved up to it" not in str(err.value)

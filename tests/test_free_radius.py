@@ -7,7 +7,8 @@ import pytest
 
 from spectralshell.errors import ConvergenceError
 from spectralshell.solvers import contour, marginal
-from spectralshell.solvers.half_product import free_radius
+from spectralshell.solvers.half_product import (coupled_solves, cut_solves, free_radius,
+                                                 negated_coupling)
 from spectralshell.solvers.marginal import (Pencils, TruncationSchedule, certify_empty_answer,
                                              finer, marginal_tau)
 
@@ -39,6 +40,38 @@ def test_free_radius_real_form_and_random():
     for seed in range(6):
         hill = random_pencil(7, 4, seed)
         assert 0 < free_radius(hill) <= smallest_modulus(hill)
+
+
+@pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
+def test_radius_of_a_cut_from_the_larger_truncations_solves(kind):
+    """The disk bound of the pair (N, N') from the block solves kept for N'
+    (Pencils.coupled_solves; N's cut out of them by half_product.cut_solves) equals each
+    truncation's own bound bitwise, and every block of A is solved once for both."""
+    system = cochlea(16, 3000.0)
+    first = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    pencils.reserve = finer(first)
+    for n in (first, finer(first)):
+        hill = pencils.pencil(n, "two-sided")
+        assert free_radius(hill, pencils.coupled_solves(n, "two-sided")) == free_radius(hill)
+    solve, negated = pencils.coupled_solves(finer(first), "two-sided")
+    assert negated  # the cochlea's coupling i G, -i G
+    assert solve.cache_info().misses == len(pencils.pencil(finer(first), "two-sided").diag)
+
+
+def test_radius_of_a_cut_random_coupling():
+    """A random pencil whose couplings are not negatives of each other: the cut's bound from
+    the larger pencil's solves equals its own (to rounding: at the cut's ends the larger
+    pencil solves both couplings in one call)."""
+    for seed in range(4):
+        big = random_pencil(9, 4, seed)
+        solve, negated = coupled_solves(big)
+        assert not negated
+        for n in (2, 3):
+            cut = big.truncated(n)
+            own = free_radius(cut)
+            kept = free_radius(cut, (cut_solves(solve, big.block_range(n)), negated_coupling(cut)))
+            assert own > 0 and kept == pytest.approx(own, rel=1e-12)
 
 
 def test_free_radius_declines_on_a_singular_block():
@@ -165,14 +198,14 @@ def test_failed_count_is_not_walked_again(monkeypatch):
     tau_max = 0.5 * free_radius(Pencils(system, kind).pencil(first, "two-sided"))
     walks = []
 
-    def failing(hill, cap, count=True):
-        walks.append((hill.n_temporal, cap, count))
+    def failing(hill, cap, solves=None):
+        walks.append((hill.n_temporal, cap))
         return False
 
     monkeypatch.setattr(marginal, "none_up_to", failing)
     answer = marginal_tau(system, kind, tol=1e-4, tau_max=tau_max, expect_empty=True)
     assert answer.tau_min is None and answer.count_failed and not answer.empty_proved
-    assert walks == [(first, tau_max, True)]
+    assert walks == [(first, tau_max)]
 
     def walked(*args, **kwargs):
         raise AssertionError("a failed count was walked again")

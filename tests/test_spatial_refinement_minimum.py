@@ -245,8 +245,8 @@ def test_empty_answers_proved_at_the_returned_pair_only(monkeypatch):
     proved = []
     walk = marginal.none_up_to
     monkeypatch.setattr(marginal, "none_up_to",
-                        lambda hill, tau_max, count=True: proved.append(hill.diag.shape[1])
-                        or walk(hill, tau_max, count))
+                        lambda hill, tau_max, solves=None:
+                        proved.append(hill.diag.shape[1]) or walk(hill, tau_max, solves))
     joint = sr.refine_minimum(factory, KINDS, options=options, tol_spatial=0.05)
     other = joint.taus["subharmonic"]
     cap = joint.caps["subharmonic"]
@@ -271,7 +271,7 @@ def test_empty_answers_proved_at_the_returned_pair_only(monkeypatch):
                                    tau_max=cap, certify_empty="mark")
     assert other.complete_to == former.complete_to == cap
     assert (other.n_temporal, other.n_previous) == (former.n_temporal, former.n_previous)
-    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, count=True: False)
+    monkeypatch.setattr(marginal, "none_up_to", lambda hill, tau_max, solves=None: False)
     marked = sr.refine_minimum(factory, KINDS, options=options, tol_spatial=0.05, strict=False)
     assert marked.taus["subharmonic"].complete_to == 0.0
     assert not marked.converged and marked.change["subharmonic"] is None

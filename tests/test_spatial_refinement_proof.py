@@ -29,19 +29,16 @@ def factory(m):
     return hill_system(n_spatial=m, **POINT)
 
 
-def failing_at(monkeypatch, modes, counts=None):
+def failing_at(monkeypatch, modes):
     """The zero count (and its disk) fails on the pencils with M in ``modes``; returns the
-    list of the M it was asked about, and with ``counts`` the list of those asked with the count
-    (the others: an expected-empty truncation's disk bound alone, tried before its solve)."""
+    list of the M it was asked about."""
     asked = []
     walk = marginal.none_up_to
 
-    def none_up_to(hill, tau_max, count=True):
+    def none_up_to(hill, tau_max, solves=None):
         m = hill.diag.shape[1]  # the cochlea's block size is M
         asked.append(m)
-        if count and counts is not None:
-            counts.append(m)
-        return m not in modes and walk(hill, tau_max, count)
+        return m not in modes and walk(hill, tau_max, solves)
 
     monkeypatch.setattr(marginal, "none_up_to", none_up_to)
     return asked
@@ -75,12 +72,11 @@ def test_an_unproved_coarse_empty_answer_is_refined_past(monkeypatch):
     """The count fails at M = 16 only: (16, 32) would pass with change 0 on that unproved
     "none"; instead the refinement goes on to (32, 64), whose both M are proved (M = 32's proof
     reused, not counted again; M = 32 checked by dense eig in the test above)."""
-    counts = []
-    failing_at(monkeypatch, (16,), counts)
+    asked = failing_at(monkeypatch, (16,))
     r = sr.refine_spatial(factory, ("harmonic",), options=OPTIONS)
     assert (r.n_spatial_previous, r.n_spatial, r.converged) == (32, 64, True)
     assert r.change == {"harmonic": 0.0} and r.taus["harmonic"].complete_to == 0.2
-    assert counts.count(32) == 2  # both truncations of M = 32, once
+    assert asked.count(32) == 2  # both truncations of M = 32, once
 
 
 def test_unproved_at_both_m_is_not_converged(monkeypatch):

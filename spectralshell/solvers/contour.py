@@ -564,22 +564,21 @@ def _zeros_below(log_g: LogDet, right: float, z_max: float,
     return count
 
 
-def none_up_to(hill: HillMatrices, tau_max: float, count: bool = True) -> bool:
+def none_up_to(hill: HillMatrices, tau_max: float, solves=None) -> bool:
     """Whether the count proves that one bipartite truncation has no real tau <= tau_max: no
     zero of g in a thin rectangle around [0, tau_max^2 (1 + 1e-6)] (:func:`_zeros_below`).
     False where it cannot (a complex eigenvalue within 1e-6 tau_max^2 of the real axis, a real
     one, a zero pivot, the node budget). For blocks larger than 2 x 2 a disk free of
     eigenvalues that holds every rectangle the count would walk (:func:`_free_disk`) proves it
     first, at a few per cent of a count's cost; else g < 0 at the rectangles' right corner
-    (:func:`_odd_below`, one evaluation) declines it before the count. With ``count=False``
-    the disk alone decides (False where it fails; for 2 x 2 blocks, which have no disk test,
-    always False): the cheap test of a truncation expected to be empty."""
+    (:func:`_odd_below`, one evaluation) declines it before the count. ``solves``: the disk
+    bound's block solves (:func:`~spectralshell.solvers.half_product.free_radius`), e.g. kept
+    from a larger truncation."""
     z_max = tau_max * tau_max
     right = z_max * (1 + 1e-6)
-    if hill.diag.shape[1] > 2 and _free_disk(hill, math.hypot(right, max(BLOCK_STRIPS) * z_max)):
+    if hill.diag.shape[1] > 2 and _free_disk(hill, math.hypot(right, max(BLOCK_STRIPS) * z_max),
+                                             solves):
         return True
-    if not count:
-        return False
     log_g = LogDet(hill)
     if not log_g.compiled and _odd_below(log_g, right, z_max):
         return False
@@ -600,7 +599,7 @@ def _odd_below(log_g: LogDet, right: float, z_max: float) -> bool:
     return found is not None and math.cos(found[0].imag) < -0.5
 
 
-def _free_disk(hill: HillMatrices, reach: float) -> bool:
+def _free_disk(hill: HillMatrices, reach: float, solves=None) -> bool:
     """Whether the disk |z| <= ``reach`` holds no zero of g, proved by the bound of
     :func:`~spectralshell.solvers.half_product.free_radius` (no eigenvalue with |tau| < r) with
     the margin FREE_MARGIN on r.
@@ -617,7 +616,7 @@ def _free_disk(hill: HillMatrices, reach: float) -> bool:
     count runs as before. Issue 25 (measured in the Cost notes of
     :mod:`spectralshell.solvers.marginal`)."""
     with one_blas_thread():  # M x M blocks: BLAS threads only cost (_threads.py)
-        radius = free_radius(hill)
+        radius = free_radius(hill, solves)
     return (FREE_MARGIN * radius) ** 2 > reach
 
 

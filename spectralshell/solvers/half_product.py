@@ -297,16 +297,20 @@ def dense_half_product(hill: HillMatrices, inverses: BlockInverses) -> np.ndarra
     return W.reshape(m, m, s, s).transpose(0, 2, 1, 3).reshape(m * s, m * s)
 
 
-def _coupled_solves(hill: HillMatrices):
+def negated_coupling(hill: HillMatrices) -> bool:
+    """Whether B_{k,k+1} = -B_{k,k-1} for every 0 < k < K - 1 (the forcing's i G, -i G)."""
+    return bool(np.array_equal(hill.upper[1:], -hill.lower[:-1]))
+
+
+def coupled_solves(hill: HillMatrices):
     """(solve, negated): solve is k -> (C-_k, C+_k) = (A_k^{-1} B_{k,k-1}, A_k^{-1} B_{k,k+1})
     (None outside the pencil) by LAPACK's LU of A_k, one solve for both when
-    B_{k,k+1} = -B_{k,k-1} for every 0 < k < K - 1 (``negated``: the forcing's i G, -i G; then
-    C+_k = -C-_k exactly there); None for a block whose 1-norm condition exceeds COND_LIMIT (or a
-    singular one)."""
+    ``negated`` (:func:`negated_coupling`; then C+_k = -C-_k exactly there); None for a block
+    whose 1-norm condition exceeds COND_LIMIT (or a singular one)."""
     K = len(hill.diag)
     getrf, gecon, getrs = sla.lapack.get_lapack_funcs(("getrf", "gecon", "getrs"),
                                                       (hill.diag[0], hill.lower[:1]))
-    negated = np.array_equal(hill.upper[1:], -hill.lower[:-1])
+    negated = negated_coupling(hill)
 
     def solve(k: int) -> tuple[np.ndarray | None, np.ndarray | None] | None:
         a = np.array(hill.diag[k], dtype=np.result_type(hill.diag, hill.lower), order="F")
@@ -332,7 +336,24 @@ def _coupled_solves(hill: HillMatrices):
     return solve, negated
 
 
-def free_radius(hill: HillMatrices) -> float:
+def cut_solves(solve, rows: slice):
+    """The ``solve`` of :func:`coupled_solves` for the truncation on the block positions
+    ``rows`` of a larger pencil, from that pencil's ``solve``: the same blocks of A and the
+    same couplings inside, the couplings that leave the cut dropped (None). Where the larger
+    pencil is ``negated``, its C+_k = -C-_k at the cut's first block equals the cut's own
+    A_k^{-1} B_{k,k+1} = A_k^{-1} (-B_{k,k-1}) exactly (LU solves commute with a sign)."""
+    last = rows.stop - rows.start - 1
+
+    def solve_cut(k: int) -> tuple[np.ndarray | None, np.ndarray | None] | None:
+        here = solve(rows.start + k)
+        if here is None:
+            return None
+        return (None if k == 0 else here[0]), (None if k == last else here[1])
+
+    return solve_cut
+
+
+def free_radius(hill: HillMatrices, solves=None) -> float:
     """A radius r such that no eigenvalue tau of the bipartite pencil has |tau| < r, from norms
     of the blocks of W (0 when a block of A is singular or ill conditioned: no bound).
 
@@ -347,7 +368,9 @@ def free_radius(hill: HillMatrices) -> float:
     C-_k, C+_k of T are formed by one LU per block of A (blocks with 1-norm condition above
     COND_LIMIT give r = 0, so that their rounding, <~ M eps COND_LIMIT relative, stays far below
     a caller's margin); each block of W is formed, never W itself: O(K s^3), about 3.7 K s^3
-    complex flops, and O(s^2) memory beyond the pencil's. Where C+_k = -C-_k (``negated``,
+    complex flops, and O(s^2) memory beyond the pencil's. ``solves``: the (solve, negated) of
+    :func:`coupled_solves` for ``hill`` (e.g. kept from a larger truncation, :func:`cut_solves`),
+    in place of its own. Where C+_k = -C-_k (``negated``,
     the cochlea's forcing), the blocks of W come in pairs that differ in sign only,
     W_{p,p} = -(C-_p C-_{p-1} + C-_p C-_{p+1}) and W_{p,p+-2} = C-_p C-_{p+-1} away from the
     ends: one product per block of A instead of two, about 2.7 K s^3, with the same numbers
@@ -358,7 +381,7 @@ def free_radius(hill: HillMatrices) -> float:
     K = len(hill.diag)
     if K == 1:  # B = 0: no finite eigenvalue
         return np.inf
-    solve, negated = _coupled_solves(hill)
+    solve, negated = coupled_solves(hill) if solves is None else solves
     norms = {"diag": [], "up": [], "low": []}  # each entry (1-norm, inf-norm)
 
     def measure(block: np.ndarray | None) -> tuple[float, float]:

@@ -175,7 +175,7 @@ proves empty is empty on every path.
 Measured on the seeded 100-cell Fig 5.18 sample (validation/bench_sweep.py's points, each
 alone by ``run_sweep(executor="serial")``, one BLAS thread, CPU time, the code before and
 after side by side on the 2 cores), every stored variable of every cell bitwise equal each
-time: with the disk bound alone (``none_up_to(..., count=False)``), 403.0 s before, 347.4 s
+time: with the disk bound alone (the count not walked), 403.0 s before, 347.4 s
 after (1.16x); again with the pairs of equal W blocks of
 :func:`~spectralshell.solvers.half_product.free_radius` formed once, 391.3 s before, 351.0 s
 after (1.11x; single cells vary by up to +-40 % between such runs); with the full count and
@@ -186,6 +186,12 @@ then (the same sample, CPU time): counts the solves walked first 114 s, of which
 M below the final pair (where the proof is not asked, 3.9 s of it failed counts), and
 certifications of answers not so solved 49 s. A full count tried without the record of
 failures (a failed count walked twice) made cells slower, e.g. gerbil 192.7 Hz.
+The disk bounds of a pair (N, N') share their block solves (:meth:`Pencils.coupled_solves`:
+N's blocks are N''s, solved once): the same sample 323.2 s before, 319.2 s after, the cells
+ending at M = 256 66.2 -> 60.1 s, every stored variable bitwise equal. Tried and dropped: the
+count's rectangle started at 0.9 times the disk's reach instead of at 0 (the part inside the
+disk holds no zero): 1.0-1.2x slower on three crowded cells (human 313.8 Hz, 54.7 Hz; gerbil
+631.2 Hz), the same answers.
 
 What an answer proves
 ---------------------
@@ -253,9 +259,9 @@ from ..models.base import HillSystem
 from ..results.records import MarginalTau
 from . import tridiagonal
 from .contour import STRIPS, none_up_to, smallest_real_tau
-from .half_product import (REAL_RTOL, BlockInverses, block_inverses, dense_half_product,
-                           smallest_taus, tau_from_squares, tridiagonal_half_product,
-                           well_conditioned)
+from .half_product import (REAL_RTOL, BlockInverses, block_inverses, coupled_solves,
+                           cut_solves, dense_half_product, negated_coupling, smallest_taus,
+                           tau_from_squares, tridiagonal_half_product, well_conditioned)
 from .shift_invert import Shift, interval_taus
 
 ZERO_CLUSTER = 1e-6
@@ -503,6 +509,7 @@ class Pencils:
         self._inverses: dict[str, BlockInverses | None] = {}  # of the largest, once asked for
         self._conditioned: dict[str, bool] = {}  # well_conditioned(the largest), once asked for
         self._cut: dict[tuple[int, str], HillMatrices] = {}  # smaller ones cut out of it
+        self._solves: dict[str, tuple[Callable, bool]] = {}  # of the largest, once asked for
         self.reserve = 0
 
     def pencil(self, n_temporal: int, form: str) -> HillMatrices:
@@ -539,11 +546,29 @@ class Pencils:
             return hill, block_inverses(hill)
         return hill, inv.subset(big.block_range(n_temporal))
 
+    def coupled_solves(self, n_temporal: int, form: str) -> tuple[Callable, bool]:
+        """(solve, negated) of :func:`~spectralshell.solvers.half_product.coupled_solves` for
+        truncation ``n_temporal`` (the disk bound's block solves, :func:`none_up_to`'s
+        ``solves``), each block solved once per largest pencil and kept (at most two M x M
+        blocks per block of A, the pencil's own size): a smaller truncation's are the largest
+        one's (:func:`~spectralshell.solvers.half_product.cut_solves`), so that the disk bound
+        of the pair (N, N') solves the blocks of N' only, the same numbers."""
+        hill = self.pencil(n_temporal, form)
+        big = self._largest[form]
+        if form not in self._solves:
+            solve, negated = coupled_solves(big)
+            self._solves[form] = functools.cache(solve), negated
+        solve, negated = self._solves[form]
+        if hill is big:
+            return solve, negated
+        return cut_solves(solve, big.block_range(n_temporal)), negated_coupling(hill)
+
     def _assemble(self, n_temporal: int, form: str) -> HillMatrices:
         """Assemble a larger truncation; its block inverses are formed when asked for, reusing
         those of the blocks it shares with the previous one (when bitwise equal)."""
         previous, known_inv = self._largest.get(form), self._inverses.pop(form, None)
         self._conditioned.pop(form, None)
+        self._solves.pop(form, None)
         self._cut = {key: cut for key, cut in self._cut.items() if key[1] != form}
         hill = assemble(self.system, self.kind, n_temporal, form)
         self._largest[form] = hill
@@ -621,13 +646,14 @@ def truncation_taus(system: HillSystem, kind: str, n_temporal: int, *,
     counted = expect_empty or (count_first and n_temporal >= COUNT_MIN_N)
     if (counted and system.block_size > 2
             and method in ("auto", "smallest") and math.isfinite(tau_max)):
-        if none_up_to(pencils.pencil(n_temporal, "two-sided"), tau_max, count=counted):
+        if none_up_to(pencils.pencil(n_temporal, "two-sided"), tau_max,
+                      solves=pencils.coupled_solves(n_temporal, "two-sided")):
             return Truncation(tau=np.empty(0), method="contour", complete_to=tau_max)
-        if counted:  # the count was walked and failed: a later proof need not walk it again
-            return dataclasses.replace(
-                truncation_taus(system, kind, n_temporal, tau_max=tau_max, method=method,
-                                pencils=pencils, hint=hint, plan=plan, fell_back=fell_back),
-                count_failed=True)
+        # the count was walked and failed: a later proof at tau_max need not walk it again
+        return dataclasses.replace(
+            truncation_taus(system, kind, n_temporal, tau_max=tau_max, method=method,
+                            pencils=pencils, hint=hint, plan=plan, fell_back=fell_back),
+            count_failed=True)
     if method == "smallest" and system.block_size == 2 and math.isfinite(tau_max):
         found = (smallest_real_tau(pencils.pencil(n_temporal, "two-sided"), tau_max, hint)
                  if pencils.well_conditioned(n_temporal, "two-sided") else None)
@@ -876,7 +902,9 @@ def _empty_certified(pencils: Pencils, pair: tuple[tuple[Truncation, int], ...],
     eigenvalue. A truncation whose count at tau_max was already walked and failed
     (``count_failed``) is not proved, without walking it again."""
     return all(_counted_empty(found, tau_max)
-               or (not found.count_failed and none_up_to(pencils.pencil(n, "two-sided"), tau_max))
+               or (not found.count_failed
+                   and none_up_to(pencils.pencil(n, "two-sided"), tau_max,
+                                  solves=pencils.coupled_solves(n, "two-sided")))
                for found, n in pair)
 
 
