@@ -191,7 +191,11 @@ N's blocks are N''s, solved once): the same sample 323.2 s before, 319.2 s after
 ending at M = 256 66.2 -> 60.1 s, every stored variable bitwise equal. Tried and dropped: the
 count's rectangle started at 0.9 times the disk's reach instead of at 0 (the part inside the
 disk holds no zero): 1.0-1.2x slower on three crowded cells (human 313.8 Hz, 54.7 Hz; gerbil
-631.2 Hz), the same answers.
+631.2 Hz), the same answers; and counting every truncation of an expected-empty solve, not
+only the first and those after a proved one: 294.9 s before, 295.5 s after (the crowded cell,
+human 63.6 Hz, 36.6 -> 28.6 s, whose first truncation's count fails and the next two are proved
+only at the certification; the cells ending at M = 256, 57.8 -> 64.5 s, where the counts after
+a failed one fail as well).
 
 What an answer proves
 ---------------------
