@@ -99,6 +99,15 @@ products per block (:func:`diagonal_log_det`) instead of a solve and four produc
 7.4 ms, 128 64 -> 57 ms, 256 382 -> 321 ms, log g to ~1e-12 of block_log_det's; on the seeded
 100-point Fig 5.18 sample (validation/bench_sweep.py's sample_points, 2 processes) the counts
 took 126.8 -> 100.2 s CPU, every returned variable of every point bitwise equal.
+That rotated sweep then moved into the compiled kernel (``_schur.rotated_logdet``, SciPy's
+LAPACK and BLAS called from C; issue 25): of the counts' 12,344 nodes on the seeded sample,
+9,463 are at M = 16 and 32, where the ~10 numpy and LAPACK calls per block cost more than
+their flops. Per node (one BLAS thread, CPU, the numpy sweep and the kernel alternately on
+the crowded cell's blocks, K = 104..154): M = 16 9.0-10.2 -> 3.2 ms, M = 32 13.8-14.2 ->
+7.8-7.9 ms, M = 64 48-53 -> 40-41 ms; log g to ~2e-15 relative (the sum of the LU's
+logarithms in another order), its slope to ~1e-14. The seeded 100-point sample, main's code
+and this one side by side (one process each, 2 cores): 336.8 -> 308.0 s CPU (1.094x), every
+returned variable of every point bitwise equal.
 
 The value agrees with the dense eig of W (tests/test_contour.py: to 1e-10 relative, in practice
 ~1e-14, on Fig 6.13 cells); what differs is that only tau_min and ``complete_to`` are reported,
@@ -209,12 +218,18 @@ import cmath
 import math
 
 import numpy as np
+import scipy.linalg.cython_blas
+import scipy.linalg.cython_lapack
 from scipy.linalg.lapack import zgetrf as _getrf, zgetri as _getri, zgetrs as _getrs
 
 from .._threads import one_blas_thread
 from ..discretise.hill import HillMatrices
 from . import _schur
 from .half_product import free_radius
+
+_schur.use_lapack(*(scipy.linalg.cython_lapack.__pyx_capi__[name]
+                    for name in ("zgetrf", "zgetri", "zgetrs")),
+                  scipy.linalg.cython_blas.__pyx_capi__["zgemm"])  # diagonal_log_det's sweep
 
 #: Half-heights (and left margins) of the counting rectangle, relative to tau_max^2, tried in
 #: turn until one holds no zero (:func:`_zeros_below`). A thinner rectangle lies inside a wider
@@ -437,38 +452,11 @@ def diagonal_log_det(diag: np.ndarray, coupling: np.ndarray,
     (log det)' = sum_k tr Y_k: per block one LU, the inverse (?getri below INVERSE_BELOW rows,
     else ?getrs on the identity, the faster of the two there) and two products, where
     block_log_det's chained recursion takes the inverse (or a solve with M right-hand sides)
-    and four products; the scalings by L cost O(M^2)."""
-    K, M, _ = diag.shape
-    outer = coupling[:, None] * coupling[None, :]  # L X L = outer * X elementwise
-    S, slope_S = diag[0].copy(), None  # S_k, S_k'
-    value, slope = 0.0j, 0.0j
-    unmoved, identity = np.arange(M), np.eye(M, dtype=complex)
-    for k in range(K):
-        factored = _log_lu(S, unmoved)
-        if factored is None:
-            return None
-        lu, pivots, log_det = factored
-        value += log_det
-        last = k == K - 1
-        if last and slope_S is None:
-            break
-        inverse, info = (_getri(lu, pivots, overwrite_lu=1) if M < INVERSE_BELOW
-                         else _getrs(lu, pivots, identity))
-        if info != 0:
-            return None
-        if last:  # tr(S^{-1} S') without the product
-            slope += np.sum(inverse * slope_S.T)
-            break
-        if slope_S is None:
-            slope_S = outer * inverse
-        else:
-            Y = inverse @ slope_S
-            slope += np.trace(Y)
-            slope_S = outer * (inverse - z * (Y @ inverse))
-        S = diag[k + 1] + z * (outer * inverse)
-    if not (cmath.isfinite(value) and cmath.isfinite(slope)):
-        return None
-    return complex(value), complex(slope)
+    and four products; the scalings by L cost O(M^2). The sweep runs in the compiled kernel
+    (``_schur.rotated_logdet``, SciPy's ?getrf, ?getri, ?getrs and ?gemm): issue 25, from
+    numpy it took 2-3x longer at M = 16..32 (the LAPACK and numpy calls' overhead, ~10 per
+    block), see the module notes.
+    return _schur.rotated_logdet(diag, coupling, complex(z), INVERSE_BELOW)
 
 
 def _solver(lu: np.ndarray, pivots: np.ndarray):
