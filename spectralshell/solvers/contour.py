@@ -455,7 +455,7 @@ def diagonal_log_det(diag: np.ndarray, coupling: np.ndarray,
     and four products; the scalings by L cost O(M^2). The sweep runs in the compiled kernel
     (``_schur.rotated_logdet``, SciPy's ?getrf, ?getri, ?getrs and ?gemm): issue 25, from
     numpy it took 2-3x longer at M = 16..32 (the LAPACK and numpy calls' overhead, ~10 per
-    block), see the module notes.
+    block), see the module notes."""
     return _schur.rotated_logdet(diag, coupling, complex(z), INVERSE_BELOW)
 
 
