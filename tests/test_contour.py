@@ -298,11 +298,13 @@ def test_scalar_coupling_form_equals_general_form(kind):
     np.testing.assert_allclose(slope_p, slope, rtol=1e-10)
 
 
-def composed_smallest(hill, tau_max, hint=None):
+def composed_smallest(hill, tau_max, hint=None, whole=True):
     """smallest_real_tau as the Python composition it was before the kernel took its steps
-    (issue 25): sign change near the hint, strip counts, real-axis scan, Newton root and its
-    dyadic cell, disk count, each from the module's public pieces (LogDet, winding, rectangle,
-    circle) and ``_schur.root``; the kernel's one call must answer the same, bitwise."""
+    (issue 25): sign change near the hint, strip counts, real-axis scan (without a hint and
+    with g of opposite signs at the first strip's ends, first the bisected sign change over
+    [0, z_max]; ``whole=False``: the scan alone, as before), Newton root and its dyadic cell,
+    disk count, each from the module's public pieces (LogDet, winding, rectangle, circle) and
+    ``_schur.root``; the kernel's one call must answer the same, bitwise."""
     log_g = contour.LogDet(hill)
     z_max = tau_max * tau_max
 
@@ -333,6 +335,37 @@ def composed_smallest(hill, tau_max, hint=None):
             raise ZeroDivisionError
         return otherwise if np.isnan(z) else z
 
+    def certified(bracket, strips):  # the root in its dyadic cell, the counts below and around
+        try:
+            z = root(*bracket, rtol=contour.ROOT_RTOL)
+            step = np.ldexp(1.0, np.frexp(z)[1] - 30)
+            lo = np.floor(z / step) * step
+            z = root(float(lo), float(lo + step), 4 * np.finfo(float).eps, otherwise=z)
+        except ZeroDivisionError:
+            return None
+        rho = contour.DISK * z
+        if zeros_below(z - rho / 2, strips) != 0:
+            return None
+        if contour.winding(log_g, contour.circle(z, rho)) != 1:
+            return None
+        return np.sqrt(z), np.sqrt(z + rho / 2)
+
+    def whole_interval():  # a sign change over [0, z_max] bisected to the scan's spacing
+        ends = log_g(np.array([0.0, z_max]))
+        if ends is None or not np.cos((ends[0][1] - ends[0][0]).imag) < 0:
+            return None
+        lo, hi = 0.0, z_max
+        while hi - lo > z_max / contour.SCAN_POINTS:
+            mid = 0.5 * (lo + hi)
+            found = log_g(np.array([mid]))
+            if found is None:
+                return None
+            if np.cos((found[0][0] - ends[0][0]).imag) > 0:
+                lo = mid
+            else:
+                hi = mid
+        return certified((lo, hi), contour.STRIPS[:1])
+
     bracket = None
     if hint is not None and 0.0 < hint * hint <= z_max:
         z0, offsets = hint * hint, np.array(contour.HINT_STEPS)
@@ -342,22 +375,15 @@ def composed_smallest(hill, tau_max, hint=None):
         right = z_max * (1 + 1e-6)
         if zeros_below(right, contour.STRIPS[:1]) == 0:
             return None, tau_max
+        ends = log_g(np.array([right, -contour.STRIPS[0] * z_max]))
+        if whole and ends is not None and np.cos((ends[0][0] - ends[0][1]).imag) < 0:
+            found = whole_interval()
+            if found is not None:
+                return found
         bracket = first_change(np.linspace(0.0, z_max, contour.SCAN_POINTS + 1))
         if bracket is None:
             return (None, tau_max) if zeros_below(right, contour.STRIPS[1:]) == 0 else None
-    try:
-        z = root(*bracket, rtol=contour.ROOT_RTOL)
-        step = np.ldexp(1.0, np.frexp(z)[1] - 30)
-        lo = np.floor(z / step) * step
-        z = root(float(lo), float(lo + step), 4 * np.finfo(float).eps, otherwise=z)
-    except ZeroDivisionError:
-        return None
-    rho = contour.DISK * z
-    if zeros_below(z - rho / 2, contour.STRIPS) != 0:
-        return None
-    if contour.winding(log_g, contour.circle(z, rho)) != 1:
-        return None
-    return np.sqrt(z), np.sqrt(z + rho / 2)
+    return certified(bracket, contour.STRIPS)
 
 
 def hints_around(tau):
@@ -420,6 +446,36 @@ def test_kernel_steps_equal_python_composition_when_counts_fail(monkeypatch, bud
             assert got == composed_smallest(hill, TAU_MAX, hint)
             outcomes.add("declined" if got is None else "none" if got[0] is None else "tau")
     assert len(outcomes) >= 2 and (budget > 20 or "declined" in outcomes)
+
+
+@pytest.mark.parametrize("sigma, bpm, m, kind, tau_max", [
+    *((*cell, TAU_MAX) for cell in cells(24, seed=11)),
+    (16295.055551162224, 534.7644738418962, 4, "harmonic", 1.2),
+    (8284.008734924846, 295.0839232519992, 2, "harmonic", 2.0),
+    (1926.3965038161932, 649.5056690390428, 2, "subharmonic", 2.0),
+    (13395.013120171767, 190.70612100189436, 3, "harmonic", 0.8)])
+def test_whole_interval_root_answers_as_the_scan(sigma, bpm, m, kind, tau_max):
+    """Without a hint, where g has opposite signs at the ends of the first strip's rectangle
+    (an odd number of real tau <= tau_max), the kernel first bisects the sign change over
+    [0, tau_max^2] and certifies its root; the answer is the scan's (the composition without
+    that step), bitwise, wherever the scan's is certified, and QZ's smallest real tau. The last
+    four cells have 3-9 real tau below tau_max (QZ), where the bisection may find a higher one
+    first: its certificate then fails and the scan decides."""
+    system = atrium(sigma, bpm, m)
+    n = TruncationSchedule.of(system).first
+    pencils = Pencils(system, kind)
+    hill = pencils.get(n, "two-sided")[0]
+    got = contour.smallest_real_tau(hill, tau_max)
+    assert got == composed_smallest(hill, tau_max)
+    scan = composed_smallest(hill, tau_max, whole=False)
+    if scan is not None:
+        assert got == scan
+    reference = dense_taus(pencils.get(n, "real")[0])
+    reference = np.sort(reference[(reference >= 0) & (reference <= tau_max)])
+    if got is not None and got[0] is not None:
+        assert got[0] == pytest.approx(reference[0], rel=1e-10)
+    elif got is not None:
+        assert not reference.size
 
 
 @pytest.mark.parametrize("sigma, bpm, m, kind", cells(12, seed=37) + [

@@ -41,7 +41,9 @@
  *   scan, max_bend, max_turn, max_nodes, root_rtol) -> float, NaN or None: every step of
  *   contour.smallest_real_tau for 2 x 2 blocks in one call (its module notes): a sign change
  *   of g on the real points hint_z (1 -+ hint_steps), else the count in the first strip's
- *   rectangle up to z_max (1 + 1e-6) and a scan of scan + 1 points over [0, z_max], else the
+ *   rectangle up to z_max (1 + 1e-6) (odd by its ends' signs: first the sign change over
+ *   [0, z_max] bisected to z_max / scan, its root kept if certified in the first strip) and a
+ *   scan of scan + 1 points over [0, z_max], else the
  *   other strips (a rectangle with g of opposite signs at its real ends is not walked: its
  *   count is odd, so not zero; the real points are evaluated without the derivative); the
  *   root (root() to root_rtol, then to 4 eps inside its dyadic cell of width 2^-30 |z|);
@@ -580,23 +582,27 @@ static int count_zeros(Contour *c, const Rules *r, const double complex *z, Py_s
 }
 
 /* contour._zeros_below: the zeros in [-a, right] x [-a, a], a = s z_max for the first strip s
- * of strips[first..last) that holds none; 0 when one does, 1 otherwise (each holds some
- * zeros, or its count failed). The nodes are those of contour.rectangle: left + (right - left) x
- * + i h y for x + i y of the rule's rectangle. */
+ * of strips[first..last) that holds none; 0 when one does, else nonzero: 2 when the last
+ * strip's g has opposite signs at its real ends (an odd count, not walked), 1 otherwise (each
+ * holds some zeros, or its count failed). The nodes are those of contour.rectangle:
+ * left + (right - left) x + i h y for x + i y of the rule's rectangle. */
 static int none_below(Contour *c, const Rules *r, double right, int first, int last)
 {
     double complex nodes[64];
+    int status = 1;
     if (r->n_rect > 64)
         return 1;
     for (int j = first; j < last; j++) {
         double side = r->strips[j] * r->z_max, left = -side, width = right - left;
         for (Py_ssize_t i = 0; i < r->n_rect; i++)
             nodes[i] = CMPLX(left + width * creal(r->rect[i]), side * cimag(r->rect[i]));
-        long count;
-        if (!count_zeros(c, r, nodes, r->n_rect, 1, &count) && count == 0)
+        long count = -1;
+        status = count_zeros(c, r, nodes, r->n_rect, 1, &count);
+        if (!status && count == 0)
             return 0;
+        status = status == 2 ? 2 : 1;
     }
-    return 1;
+    return status;
 }
 
 /* contour._first_change: the lowest sign change of g = det(A - tau B) / det A on the real
@@ -629,11 +635,77 @@ static int first_change(Contour *c, const double *p, Py_ssize_t n, double *lo, d
     return 1;
 }
 
+/* The root's dyadic cell and certificate (contour.smallest_real_tau): x, a zero of g found to
+ * root_rtol, refined to 4 eps inside its dyadic cell of width 2^-30 |x| (so that the answer does
+ * not depend on the bracket it came from); then no zero in [-a, x - rho / 2] x [-a, a] (strips
+ * [0, strips) in turn) and exactly one in the disk |z - x| <= rho = disk x. 0 with the value in
+ * *z, 1 where any step fails. known[0]: log det at 0. */
+static int certified_root(Contour *c, const Rules *r, double x, const double complex *known,
+                          int strips, double *z)
+{
+    int e;
+    frexp(x, &e);
+    double cell = ldexp(1.0, e - 30), low = floor(x / cell) * cell, refined;
+    c->budget = ROOT_STEPS;
+    int status = real_root(c, low, low + cell, 4 * DBL_EPSILON, known, 1, &refined);
+    if (status == 1)
+        return 1;
+    if (status == 0)
+        x = refined;
+    double rho = r->disk * x;
+    if (none_below(c, r, x - rho / 2, 0, strips))
+        return 1;
+    double complex nodes[64];
+    if (r->n_unit > 64 || r->n_unit < 2)
+        return 1;
+    for (Py_ssize_t i = 0; i + 1 < r->n_unit; i++)
+        nodes[i] = CMPLX(x + rho * creal(r->unit[i]), rho * cimag(r->unit[i]));
+    nodes[r->n_unit - 1] = CMPLX(x - rho, 0.0);
+    long count;
+    if (count_zeros(c, r, nodes, r->n_unit, 0, &count) || count != 1)
+        return 1;
+    *z = x;
+    return 0;
+}
+
+/* The shortcut of contour.smallest_real_tau without a hint where g has opposite signs at the
+ * ends of the first strip's rectangle: a sign change of g over [0, z_max] narrowed by
+ * bisection (log det alone, as the scan's points) to at most z_max / scan, its root, certified
+ * as any (certified_root, the first strip alone). 0 with the value in *z, 1 where any step
+ * fails (no sign change in [0, z_max]; another zero below the root: then the scan decides). */
+static int whole_interval_root(Contour *c, const Rules *r, double *z)
+{
+    double complex known[3], f;
+    double lo = 0.0, hi = r->z_max, width = r->z_max / (double)r->scan;
+    if (schur_logdet(c->diag, c->lower, c->upper, c->K, c->scalar, 0.0, &known[0], NULL) ||
+        schur_logdet(c->diag, c->lower, c->upper, c->K, c->scalar, hi, &known[2], NULL))
+        return 1;
+    known[1] = known[0];
+    if (!(cos(cimag(known[2] - known[0])) < 0))
+        return 1;
+    while (hi - lo > width) {
+        double mid = 0.5 * (lo + hi);
+        if (schur_logdet(c->diag, c->lower, c->upper, c->K, c->scalar, mid, &f, NULL))
+            return 1;
+        if (cos(cimag(f - known[0])) > 0) {
+            lo = mid;
+            known[1] = f;
+        } else {
+            hi = mid;
+            known[2] = f;
+        }
+    }
+    double x;
+    c->budget = ROOT_STEPS;
+    if (real_root(c, lo, hi, r->root_rtol, known, 3, &x))
+        return 1;
+    return certified_root(c, r, x, known, 1, z);
+}
+
 /* contour.smallest_real_tau on a 2 x 2 block pencil: 0 with z = tau_min^2 in *z (NaN: proved
  * that no real tau^2 <= z_max exists), 1 where the certificate cannot be had. hint_z: the
- * hint squared (outside (0, z_max]: none). Same steps, points and arithmetic as the former
- * Python composition of winding, rectangle, circle and root (tests/test_contour.py keeps it as
- * the reference). */
+ * hint squared (outside (0, z_max]: none). Same steps, points and arithmetic as the Python
+ * composition of winding, rectangle, circle and root in tests/test_contour.py. */
 static int smallest_root(Contour *c, const Rules *r, double hint_z, double *z)
 {
     double lo = NAN, hi = NAN, points[2 * 8 + 1];
@@ -652,10 +724,13 @@ static int smallest_root(Contour *c, const Rules *r, double hint_z, double *z)
     }
     if (lo != lo) {
         double right = r->z_max * (1 + 1e-6);
-        if (!none_below(c, r, right, 0, 1)) {
+        int first = none_below(c, r, right, 0, 1);
+        if (!first) {
             *z = NAN;
             return 0;
         }
+        if (first == 2 && !whole_interval_root(c, r, z))
+            return 0;
         double scan[1024];
         if (r->scan + 1 > 1024)
             return 1;
@@ -675,29 +750,7 @@ static int smallest_root(Contour *c, const Rules *r, double hint_z, double *z)
     c->budget = ROOT_STEPS;
     if (real_root(c, lo, hi, r->root_rtol, known, 3, &x))
         return 1;
-    int e;
-    frexp(x, &e);
-    double cell = ldexp(1.0, e - 30), low = floor(x / cell) * cell, refined;
-    c->budget = ROOT_STEPS;
-    int status = real_root(c, low, low + cell, 4 * DBL_EPSILON, known, 1, &refined);
-    if (status == 1)
-        return 1;
-    if (status == 0)
-        x = refined;
-    double rho = r->disk * x;
-    if (none_below(c, r, x - rho / 2, 0, r->n_strips))
-        return 1;
-    double complex nodes[64];
-    if (r->n_unit > 64 || r->n_unit < 2)
-        return 1;
-    for (Py_ssize_t i = 0; i + 1 < r->n_unit; i++)
-        nodes[i] = CMPLX(x + rho * creal(r->unit[i]), rho * cimag(r->unit[i]));
-    nodes[r->n_unit - 1] = CMPLX(x - rho, 0.0);
-    long count;
-    if (count_zeros(c, r, nodes, r->n_unit, 0, &count) || count != 1)
-        return 1;
-    *z = x;
-    return 0;
+    return certified_root(c, r, x, known, r->n_strips, z);
 }
 
 /* Up to `most` floats of a sequence into out; their number, or -1 (exception set). */

@@ -19,7 +19,10 @@ The answer and its certificate
 ------------------------------
 A candidate z* is bracketed by a sign change of g on the real axis (within 5 % of the caller's
 ``hint`` squared, a neighbour's tau_min; else, once the count below finds zeros, on a grid over
-[0, tau_max^2]; the points taken in turn from the lowest up to the first change) and
+[0, tau_max^2]; the points taken in turn from the lowest up to the first change; but first,
+where g has opposite signs at the real ends of that count's rectangle, the sign change over
+[0, tau_max^2] itself, bisected to the grid's spacing, whose root is kept if its certificate
+below holds in the first strip) and
 refined by Newton's method on the kernel's g'/g, safeguarded by bisection (``_schur.root``;
 first to 1e-13, then again, to rounding, inside a fixed dyadic cell around
 that value, so that the answer does not depend on the hint). The argument principle then
@@ -210,6 +213,19 @@ subharmonic) 11.7-14.2x -> 36.7-38.1x, N = 40 harmonic 20-22x -> 47-86x, N = 60 
 -> 28 with the derivative and 7 without, 0.375 -> 0.251 ms per truncation_taus call (CPU,
 best of 15 rounds of 20 calls, the two kernels alternately; its QZ time varies too much under
 load for the row's ratio, 26-40x -> 30-65x over those rounds, to show it).
+
+Then the truncation without a hint whose first strip's count is odd by its ends' signs (one
+real tau or an odd number below tau_max; issue 25): instead of the scan's points from 0 up to
+the first sign change (all 49 where tau_min lies near tau_max, as the sphere's N = 40
+subharmonic truncation of validation/bench_fig613.py, tau_min = 0.49991), the sign change of
+g between 0 and tau_max^2 is bisected to the scan's spacing (6 evaluations of log g) and its
+root certified in the first strip; only where that fails (another zero below, a complex one in
+the strip) does the scan run, as before. Where both certify, the answers are bitwise equal
+(the root is refined inside its dyadic cell; tests/test_contour.py, also on cells with 3-9
+real tau below tau_max, where the bisection may find a higher one first). That truncation, one
+BLAS thread, best of 300: 363 -> 275 us without a hint (240-263 us with tau_min as the hint).
+The 12 lines of ``--lines``, against the code before (3 rounds each, alternately, load < 1):
+5.20-5.27 -> 4.93-5.43 s CPU per round (within noise), the maps bitwise equal.
 """
 
 from __future__ import annotations
@@ -617,7 +633,9 @@ def smallest_real_tau(hill: HillMatrices, tau_max: float,
 
     The steps run in the compiled kernel (``_schur.smallest``), one call per truncation: the
     sign change near ``hint`` squared (HINT_STEPS), else the first strip's count and the
-    real-axis scan (SCAN_POINTS), then the other strips; the root by safeguarded Newton to
+    real-axis scan (SCAN_POINTS; first, where that count is odd by the signs of g at its real
+    ends, the sign change over [0, z_max] bisected to the scan's spacing, kept if its root's
+    certificate holds in the first strip), then the other strips; the root by safeguarded Newton to
     1e-13 and again inside its dyadic cell of width 2^-30 |z| (so that the answer does not
     depend on the hint); the counts of :func:`rectangle` (STRIPS) below z* - rho / 2 and of
     :func:`circle` around z*, each as :func:`winding` takes them. Called from Python, these
