@@ -187,6 +187,48 @@ def test_expected_empty_answer_proved_by_the_count(kind, monkeypatch):
     assert certify_empty_answer(system, kind, expected, tau_max, True).complete_to == tau_max
 
 
+def real_taus(hill) -> np.ndarray:
+    """The real tau > 0 of QZ, ascending."""
+    z = qz_squares(hill)
+    return np.sort(np.sqrt(z[(np.abs(z.imag) <= 1e-9 * np.abs(z)) & (z.real > 0)].real))
+
+
+def test_expected_empty_counts_after_an_empty_truncation(monkeypatch):
+    """expect_empty where the first truncation has a real tau below tau_max and the later ones
+    none (gerbil, 200 Hz, sigma = 1.9e9, M = 8, harmonic, tau_max = 0.48; QZ: 0.4774 at
+    N = 16, 0.4859 from N = 24 on): the count is tried first at N = 16 (fails: the tau), not
+    at N = 24 (its predecessor had a tau), and again at N = 36, after N = 24 was found empty
+    by its solve: it proves N = 36 empty there, so that the answer's certification walks
+    N = 24's count only (issue 25). The answer is the plain solve's."""
+    system = cochlea(8, 200.0, 1.9e9)
+    kind, tau_max = "harmonic", 0.48
+    pencils = Pencils(system, kind)
+    first = TruncationSchedule.of(system).first
+    pair = (finer(first), finer(finer(first)))
+    assert real_taus(pencils.pencil(first, "two-sided"))[0] < tau_max
+    assert all(real_taus(pencils.pencil(n, "two-sided"))[0] > tau_max for n in pair)
+    walks = []
+    count = marginal.none_up_to
+
+    def recorded(hill, cap, solves=None):
+        walks.append(hill.n_temporal)
+        return count(hill, cap, solves)
+
+    monkeypatch.setattr(marginal, "none_up_to", recorded)
+    plain = marginal_tau(system, kind, tol=1e-4, tau_max=tau_max)
+    assert walks == []
+    expected = marginal_tau(system, kind, tol=1e-4, tau_max=tau_max, expect_empty=True)
+    assert walks == [first, pair[1]]
+    assert plain.tau_min is None and expected.tau_min is None
+    assert (expected.n_previous, expected.n_temporal) == (plain.n_previous, plain.n_temporal) \
+        == pair
+    assert expected.method == "contour" and not expected.count_failed
+    assert not expected.empty_proved  # N = 24 was solved, not counted
+    walks.clear()
+    assert certify_empty_answer(system, kind, expected, tau_max, True).complete_to == tau_max
+    assert walks == [pair[0]]
+
+
 def test_failed_count_is_not_walked_again(monkeypatch):
     """A count the solve walked that fails (here made to fail: none_up_to answers False) is
     recorded on the truncation and the answer (count_failed), the next truncation is solved
