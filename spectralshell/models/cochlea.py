@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import dataclasses
 
-import mpmath
 import numpy as np
 
 from .._validate import require_int_in_range, require_nonnegative, require_positive
@@ -229,6 +228,7 @@ def natural_mode_residual_mp(s, *, zeta, alpha, n_spatial: int) -> tuple:
     Where mpmath's LU factorisation finds T singular to working precision (det returned as 0),
     the pair is (0, 1): a zero Newton step.
     """
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     s, zeta, alpha = mpmath.mpmathify(s), mpmath.mpf(zeta), mpmath.mpf(alpha)
     M = require_int_in_range("n_spatial", n_spatial, 1)
     if alpha == 0:
@@ -338,6 +338,7 @@ def mode_family(p: CochleaParams) -> ModeFamily:
     one and become real decays on (-zeta, 0) (their mirror images leave through the branch
     point onto the other sheet).
     """
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     if p.n_spatial is None or p.spatial_mode is not None:
         raise ParameterError(f"n_spatial = {p.n_spatial!r} is invalid for natural modes: give the "
                              "number of cosine modes M (e.g. 20, as in thesis Fig 5.7)")

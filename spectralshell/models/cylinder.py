@@ -40,7 +40,6 @@ import dataclasses
 import functools
 from collections.abc import Iterator
 
-import mpmath
 import numpy as np
 
 from .._validate import invalid
@@ -503,6 +502,7 @@ def modal_residual_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
                               component: str = "coupled"):
     """:func:`modal_residual_shifted` in mpmath (:func:`natural_determinant_shifted_mp`), the
     derivative's step 10^(-dps/3) :func:`_stencil_scale`."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     x = mpmath.mpc(x)
     h = mpmath.mpf(10) ** (-(mpmath.mp.dps // 3)) * _stencil_scale(complex(x), k)
     det = [natural_determinant_shifted_mp(x + d, m=m, k=k, kappa=kappa, nu=nu,
@@ -550,6 +550,7 @@ def modal_noise_shifted(x: complex, *, m: int, k: float, kappa: float, nu: float
 
 def _logderivs_mp(m: int, z) -> tuple:
     """(z I_m'(z)/I_m(z), z K_m'(z)/K_m(z)) in mpmath (DLMF 10.29.2); (m, -m) at z = 0."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     if z == 0:
         return mpmath.mpf(m), -mpmath.mpf(m)
     return (m + z * mpmath.besseli(m + 1, z) / mpmath.besseli(m, z),
@@ -561,6 +562,7 @@ def natural_determinant_mp(beta, *, m: int, k: float, kappa: float, nu: float,
     """det D(gamma)/kappa^b at gamma = nu (beta^2 - k^2) in mpmath at the current precision
     (beta on the physical sheet, gamma != 0): :func:`natural_matrix` with mpmath's Bessel
     functions."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     return natural_determinant_shifted_mp(mpmath.mpc(beta) - k, m=m, k=k, kappa=kappa, nu=nu,
                                           component=component)
 
@@ -573,6 +575,7 @@ def natural_matrix_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
     costs added (log10((1 + k)/|x|)) and, as beta -> 0, those that the near-dependence of V's
     columns costs (2 log10(k/|beta|), :func:`_origin_column`); the matrix is rounded back to
     the current precision."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     x = mpmath.mpc(x)
     extra = max(0, int(mpmath.ceil(mpmath.log10((1 + k) / abs(x))))) + 5
     if abs(k + x) < k:  # the columns' dependence at the branch point beta = 0 (_origin_column)
@@ -601,6 +604,7 @@ def natural_matrix_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
 def natural_determinant_shifted_mp(x, *, m: int, k: float, kappa: float, nu: float,
                                    component: str = "coupled"):
     """det of :func:`natural_matrix_shifted_mp`: :func:`natural_determinant_mp` at beta = k + x."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     D = natural_matrix_shifted_mp(x, m=m, k=k, kappa=kappa, nu=nu, component=component)
     with mpmath.extradps(10):
         det = mpmath.det(D)
@@ -611,6 +615,7 @@ def modal_residual_mp(beta, *, m: int, k: float, kappa: float, nu: float,
                       component: str = "coupled"):
     """:func:`modal_residual` in mpmath: the derivative by the 4-point difference with step
     10^(-dps/3) |beta| (error ~10^(-4 dps/3))."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     beta = mpmath.mpc(beta)
     h = mpmath.mpf(10) ** (-(mpmath.mp.dps // 3)) * abs(beta)
     det = [natural_determinant_mp(beta + d, m=m, k=k, kappa=kappa, nu=nu, component=component)

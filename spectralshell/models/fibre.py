@@ -42,7 +42,6 @@ import functools
 import math
 from collections.abc import Iterator
 
-import mpmath
 import numpy as np
 
 from .._validate import require_positive
@@ -253,6 +252,7 @@ def modal_residual(beta: complex, *, m: int, zeta: float) -> tuple[complex, comp
 
 def modal_residual_mp(beta, *, m: int, zeta: float):
     """:func:`modal_residual` in mpmath (besseli/besselk of integer order, principal branch)."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     beta, mm = mpmath.mpc(beta), mpmath.mpf(m)
     P = beta * mpmath.besseli(m + 1, beta) / mpmath.besseli(m, beta)
     Q = beta * mpmath.besselk(m - 1, beta) / mpmath.besselk(m, beta)

@@ -24,11 +24,13 @@ not continue to a periodic orbit of its own symmetry and c is not defined.
 from __future__ import annotations
 
 from fractions import Fraction
-
-import mpmath
+from typing import TYPE_CHECKING
 
 from ..errors import ParameterError
 from .._validate import require_choice, require_int_in_range
+
+if TYPE_CHECKING:
+    import mpmath
 
 GENERATOR = "derivations/lindstedt_sphere.py"
 GENERATOR_SHA256 = "4b5c91645fa678543ed6e9c7f73d78493b2395db035729834caaf8e4847c05e9"
@@ -145,6 +147,7 @@ def lp_coefficient_exact(m: int, k: int = 0, *, volume: str = "reference") -> tu
 
 def lp_coefficient_mpf(m: int, k: int = 0, *, volume: str = "reference", dps: int = 30) -> mpmath.mpf:
     """c_{m,k} as an mpmath number with ``dps`` decimal digits (evaluated from the exact value)."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     num, den = lp_coefficient_exact(m, k, volume=volume)
     with mpmath.workdps(dps):
         return +(mpmath.mpf(num) / (mpmath.mpf(den) * mpmath.pi))

@@ -74,7 +74,6 @@ import cmath
 import math
 from collections.abc import Iterator
 
-import mpmath
 import numpy as np
 
 from .._validate import require_choice, require_int_in_range, require_positive
@@ -185,6 +184,7 @@ def _p_q_mp(m: int, beta):
     """P, Q, P', Q' in mpmath at the current precision from mpmath's own I and K of half-integer
     order (i_n/i_{n-1} = I_{n+1/2}/I_{n-1/2}, DLMF 10.47.7; both ratios are single-valued, so
     they hold on both sheets), derivatives from (R)."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     P = beta * mpmath.besseli(m + 1.5, beta) / mpmath.besseli(m + 0.5, beta)
     Q = beta * mpmath.besselk(m - 0.5, beta) / mpmath.besselk(m + 0.5, beta)
     b2 = beta * beta
@@ -195,6 +195,7 @@ def _p_q_mp(m: int, beta):
 
 def poloidal_residual_mp(beta, *, m: int, zeta) -> tuple:
     """(M1) and its Newton derivative in mpmath at the current ``mpmath.mp.dps`` (beta != 0)."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     beta = mpmath.mpc(beta)
     zeta = mpmath.mpf(zeta)
     return _poloidal_from_pq(mpmath.mpf(m), zeta, beta, *_p_q_mp(m, beta))
@@ -202,6 +203,7 @@ def poloidal_residual_mp(beta, *, m: int, zeta) -> tuple:
 
 def toroidal_residual_mp(beta, *, m: int, zeta) -> tuple:
     """(M2) and its Newton derivative in mpmath at the current ``mpmath.mp.dps`` (beta != 0)."""
+    import mpmath  # here, not at module level: start-up time (bench_startup.py)
     beta = mpmath.mpc(beta)
     zeta = mpmath.mpf(zeta)
     return _toroidal_from_pq(mpmath.mpf(m), zeta, beta, *_p_q_mp(m, beta))
