@@ -15,6 +15,12 @@ from spectralshell.solvers.marginal import (Pencils, TruncationSchedule, certify
 from test_contour_blocks import cochlea, qz_squares, random_pencil
 
 
+def real_taus(hill) -> np.ndarray:
+    """The real tau > 0 of QZ, ascending."""
+    z = qz_squares(hill)
+    return np.sort(np.sqrt(z[(np.abs(z.imag) <= 1e-9 * np.abs(z)) & (z.real > 0)].real))
+
+
 def smallest_modulus(hill) -> float:
     """min |tau| over the finite eigenvalues (dense QZ)."""
     return float(np.sqrt(np.abs(qz_squares(hill)).min()))
@@ -152,8 +158,7 @@ def test_expected_empty_answer_proved_by_the_disk(kind, monkeypatch):
     proved = certify_empty_answer(system, kind, expected, tau_max, True)
     assert proved.complete_to == tau_max and proved.empty_proved
     monkeypatch.undo()
-    z = qz_squares(pencils.pencil(finer(first), "two-sided"))
-    real = float(np.sqrt(z[(np.abs(z.imag) <= 1e-9 * np.abs(z)) & (z.real > 0)].real.min()))
+    real = float(real_taus(pencils.pencil(finer(first), "two-sided"))[0])
     above = 1.01 * real
     found = marginal_tau(system, kind, tol=1e-4, tau_max=above, expect_empty=True)
     assert found.tau_min == marginal_tau(system, kind, tol=1e-4, tau_max=above).tau_min
@@ -185,12 +190,6 @@ def test_expected_empty_answer_proved_by_the_count(kind, monkeypatch):
 
     monkeypatch.setattr(marginal, "none_up_to", walked)
     assert certify_empty_answer(system, kind, expected, tau_max, True).complete_to == tau_max
-
-
-def real_taus(hill) -> np.ndarray:
-    """The real tau > 0 of QZ, ascending."""
-    z = qz_squares(hill)
-    return np.sort(np.sqrt(z[(np.abs(z.imag) <= 1e-9 * np.abs(z)) & (z.real > 0)].real))
 
 
 def test_expected_empty_counts_after_an_empty_truncation(monkeypatch):
