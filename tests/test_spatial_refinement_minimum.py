@@ -86,42 +86,48 @@ class _Modes:
 
 
 def test_leader_first_caps_and_a_switch_of_leader(monkeypatch):
-    """By hand: M = 16: harmonic 0.30 leads, the subharmonic (0.40) is capped at 0.30 and not
-    seen. M = 32: the harmonic (first) moves to 0.45 -- a change of 0.15, not converged -- and
-    the subharmonic, capped at 0.45, leads with 0.2995. M = 64: the subharmonic first (0.2999),
-    the harmonic capped at it: changes 4e-4 (subharmonic, cap 0.45) and 0 (harmonic, cap
-    0.2999): converged at (32, 64)."""
-    table = {16: {"harmonic": 0.30, "subharmonic": 0.40},
-             32: {"harmonic": 0.45, "subharmonic": 0.2995},
-             64: {"harmonic": 0.45, "subharmonic": 0.2999}}
+    """By hand: M = 16: harmonic 0.32 leads, the subharmonic (0.40) is capped at 0.32 and not
+    seen. M = 24: the harmonic (first) moves to 0.45, and the subharmonic, capped at 0.45, leads
+    with 0.2995. M = 32: the subharmonic first (0.2999), the harmonic capped at it: the window
+    (16, 24, 32) fails, as the minimum moved by 0.02 from M = 16. M = 48: the subharmonic first
+    (0.2997), the harmonic capped at it: over the window (24, 32, 48) the changes are 2e-4
+    (subharmonic, its smallest cap 0.45) and 0 (harmonic, capped at 0.2997, where 0.45 and
+    'none' both count as the cap): converged, reported as (24, 48)."""
+    table = {16: {"harmonic": 0.32, "subharmonic": 0.40},
+             24: {"harmonic": 0.45, "subharmonic": 0.2995},
+             32: {"harmonic": 0.45, "subharmonic": 0.2999},
+             48: {"harmonic": 0.45, "subharmonic": 0.2997}}
     calls = _scripted(monkeypatch, table)
     r = sr.refine_minimum(_Modes, KINDS, options={"tau_max": 0.5}, start=16, limit=512)
-    assert calls == [(16, "harmonic", 0.5), (16, "subharmonic", 0.30),
-                     (32, "harmonic", 0.5), (32, "subharmonic", 0.45),
-                     (64, "subharmonic", 0.5), (64, "harmonic", 0.2999)]
-    assert (r.n_spatial_previous, r.n_spatial, r.converged) == (32, 64, True)
-    assert r.caps == {"harmonic": 0.2999, "subharmonic": 0.5} and list(r.taus) == list(KINDS)
-    assert r.taus["harmonic"].tau_min is None and sr.minimum(r.taus) == 0.2999
-    assert r.change["subharmonic"] == pytest.approx(4e-4, abs=1e-15)
+    assert calls == [(16, "harmonic", 0.5), (16, "subharmonic", 0.32),
+                     (24, "harmonic", 0.5), (24, "subharmonic", 0.45),
+                     (32, "subharmonic", 0.5), (32, "harmonic", 0.2999),
+                     (48, "subharmonic", 0.5), (48, "harmonic", 0.2997)]
+    assert (r.n_spatial_previous, r.n_spatial, r.converged) == (24, 48, True)
+    assert r.caps == {"harmonic": 0.2997, "subharmonic": 0.5} and list(r.taus) == list(KINDS)
+    assert r.taus["harmonic"].tau_min is None and sr.minimum(r.taus) == 0.2997
+    assert r.change["subharmonic"] == pytest.approx(2e-4, abs=1e-15)
     assert r.change["harmonic"] == 0.0
 
 
 def test_the_minimum_itself_must_settle(monkeypatch):
     """Per-kind changes within tol can add up in the minimum: at M = 16 the subharmonic leads
-    (0.3028) and the harmonic is capped out; at M = 32 the subharmonic gives 0.3014 (change
-    1.4e-3) and the harmonic, capped there, 0.3000 (change 0.3014 - 0.3000 = 1.4e-3), while
-    the minimum moved by 2.8e-3 > tol = 1.5e-3: refined on to M = 64."""
+    (0.3028) and the harmonic is capped out; at M = 24 the subharmonic gives 0.3014 and the
+    harmonic, capped there, 0.3000; at M = 32 the harmonic leads (0.3000) and caps the
+    subharmonic out. Over the window (16, 24, 32) the harmonic changes by 1.4e-3 (its
+    smallest cap 0.3014) and the subharmonic by 0 (capped at 0.3000), while the minimum moved by
+    2.8e-3 > tol = 1.5e-3: refined on to M = 48, passing at (24, 48)."""
     table = {16: {"harmonic": 0.31, "subharmonic": 0.3028},
-             32: {"harmonic": 0.3000, "subharmonic": 0.3014},
-             64: {"harmonic": 0.3000, "subharmonic": 0.3014}}
+             **{m: {"harmonic": 0.3000, "subharmonic": 0.3014} for m in (24, 32, 48)}}
     _scripted(monkeypatch, table)
     r = sr.refine_minimum(_Modes, ("subharmonic", "harmonic"), options={"tau_max": 0.5},
                           tol_spatial=1.5e-3, start=16, limit=512)
-    assert (r.n_spatial_previous, r.n_spatial, r.converged) == (32, 64, True)
+    assert (r.n_spatial_previous, r.n_spatial, r.converged) == (24, 48, True)
     assert sr.minimum(r.taus) == 0.3000
     short = sr.refine_minimum(_Modes, ("subharmonic", "harmonic"), options={"tau_max": 0.5},
                               tol_spatial=1.5e-3, start=16, limit=32, strict=False)
     assert not short.converged and max(short.change.values()) <= 1.5e-3
+    assert short.change["harmonic"] == pytest.approx(1.4e-3, abs=1e-15)
 
 
 def test_capped_change_and_minimum():
@@ -140,23 +146,23 @@ def test_capped_change_and_minimum():
 
 def test_a_hopeless_last_step_is_skipped(monkeypatch):
     """No tau at all, and the resonance reached from M = 300 on (scripted): with limit 512 the
-    pair (256, 512) could not pass (256 does not reach), so the refinement stops unconverged at
-    M = 256 without solving M = 512; with limit 1024 it goes on and passes at (512, 1024). A
-    tau still moving is refined to the limit regardless."""
-    table = {m: {"harmonic": 1.0, "subharmonic": 1.0} for m in (16, 32, 64, 128, 256, 512, 1024)}
+    last window (256, 384, 512) could not pass (256 does not reach), so the refinement stops
+    unconverged at M = 384 without solving M = 512; with limit 1024 it goes on and passes at
+    the window (384, 512, 768). A tau still moving is refined to the limit regardless."""
+    table = {m: {"harmonic": 1.0, "subharmonic": 1.0} for m in sr.ladder(16, 1024)}
     calls = _scripted(monkeypatch, table)
     monkeypatch.setattr(sr, "reaches_resonance", lambda system, *_: system.block_size >= 300)
     stop = sr.refine_spatial(_Modes, ("harmonic",), options={"tau_max": 0.5}, start=64,
                              limit=512, strict=False)
-    assert (stop.n_spatial, stop.converged) == (256, False)
-    assert max(m for m, *_ in calls) == 256
-    with pytest.raises(ConvergenceError, match="n_spatial=256.*reach the harmonic resonance"):
+    assert (stop.n_spatial, stop.converged) == (384, False)
+    assert max(m for m, *_ in calls) == 384
+    with pytest.raises(ConvergenceError, match="n_spatial=192.*reach the harmonic resonance"):
         sr.refine_spatial(_Modes, ("harmonic",), options={"tau_max": 0.5}, start=64, limit=512)
     on = sr.refine_minimum(_Modes, KINDS, options={"tau_max": 0.5}, start=64, limit=1024)
-    assert (on.n_spatial_previous, on.n_spatial, on.converged) == (512, 1024, True)
+    assert (on.n_spatial_previous, on.n_spatial, on.converged) == (384, 768, True)
     assert sr.minimum(on.taus) is None
-    # a value still moving at (128, 256): the last step is taken (0.3 -> 0.15), unconverged
-    for m, tau in ((128, 0.40), (256, 0.30), (512, 0.15)):
+    # a value still moving up to M = 384: the last window is solved (0.2 -> 0.15), unconverged
+    for m, tau in ((128, 0.40), (192, 0.35), (256, 0.30), (384, 0.20), (512, 0.15)):
         table[m]["subharmonic"] = tau
     moving = sr.refine_minimum(_Modes, KINDS, options={"tau_max": 0.5}, start=64, limit=512,
                                strict=False)
@@ -191,7 +197,7 @@ def test_low_frequency_stiff_human_cochlea_needs_only_the_harmonic_kind():
 
 
 def test_coarser_m_tau_min_is_the_next_m_hint_and_changes_nothing_but_speed(monkeypatch):
-    """At each finer M a kind's solver hint is its tau_min at the coarser M where it has one
+    """At each M a kind's solver hint is its tau_min at the M before it where it has one
     (else the caller's, here none): checked on the calls; and the refinement (its truncations
     at M >= 64 go through Arnoldi or the shift-invert cover) gives the same minimum, pair of M
     and error estimates with these hints as with none, the minimum agreeing with dense QZ."""
@@ -207,8 +213,10 @@ def test_coarser_m_tau_min_is_the_next_m_hint_and_changes_nothing_but_speed(monk
     factory = _factory(600.0, 1e9)
     hinted = sr.refine_minimum(factory, KINDS, options=OPTIONS)
     found = {(m, k): t for m, k, _, t in seen}
+    solved = sorted({m for m, *_ in seen})
+    assert solved == list(sr.ladder(16, hinted.n_spatial))
     for m, kind, hint, _ in seen:
-        coarse = found.get((m // 2, kind))
+        coarse = found.get((solved[solved.index(m) - 1], kind))
         if m > 16 and coarse is not None and coarse <= 0.5:
             assert hint == coarse
     assert any(h is not None for *_, h, _ in seen)
@@ -231,13 +239,13 @@ def test_coarser_m_tau_min_is_the_next_m_hint_and_changes_nothing_but_speed(monk
     assert qz[0] == pytest.approx(low, rel=1e-9)
 
 
-def test_empty_answers_proved_at_the_returned_pair_only(monkeypatch):
+def test_empty_answers_proved_at_the_returned_window_only(monkeypatch):
     """certify_empty with a converging N: the other kind's empty answer is proved by the zero
-    count (or its disk) at the two M of the returned pair only (the finer M's is returned, the
-    coarser M's change rests on it), with the answer marginal_tau gives there with
+    count (or its disk) at the three M of the returned window only (the finest M's is returned,
+    the coarser M's changes rest on theirs), with the answer marginal_tau gives there with
     certify_empty itself (the former path: complete_to = its cap, the same truncation pair);
-    where the proof fails at both M the pair has not converged (change unknown) and the answer
-    is marked (complete_to 0), or refused with certify_empty=True."""
+    where the proof fails the window has not converged (change unknown) and the answer is
+    marked (complete_to 0), or refused with certify_empty=True."""
     from spectralshell.solvers import marginal
 
     factory = _factory(600.0, 1e9)
@@ -252,21 +260,20 @@ def test_empty_answers_proved_at_the_returned_pair_only(monkeypatch):
     cap = joint.caps["subharmonic"]
     assert joint.converged and other.tau_min is None and cap < 0.5
     assert joint.n_spatial > sr.SPATIAL_START  # a coarser M was solved, and not proved
-    assert proved and set(proved) == {joint.n_spatial_previous, joint.n_spatial}
-    # bitwise the values of the code that proved the finest M only (read from it; read again
-    # since the shift-invert cover's cost model was refitted, issue 25: the harmonic truncations
-    # at M = 32 now go through the cover instead of dense eig, tau_min 9e-16 lower, complete_to
-    # the cover's), the minimum that of dense eig of W (every real tau of the truncation) at the
-    # returned M and N
+    window = (joint.n_spatial_previous, sr.finer(joint.n_spatial_previous), joint.n_spatial)
+    assert window == (16, 24, 32) and set(proved) == set(window)
+    # the minimum: the harmonic tau_min of dense eig of W (every real tau of the truncation)
+    # at the returned M and N; its change the larger distance to the harmonic tau_min of
+    # marginal_tau at the two coarser M of the window (uncapped: the leader's cap is tau_max)
     lead = joint.taus["harmonic"]
-    assert (joint.n_spatial_previous, joint.n_spatial) == (16, 32)
-    assert (lead.tau_min, lead.error_estimate, lead.complete_to) == tuple(map(float.fromhex, (
-        "0x1.37c7171f957bdp-2", "0x1.1000000000000p-49", "0x1.c830b6863dc8ap-2")))
-    assert lead.complete_to >= lead.tau_min
-    assert joint.change == {"harmonic": float.fromhex("0x1.01d9002a6c200p-10"),
-                            "subharmonic": 0.0}
+    assert joint.caps["harmonic"] == 0.5 and lead.complete_to >= lead.tau_min
     dense = structured_taus(assemble(factory(32), "harmonic", lead.n_temporal, "real"))
     assert dense[0] == pytest.approx(lead.tau_min, rel=1e-9)
+    coarser = [marginal.marginal_tau(factory(m), "harmonic", tol=1e-4, tau_max=0.5).tau_min
+               for m in window[:2]]
+    assert joint.change["harmonic"] == pytest.approx(
+        max(abs(lead.tau_min - t) for t in coarser), abs=1e-12)
+    assert 0.0 < joint.change["harmonic"] <= 0.05 and joint.change["subharmonic"] == 0.0
     former = marginal.marginal_tau(factory(joint.n_spatial), "subharmonic", tol=1e-4,
                                    tau_max=cap, certify_empty="mark")
     assert other.complete_to == former.complete_to == cap
@@ -275,7 +282,7 @@ def test_empty_answers_proved_at_the_returned_pair_only(monkeypatch):
     marked = sr.refine_minimum(factory, KINDS, options=options, tol_spatial=0.05, strict=False)
     assert marked.taus["subharmonic"].complete_to == 0.0
     assert not marked.converged and marked.change["subharmonic"] is None
-    assert marked.n_spatial == joint.n_spatial  # the next pair's coarser M is unproved too
+    assert marked.n_spatial == joint.n_spatial  # the next window's coarser M are unproved too
     assert marked.taus["harmonic"].tau_min == joint.taus["harmonic"].tau_min
     with pytest.raises(ConvergenceError, match="zero count cannot prove"):
         sr.refine_minimum(factory, KINDS, options={**options, "certify_empty": True},

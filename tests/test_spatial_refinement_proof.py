@@ -1,5 +1,5 @@
-"""A refinement in M decides nothing on an unproved empty answer (issue 23, section 2): the pair
-that ends it has the empty answers of both its M proved (solvers.spatial_refinement, module
+"""A refinement in M decides nothing on an unproved empty answer (issue 23, section 2): the
+window that ends it has the empty answers of its three M proved (solvers.spatial_refinement, module
 notes "Proof of empty answers"). Checked against dense eig of the same truncations, and against
 the values the refinement gave before the coarser M was proved (computed with that code)."""
 
@@ -53,35 +53,36 @@ def no_real_tau_below(m, answer, tau_max):
         assert tau is not None and not np.any(tau <= tau_max)
 
 
-def test_both_m_of_the_pair_are_proved_and_the_values_are_as_before(monkeypatch):
-    """Nothing fails: the pair (16, 32) as before this change (the values it gave then, read
-    from its code: change 0, complete_to = tau_max, N = 10, 16), now with the count asked at
-    M = 16 too; dense eig confirms no real tau <= 0.2 at either M."""
+def test_every_m_of_the_window_is_proved(monkeypatch):
+    """Nothing fails: the window (16, 24, 32) passes with change 0, complete_to = tau_max at
+    N = 10, 16, the count asked at each of its M; dense eig confirms no real tau <= 0.2 at
+    any of them."""
     asked = failing_at(monkeypatch, ())
     r = sr.refine_spatial(factory, ("harmonic",), options=OPTIONS)
     h = r.taus["harmonic"]
     assert (r.n_spatial_previous, r.n_spatial, r.converged) == (16, 32, True)
     assert r.change == {"harmonic": 0.0} and r.caps == {"harmonic": 0.2}
     assert h.tau_min is None and h.complete_to == 0.2 and (h.n_previous, h.n_temporal) == (10, 16)
-    assert sorted(set(asked)) == [16, 32]
-    for m in (16, 32):
+    assert sorted(set(asked)) == [16, 24, 32]
+    for m in (16, 24, 32):
         no_real_tau_below(m, h, 0.2)
 
 
 def test_an_unproved_coarse_empty_answer_is_refined_past(monkeypatch):
-    """The count fails at M = 16 only: (16, 32) would pass with change 0 on that unproved
-    "none"; instead the refinement goes on to (32, 64), whose both M are proved (M = 32's proof
-    reused, not counted again; M = 32 checked by dense eig in the test above)."""
+    """The count fails at M = 16 only: the window (16, 24, 32) would pass with change 0 on that
+    unproved "none"; instead the refinement goes on to (24, 32, 48), whose M are all proved
+    (the proofs at M = 24 and 32 reused, not counted again; checked by dense eig in the test
+    above)."""
     asked = failing_at(monkeypatch, (16,))
     r = sr.refine_spatial(factory, ("harmonic",), options=OPTIONS)
-    assert (r.n_spatial_previous, r.n_spatial, r.converged) == (32, 64, True)
+    assert (r.n_spatial_previous, r.n_spatial, r.converged) == (24, 48, True)
     assert r.change == {"harmonic": 0.0} and r.taus["harmonic"].complete_to == 0.2
-    assert asked.count(32) == 2  # both truncations of M = 32, once
+    assert asked.count(24) == asked.count(32) == 2  # both truncations of each M, once
 
 
 def test_unproved_at_both_m_is_not_converged(monkeypatch):
-    """The count fails at M = 16 and 32: the pair (16, 32) has not converged (change unknown),
-    and the next could not pass either (its coarser M = 32 is unproved), so it stops there:
+    """The count fails at M = 16 and 32: the window (16, 24, 32) has not converged (change
+    unknown), and the next could not pass either (its M = 32 is unproved), so it stops there:
     flagged unconverged and marked (complete_to 0) without strict; with strict, a
     ConvergenceError says why."""
     failing_at(monkeypatch, (16, 32))
@@ -102,9 +103,9 @@ class _Modes:
 
 def test_minimum_with_an_unproved_capped_kind(monkeypatch):
     """refine_minimum on scripted values (harmonic 0.30 at every M, the subharmonic 0.40
-    capped away): the subharmonic's "none below 0.30" is unproved at M = 16 only. The pair
-    (16, 32) is not accepted on it; (32, 64) is, M = 32's proof kept from the first pair: the
-    certificate is asked at M = 32, 16, then 64 only."""
+    capped away): the subharmonic's "none below 0.30" is unproved at M = 16 only. The window
+    (16, 24, 32) is not accepted on it; (24, 32, 48) is, the proofs at M = 24 and 32 kept from
+    the first window: the certificate is asked at M = 16, 24, 32, then 48 only."""
     def fake(system, kind, *, tau_max, **_):
         tau = 0.30 if kind == "harmonic" else 0.40
         found = tau if tau <= tau_max else None
@@ -126,8 +127,8 @@ def test_minimum_with_an_unproved_capped_kind(monkeypatch):
     monkeypatch.setattr(sr, "certify_empty_answer", certify)
     options = {"tau_max": 0.5, "certify_empty": "mark"}
     r = sr.refine_minimum(_Modes, ("harmonic", "subharmonic"), options=options)
-    assert (r.n_spatial_previous, r.n_spatial, r.converged) == (32, 64, True)
-    assert asked == [32, 16, 64]
+    assert (r.n_spatial_previous, r.n_spatial, r.converged) == (24, 48, True)
+    assert asked == [16, 24, 32, 48]
     assert sr.minimum(r.taus) == 0.30 and r.change == {"harmonic": 0.0, "subharmonic": 0.0}
     assert r.taus["subharmonic"].complete_to == 0.30
 

@@ -18,7 +18,7 @@ are noisy, best-of-3 is used where it matters).
   panels <= 1 hour on 16 workers). Its baseline is priced, not timed (a dense solve of the
   cells that climb to M = 512 or 1024 would take hours each): the dense path's price
   (solvers/cost.py, DENSE_SECONDS (order)^3 per truncation, measured on the cochlea) of each
-  sampled point at every M its refinement reached (16, 32, ... up to the point's largest M),
+  sampled point at every M its refinement reached (16, 24, 32, ... up to the point's largest M),
   both kinds, projected the same way.
 
 Run: python validation/bench_sweep.py [--no-dask]
@@ -50,7 +50,7 @@ from spectralshell.runner.solve import VARIABLES, solve_chunks
 from spectralshell.runner.solve import spatial_system
 from spectralshell.runner.sweep import TASK_SECONDS, dispatch
 from spectralshell.solvers.cost import solve_seconds
-from spectralshell.solvers.spatial_refinement import SPATIAL_START
+from spectralshell.solvers.spatial_refinement import SPATIAL_START, ladder
 from spectralshell.runner.store import ZarrStore
 
 CHEAP = {"model": "mathieu", "params": {"nu": 0.1},
@@ -330,13 +330,13 @@ def _smoke_point(point: dict) -> dict:
 def dense_price(point: dict, largest: int) -> float:
     """Seconds the dense path is priced at (solvers/cost.py: each truncation of the expected
     N schedule a dense eigenproblem, the certificate of an empty answer included) for one
-    Fig 5.18 point, both kinds, at every M of its refinement up to ``largest`` (at M / 2 and
-    M where M is fixed)."""
+    Fig 5.18 point, both kinds, at every M of its refinement's ladder up to ``largest`` (at
+    M / 2 and M where M is fixed)."""
     spec = sweep_spec(point)
     params = spec.params_at({a.name: a.values[0] for a in spec.axes if a.name != "kind"})
     fixed = params.pop("n_spatial", None)
     ms = ((fixed // 2, fixed) if fixed else
-          [m for m in (SPATIAL_START << i for i in range(16)) if m <= largest])
+          ladder(SPATIAL_START, largest))
     return sum(solve_seconds(spatial_system(spec.model, params, m), len(spec.kinds),
                              spec.options.n_temporal) for m in ms)
 

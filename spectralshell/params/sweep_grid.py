@@ -47,11 +47,12 @@ continuation).
 
 Models with spatial modes (the cochlea): with ``n_spatial`` fixed in [params] (or swept) every
 point is solved with that M, and error_estimate is the temporal one only; without it (and
-without spatial_mode) M is refined per point, M = 16, 32, ... <= 512, until each kind's tau_min
-changes by at most ``tol_spatial`` (default 1e-3; see
+without spatial_mode) M is refined per point, M = 16, 24, 32, 48, ... <= 512, until each kind's
+tau_min at M differs by at most ``tol_spatial`` from its values at the two M before (default
+1e-3; see
 :mod:`spectralshell.solvers.spatial_refinement`), and error_estimate includes that change. The
 result then has the variables n_spatial (the M of each value) and spatial_converged (False
-where M = 512 was reached first, or an empty answer of the last pair of M could not be proved:
+where M = 512 was reached first, or an empty answer of the last window of M could not be proved:
 the point is kept, with its values at the last M, and flagged).
 With ``over_kinds = "minimum"`` (M refined per point, both kinds) only the smallest tau_min over
 the kinds is converged, as a minimum-tau map needs (thesis Fig 5.18): at each M the kind that

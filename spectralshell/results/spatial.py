@@ -38,10 +38,12 @@ class SpatialFloquetResult(FloquetResult):
     Attributes
     ----------
     n_spatial : number of spatial modes of the reported values (1 for a single-mode run).
-    n_spatial_previous : the coarser truncation they were compared with (None: no comparison, a
-        single decoupled mode, which is exact in space).
-    spatial_change : per kind, ``|tau_min(n_spatial) - tau_min(n_spatial_previous)|`` (None when
-        there is no comparison or a kind has no tau_min at one of the two). Each kind's
+    n_spatial_previous : the coarsest truncation they were compared with, n_spatial // 2 (None:
+        no comparison, a single decoupled mode, which is exact in space).
+    spatial_change : per kind, ``|tau_min(n_spatial) - tau_min(n_spatial_previous)|`` at a
+        fixed n_spatial; refined in M, the larger of that and the change from the M between
+        them (3/4 or 2/3 n_spatial). None when there is no comparison or a kind has no tau_min
+        at one of them. Each kind's
         ``error_estimate`` is the larger of this and the temporal estimate.
     physical : the cgs inputs the dimensionless parameters were converted from, or None.
     """

@@ -83,8 +83,9 @@ def floquet(model: str, *, kind: str = "both", tol: float = 1e-10, n_temporal: i
     tau_max : compute only the marginal tau <= tau_max (e.g. 0.5, the physical range); the
         truncation then grows only as far as those need, and tau_min is None when there is none.
     tol_spatial : models with spatial modes (a parameter ``n_spatial``, e.g. 'cochlea') only:
-        with ``n_spatial=None`` the number of spatial modes is doubled from 16 until every
-        tau_min changes by at most ``tol_spatial`` (absolute; default 1e-3), see
+        with ``n_spatial=None`` the number of spatial modes is raised from 16 (16, 24, 32, 48,
+        ...) until every tau_min is within ``tol_spatial`` (absolute; default 1e-3) of its
+        values at the two M before, M / 2 among them, see
         :func:`_floquet_spatial`. The sphere with a non-uniform kappa: the tolerance of
         tau_min in the degree truncation l_max (default 1e-6).
     max_seconds : models with spatial modes, and the non-uniform sphere, only: raise the
@@ -187,9 +188,10 @@ def _floquet_spatial(model: str, kind: str, options: dict[str, Any], params: dic
     * ``n_spatial = M`` given: solves at M and at M // 2; the spatial change
       |tau_min(M) - tau_min(M // 2)| (the thesis's epsilon_M of 5.3, Fig 5.6) enters the error
       estimate.
-    * ``n_spatial = None``: M = 16, 32, 64, ... until every asked kind's tau_min changes by at
-      most ``tol_spatial`` between successive M (a kind without tau_min at both counts as
-      converged once the coarser M reaches the kind's resonance); ConvergenceError past
+    * ``n_spatial = None``: M = 16, 24, 32, 48, 64, ... until every asked kind's tau_min at an M
+      (L) differs by at most ``tol_spatial`` from its values at the two M before it (L / 2 and
+      3L / 4 or 2L / 3; a kind without tau_min at all three counts as converged once L / 2
+      reaches the kind's resonance); ConvergenceError past
       M = SPATIAL_LIMIT (:func:`spectralshell.solvers.spatial_refinement.refine_spatial`).
 
     Before any solve (but the single mode's) the cost is estimated and checked against the

@@ -42,8 +42,8 @@ by :func:`~spectralshell.solvers.spatial_refinement.refine_spatial` (each kind o
 kind is never pushed to a larger M by the other; the values equal ``api.floquet(model, kind=k,
 tol_spatial=...)`` at the point), with ``strict=False``: a point that reaches M = 512
 unconverged is kept, with its values at M = 512, and flagged ``spatial_converged = False``.
-With continuation, a point starts its refinement one step below its neighbour's pair (at the
-neighbour's coarser M halved, at least 16) instead of at 16. Inside the refinement each M runs
+With continuation, a point starts its refinement below its neighbour's last window (at the
+neighbour's coarsest M halved, at least 16) instead of at 16. Inside the refinement each M runs
 the full temporal loop (no truncation continuation: the M-refinement changes the block size),
 with the neighbour's tau_min as the solver's hint. Measured on a sigma line of the Table 5.1
 cochlea (1000 Hz, sigma 1e8 .. 2e8, 6 points, both kinds): 175 s without continuation, 56 s with
@@ -253,8 +253,8 @@ def spatial_system(model: str, params: dict, n_spatial: int) -> HillSystem:
 
 
 def spatial_start(hint: int | None) -> int:
-    """First M of a point's refinement: one step below the neighbour's pair (``hint``: its
-    coarser M), at least SPATIAL_START; SPATIAL_START without a neighbour."""
+    """First M of a point's refinement: below the neighbour's last window (``hint``: its
+    coarsest M, halved), at least SPATIAL_START; SPATIAL_START without a neighbour."""
     return SPATIAL_START if hint is None else max(SPATIAL_START, hint // 2)
 
 

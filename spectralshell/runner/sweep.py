@@ -163,7 +163,8 @@ def _interrupted(spec: SweepSpec, path: Path | None,
 
 
 #: Values per real axis at which a sweep with spatial modes is priced (:func:`sweep_cost`; the
-#: ends included): at most PRICE_SAMPLES ** axes points, each two HillSystems (M = 16, 32).
+#: ends included): at most PRICE_SAMPLES ** axes points, each the HillSystems of the first
+#: window of the refinement in M (M = 16, 24, 32).
 PRICE_SAMPLES = 5
 
 

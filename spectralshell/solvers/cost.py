@@ -8,9 +8,9 @@ resonances lie inside the truncation, so N is priced up to n_highest + 8 (at mos
 least the two truncations every solve makes. A fixed ``n_temporal`` N is priced as the two
 truncations it solves (N and the smaller one of its error estimate).
 
-Spatial modes. With ``n_spatial`` M given, M and M // 2 are solved; refined automatically, the
-least any refinement does is the first pair (SPATIAL_START, 2 SPATIAL_START), and the most is
-every M up to SPATIAL_LIMIT (:mod:`spectralshell.solvers.spatial_refinement`).
+Spatial modes. With ``n_spatial`` M given, M and M // 2 are solved; refined automatically, the least
+any refinement does is the first window (SPATIAL_START, 3/2 SPATIAL_START, 2 SPATIAL_START), and the
+most is every M of its ladder up to SPATIAL_LIMIT (:mod:`spectralshell.solvers.spatial_refinement`).
 
 Price. A truncation of order n = (N + 1) b (b: the block size) is priced as a dense
 eigenproblem, :data:`DENSE_SECONDS` n^3. Measured on the cochlea of Table 5.1 at omega = 10
@@ -45,7 +45,7 @@ from dataclasses import dataclass
 
 from ..models.base import HillSystem
 from .marginal import FIRST_MARGIN, N_MAX, TruncationSchedule, coarser, finer
-from .spatial_refinement import SPATIAL_LIMIT, SPATIAL_START
+from .spatial_refinement import SPATIAL_LIMIT, SPATIAL_START, ladder
 
 #: Seconds per n^3 of a dense truncation of order n (module notes).
 DENSE_SECONDS = 2.5e-9
@@ -125,15 +125,14 @@ def spatial_cost(factory: Callable[[int], HillSystem], kinds: Iterable[str], *,
                  upper: bool = True) -> CostEstimate:
     """Predicted cost of the marginal tau of ``kinds`` of a model with spatial modes
     (``factory``: M -> its HillSystem), at a fixed ``n_spatial`` (M and M // 2) or refined in M
-    (least: the first pair; most: every M up to SPATIAL_LIMIT; ``upper`` False: the least
-    only, without building the larger M, as a sweep prices its points)."""
+    (least: the first window; most: every M of the ladder up to SPATIAL_LIMIT; ``upper``
+    False: the least only, without building the larger M, as a sweep prices its points)."""
     count = len(tuple(kinds))
     if n_spatial is not None:
         least = most = tuple(m for m in (n_spatial // 2, n_spatial) if m >= 1)
     else:
-        least = (SPATIAL_START, 2 * SPATIAL_START)
-        most = tuple(m for m in (SPATIAL_START << i for i in range(32))
-                     if m <= SPATIAL_LIMIT) if upper else least
+        least = ladder(SPATIAL_START, 2 * SPATIAL_START)
+        most = ladder(SPATIAL_START, SPATIAL_LIMIT) if upper else least
     systems = {m: factory(m) for m in most}
     price = {m: solve_seconds(s, count, n_temporal) for m, s in systems.items()}
     return CostEstimate(seconds=sum(price[m] for m in least), seconds_max=sum(price.values()),

@@ -1,51 +1,63 @@
 """Convergence of tau_min in the number M of spatial modes (models with a spatial truncation).
 
 A model whose Hill blocks carry M spatial modes (the cochlea's cosine modes, thesis 5.3) is
-solved at M = start, 2 start, 4 start, ... until every asked kind's tau_min changes by at most
-``tol_spatial`` (absolute) between two successive M: the thesis's spatial error epsilon_M of
-5.3 (Fig 5.6), used here as a stopping rule. Two refinements of the plain rule:
+solved at M = 16, 24, 32, 48, 64, 96, ... (the ladder of :func:`finer`: powers of two and 3/2
+of them) until, over a *window* of three successive M of the ladder, L / 2 < L' < L, every asked
+kind's tau_min at L differs by at most ``tol_spatial`` (absolute) from its value at L / 2 and at
+L'. The pair (L / 2, L) is the thesis's spatial error epsilon_M = |tau_2M - tau_M| of 5.3
+(Fig 5.6), used here as a stopping rule; the middle M L' guards it against two truncations too
+coarse to resolve the resonant wave that agree by chance. On the seeded 100-point Fig 5.18
+sample of validation/bench_sweep.py the pair alone (on M = 16, 32, 64, ...) passed at M = 64 for
+two points whose tau_min moved on by 56 and 27 times the reported change: the human cochlea at
+2826 Hz, sigma = 2.72e8 g cm^-2 s^-2 (tau_min at M = 32, 48, 64: 0.029229, 0.047184,
+0.029293; 0.032849 from M = 128 on) and at 17.2 kHz, sigma = 1.06e9 (0.038589, 0.037211,
+0.039216; 0.022488 from M = 192 on). The window ends them at M = 192 and 256 on the converged
+values; the sample as a whole costs the same (239 s against 232 s CPU, side by side), since
+the ladder's finer steps end most points at a smaller M than doubling. Refinements of the
+plain rule:
 
 * Cap. With a finite tau_max the compared quantity is tau_min capped at tau_max (what a sweep
   stores: tau_max where there is none), so a tau_min just below tau_max at one M and none at the
   other differ by tau_max - tau_min. Near tau_max = 1/2, tau_min often leaves and re-enters the
-  window from one M to the next; uncapped, such points would refine to the limit. Without
-  tau_max, a kind with a tau_min at only one of the two M has not converged.
-* Reach. A kind with no tau_min <= tau_max at both M has converged only if the coarser M already
-  reaches the kind's resonance (:func:`reaches_resonance`): some natural frequency of the
-  truncation, pumped to at most sqrt(1 + 2 tau_max) times itself, attains the kind's lowest
-  response frequency (1/2 subharmonic, 1 harmonic). Without it a truncation too short to carry
-  the resonant waves finds no tau at M = 16 and 32 and stops there: e.g. the cochlea of Table
-  5.1 at f = 20 kHz, sigma = 1e8 g cm^-2 s^-2 (kappa = 5.7e-3) has a subharmonic
-  tau_min = 0.049 from M = 128 on, and none at M <= 64.
+  interval from one M to the next; uncapped, such points would refine to the limit. Without
+  tau_max, a kind with a tau_min at only some M of the window has not converged.
+* Reach. A kind with no tau_min <= tau_max at any M of the window has converged only if its coarsest
+  M already reaches the kind's resonance (:func:`reaches_resonance`): some natural frequency of the
+  truncation, pumped to at most sqrt(1 + 2 tau_max) times itself, attains the kind's lowest response
+  frequency (1/2 subharmonic, 1 harmonic). Without it a truncation too short to carry the resonant
+  waves finds no tau at M = 16 and 32 and stops there: e.g. the cochlea of Table 5.1 at f = 20 kHz,
+  sigma = 1e8 g cm^-2 s^-2 (kappa = 5.7e-3) has a subharmonic tau_min = 0.049 from M = 128 on, and
+  none at M <= 64.
 
-The pair (M / 2, M) that passed is reported with the change of each kind, and
-``spatial_error`` folds the change into the temporal error estimate: max(temporal estimate,
-change), or tau_min itself when there is no change to compare (as the temporal estimate does
-with nothing to compare).
+The window that passed is reported by its coarsest and finest M (L / 2, L) with the change of
+each kind, the larger of its two changes, and ``spatial_error`` folds the change into the
+temporal error estimate: max(temporal estimate, change), or tau_min itself when there is no
+change to compare (as the temporal estimate does with nothing to compare).
 
-Work reuse. Each M is solved once: the finer solve of one step is the coarser of the next.
+Work reuse. Each M is solved once: a window shares two of its M with the next.
 Nothing is shared between different M (the blocks of M modes are a leading corner of those of
 2M, but the eigenproblem does not split), and the temporal loop of each M restarts at its own
 first truncation: its smaller truncations cost a few per cent of the largest.
 
-Hopeless last step. When the next pair would be the last (its finer M = ``limit``), every
-change already passes, and only the reach test fails -- a kind found nothing at both M and
-the finer M does not reach its resonance either -- that pair's coarser M fails the reach test
-too, so the refinement stops at once, unconverged, with the values at the finer M: the solves
-at ``limit``, the costliest, would decide nothing and change no value beyond tol_spatial (only
-a tau appearing at ``limit`` within tol_spatial of the other values could have passed there).
+Hopeless last step. When the next window would be the last (its finest M = ``limit``), every
+change already passes, and only the reach test fails -- a kind found nothing in the window and
+its middle M, the next window's coarsest, does not reach the kind's resonance either -- that
+window fails the reach test too, so the refinement stops at once, unconverged, with the values
+at the finest M: the solves at ``limit``, the costliest, would decide nothing and change no
+value beyond tol_spatial (only a tau appearing at ``limit`` within tol_spatial of the other
+values could have passed there).
 Where a value still moves, the last step is taken.
 
-Hint of the coarser M. At each finer M every kind's solver ``hint`` (where the shift-invert
+Hint of the coarser M. At each M every kind's solver ``hint`` (where the shift-invert
 cover of its big truncations starts, :func:`~spectralshell.solvers.marginal.marginal_tau`) is
-its tau_min at the coarser M, where it has one (:func:`coarser_hints`); only speed depends on
+its tau_min at the M before it, where it has one (:func:`coarser_hints`); only speed depends on
 it.
 
 Continuation. A caller that solves neighbouring points (a sweep line) may pass ``start`` = a
-neighbour's coarser M halved (one step below the neighbour's pair) instead of SPATIAL_START: the
-solves below it are skipped, and the need can still fall one step per point. The result equals
-the independent solve's whenever that one passes at a pair at or above ``(start, 2 start)``;
-otherwise it is the value at a larger M, which passed the same test.
+neighbour's coarsest M halved instead of SPATIAL_START: the solves below it are skipped, and
+the need can still fall by half per point. The result equals the independent solve's whenever
+that one passes at a window at or above the first from ``start``; otherwise it is the value at
+a larger M, which passed the same test.
 
 Minimum over kinds (:func:`refine_minimum`). A map of the smallest marginal tau over both kinds
 (thesis Fig 5.18) needs only the kind attaining it resolved; the other kind needs only the
@@ -58,39 +70,39 @@ high-order resonances crowding towards tau = 1/2 (temporal truncations to N = 30
 64) while the harmonic tau_min = 0.483 converges at N = 60: 45 s jointly against 944 s for the
 two kinds refined on their own (one thread; validation of the minimum against dense QZ and the
 per-kind refinement in tests/test_spatial_refinement_minimum.py). The tests of the plain rule
-apply per kind with the smaller of the kind's two caps in place of tau_max (a tau_min above the
-cap counts as the cap), and the minimum itself must change by at most ``tol_spatial``. The reach
-test keeps the margin tau_max: a capped kind that found nothing below its cap at both M needs
-what the plain rule asks to certify nothing below tau_max, a stronger statement. (Its own cap as
-the margin would ask for more -- the harmonic kind under a subharmonic minimum of 0.079 of the
+apply per kind with the smallest of the kind's caps in the window in place of tau_max (a tau_min
+above the cap counts as the cap), and the minimum itself must change by at most ``tol_spatial``. The
+reach test keeps the margin tau_max: a capped kind that found nothing below its cap in the window
+needs what the plain rule asks to certify nothing below tau_max, a stronger statement. (Its own cap
+as the margin would ask for more -- the harmonic kind under a subharmonic minimum of 0.079 of the
 human cochlea at f = 6 kHz, sigma = 1e7 is not reached at M = 256 with margin 0.079 -- and flag
 points that the per-kind refinement certifies.)
 
 Proof of empty answers. With ``certify_empty`` among the options (and no ``n_temporal``), each
-M is solved without it, and only the pair that ends the refinement has its empty answers proved
-(:func:`~spectralshell.solvers.marginal.certify_empty_answer`): those of the finer M, which are
-returned (the same proof and the same answer as certifying every M), and those of the coarser
-M, on which the pair's changes and reach test rest (a coarse truncation that missed a real tau
-below the cap would otherwise pass with change 0, and put 0 into the error estimate). The
-counts at the other M decided nothing that is returned (on a crowded Fig 5.18 cell, human
-63.6 Hz, sigma = 1.85e9, the counts at M = 16, which fail after their 500 nodes, and at M = 32
-were 9.5 s of its 42 s; issue 25). Where a coarser M's empty answer of a passing pair cannot
-be proved, that kind's change is unknown (None: the error estimate is tau_min itself) and the
-pair has not converged: the refinement goes on while the finer M's answers are proved (the
-next pair's coarser M), and stops there otherwise, unconverged, with the finer M's unproved
-answer marked (its next pair could not pass either). With ``certify_empty=True`` an empty
-answer of the finer M that cannot be proved raises; with ``strict`` an unconverged end raises
-as at the limit.
-Cost of the coarser M's proof (seeded Fig 5.18 sample cells, each alone as
-validation/bench_sweep.py solves it, one BLAS thread, CPU time, 2 cores under a load of 5-8):
-the crowded cell (human, 63.6 Hz, sigma = 1.85e9, pair M = 32, 64; its subharmonic empty below
-the harmonic 0.4944, where the disk bound fails and the count walks) 58.6 and 64.4 s before,
-66.1 and 68.6 s after (alternately), of which the count at M = 32 is 7.6 s (the one at M = 64
-17.4 s); the M = 16 counts stay dropped. Where the disk bound proves the empty kind it is a
-few per cent: human 8353 Hz, sigma = 5.7e8 (M = 128, 256) 0.13 s of 3.2 s; gerbil 35.5 kHz,
-sigma = 1.54e8 (M = 256, 512) 0.71 s of 13.9 s.
+M is solved without it, and only the window that ends the refinement has its empty answers
+proved (:func:`~spectralshell.solvers.marginal.certify_empty_answer`): those of the finest M,
+which are returned (the same proof and the same answer as certifying every M), and those of
+the two coarser M, on which the window's changes and reach test rest (a coarse truncation that
+missed a real tau below the cap would otherwise pass with change 0, and put 0 into the error
+estimate). The counts at the other M decided nothing that is returned (on a crowded Fig 5.18
+cell, human 63.6 Hz, sigma = 1.85e9, the counts at M = 16, which fail after their 500 nodes,
+and at M = 32 were 9.5 s of its 42 s; issue 25). Where a coarser M's empty answer of a passing
+window cannot be proved, that kind's change is unknown (None: the error estimate is tau_min
+itself) and the window has not converged: the refinement goes on while the finest M's answers
+are proved (the next window's middle M), and stops there otherwise, unconverged, with the
+finest M's unproved answer marked (its next window could not pass either). With
+``certify_empty=True`` an empty answer of the finest M that cannot be proved raises; with
+``strict`` an unconverged end raises as at the limit.
+Cost of the coarser M's proof, measured with the pair rule (seeded Fig 5.18 sample cells, each alone
+as validation/bench_sweep.py solves it, one BLAS thread, CPU time, 2 cores under a load of 5-8): the
+crowded cell (human, 63.6 Hz, sigma = 1.85e9, pair M = 32, 64; its subharmonic empty below the
+harmonic 0.4944, where the disk bound fails and the count walks) 58.6 and 64.4 s before, 66.1 and
+68.6 s after (alternately), of which the count at M = 32 is 7.6 s (the one at M = 64 17.4 s); the M
+= 16 counts stay dropped. Where the disk bound proves the empty kind it is a few per cent: human
+8353 Hz, sigma = 5.7e8 (M = 128, 256) 0.13 s of 3.2 s; gerbil 35.5 kHz, sigma = 1.54e8 (M = 256,
+512) 0.71 s of 13.9 s.
 
-A kind with no tau below its cap at the coarser M is solved at the finer M with
+A kind with no tau below its cap at one M is solved at the next M with
 ``expect_empty`` (:func:`~spectralshell.solvers.marginal.marginal_tau`): its truncations are
 tried first by the zero count (its disk bound first), which replaces the Krylov solve where it
 proves them empty and makes their later proof free (``empty_proved``); where it fails, the
@@ -130,17 +142,19 @@ RESONANCE = {"harmonic": 1.0, "subharmonic": 0.5}
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class SpatialTau:
-    """Per-kind marginal tau at the finer M of the last compared pair.
+    """Per-kind marginal tau at the finest M of the last compared window.
 
     taus : kind -> MarginalTau at ``n_spatial`` (temporal error estimate only; see
         :func:`spatial_error`).
-    n_spatial, n_spatial_previous : the pair (M, M / 2) compared last (None: M = 1 alone).
-    change : kind -> :func:`spatial_change` of the pair (tau_min capped at tau_max, or at
+    n_spatial, n_spatial_previous : the finest and coarsest M of the window compared last,
+        L and L / 2 on the ladder (None: M = 1 alone).
+    change : kind -> the larger :func:`spatial_change` between the window's finest M and
+        each of its two coarser M (tau_min capped at tau_max, or at
         the smaller of the kind's two caps with :func:`refine_minimum`); None where it is
-        unknown, e.g. the kind's empty answer at the coarser M is not proved (module notes,
+        unknown, e.g. the kind's empty answer at a coarser M is not proved (module notes,
         "Proof of empty answers").
     converged : every change is <= tol_spatial (False only with ``strict=False``: the
-        refinement reached ``limit``, or a hopeless last step, or a pair whose coarser M's
+        refinement reached ``limit``, or a hopeless last step, or a window whose coarser M's
         empty answer is not proved, first; the values are those at ``n_spatial``).
     caps : kind -> the tau_max its ``taus`` entry was solved with at ``n_spatial``: tau_max
         (:func:`refine_spatial`), or below it for a kind that did not attain the minimum
@@ -153,6 +167,21 @@ class SpatialTau:
     change: dict[str, float | None]
     converged: bool
     caps: dict[str, float] = dataclasses.field(default_factory=dict)
+
+
+def finer(m: int) -> int:
+    """The M after ``m`` (>= 1) on the refinement's ladder 1, 2, 3, 4, 6, 8, 12, 16, 24, ...:
+    the powers of two and 3/2 of them, so that every M >= 4 on it has M / 2 two steps below."""
+    k = m.bit_length() - 1
+    return 3 << (k - 1) if k >= 1 and m < 3 << (k - 1) else 1 << (k + 1)
+
+
+def ladder(start: int, limit: int) -> tuple[int, ...]:
+    """The M a refinement from ``start`` may solve, up to ``limit``: start, finer(start), ..."""
+    out = [start]
+    while out[-1] < limit:
+        out.append(finer(out[-1]))
+    return tuple(m for m in out if m <= limit)
 
 
 def spatial_change(fine: MarginalTau, coarse: MarginalTau,
@@ -280,7 +309,8 @@ def refine_spatial(factory: Callable[[int], HillSystem], kinds: Iterable[str], *
                    options: dict[str, Any], tol_spatial: float = TOL_SPATIAL,
                    start: int = SPATIAL_START, limit: int = SPATIAL_LIMIT,
                    strict: bool = True) -> SpatialTau:
-    """tau_min of each kind, converged in M = start, 2 start, ... to ``tol_spatial``.
+    """tau_min of each kind, converged in M = start, finer(start), ... to ``tol_spatial`` over a
+    window of three successive M (module notes).
 
     Parameters
     ----------
@@ -288,16 +318,17 @@ def refine_spatial(factory: Callable[[int], HillSystem], kinds: Iterable[str], *
     kinds : 'harmonic' and/or 'subharmonic'.
     options : marginal_tau options (tol, n_temporal, tau_max; tau_max also sets the margin of
         :func:`reaches_resonance`).
-    start : the first M (a neighbour's M for continuation, see the module notes); < limit.
-    limit : the largest M tried.
+    start : the first M (a neighbour's M for continuation, see the module notes); its
+        window of three M must fit below ``limit`` (start <= limit // 2 suffices for start > 1).
+    limit : the largest M tried (the last window's finest M is the last of :func:`ladder`).
     strict : raise when ``limit`` is reached unconverged (or the last step is hopeless, or
-        an empty answer of the last pair cannot be proved, see the module notes); with False
+        an empty answer of the last window cannot be proved, see the module notes); with False
         return the values at the last M with ``converged = False`` (a map records and flags
         such points).
 
     Raises
     ------
-    ParameterError : start < 1 or start >= limit.
+    ParameterError : start < 1, or its first window exceeds ``limit``.
     ConvergenceError : (strict) not converged by M = limit; or marginal_tau's own, in N.
     """
     return _refine(factory, tuple(kinds), options, tol_spatial, start, limit, strict, joint=False)
@@ -324,69 +355,101 @@ def refine_minimum(factory: Callable[[int], HillSystem], kinds: Iterable[str], *
                    hints=hints)
 
 
+@dataclass(frozen=True, eq=False)
+class _Level:
+    """One M of a refinement: its system, each kind's tau and the cap it was solved with, and
+    whether its empty answers are proved (or marked)."""
+
+    m: int
+    system: HillSystem
+    taus: dict[str, MarginalTau]
+    caps: dict[str, float]
+    proved: bool = False
+
+
 def _refine(factory: Callable[[int], HillSystem], kinds: tuple[str, ...], options: dict[str, Any],
             tol_spatial: float, start: int, limit: int, strict: bool, joint: bool,
             hints: dict[str, float | None] | None = None) -> SpatialTau:
-    if not 1 <= start < limit:
-        raise ParameterError(f"start = {start!r} is invalid: must be an integer in [1, {limit})")
+    if not (isinstance(start, int) and start >= 1 and finer(finer(start)) <= limit):
+        raise ParameterError(f"start = {start!r} is invalid: must be an integer >= 1 with a window "
+                             f"of three M up to limit = {limit} (at most {limit // 2})")
     tau_max = options.get("tau_max") or math.inf
     certify = options.get("certify_empty", False) if options.get("n_temporal") is None else False
     if certify:  # proved for the finest M alone, the one kept (module notes)
         options = {**options, "certify_empty": False}
-    m_coarse = start
-    system = factory(m_coarse)
-    coarse, coarse_caps = _solve(system, kinds, options, joint, hints)
-    coarse_proved = False  # whether coarse's empty answers are proved (or need no proof)
+
+    def solve(m: int, below: _Level | None) -> _Level:
+        system = factory(m)
+        if below is None:
+            taus, caps = _solve(system, kinds, options, joint, hints)
+            return _Level(m, system, taus, caps)
+        order = _leader_first(kinds, below.taus) if joint else kinds
+        taus, caps = _solve(system, order, options, joint,
+                            coarser_hints(below.taus, hints, options.get("hint")),
+                            [k for k, t in below.taus.items() if t.tau_min is None])
+        return _Level(m, system, {k: taus[k] for k in kinds}, {k: caps[k] for k in kinds})
+
+    window = [solve(start, None)]
+    window.append(solve(finer(start), window[0]))
     while True:
-        m_fine = 2 * m_coarse
-        fine_system = factory(m_fine)
-        order = _leader_first(kinds, coarse) if joint else kinds
-        fine, fine_caps = _solve(fine_system, order, options, joint,
-                                 coarser_hints(coarse, hints, options.get("hint")),
-                                 [k for k, m in coarse.items() if m.tau_min is None])
-        fine, fine_caps = {k: fine[k] for k in kinds}, {k: fine_caps[k] for k in kinds}
-        caps = {k: min(fine_caps[k], coarse_caps[k]) for k in kinds}
-        change = {k: spatial_change(fine[k], coarse[k], caps[k]) for k in kinds}
-        short = [k for k in kinds if _none_below(fine[k], caps[k])
-                 and _none_below(coarse[k], caps[k])
-                 and not reaches_resonance(system, k, tau_max)]
+        window = [*window[-2:], solve(finer(window[-1].m), window[-1])]
+        coarse, fine = window[0], window[-1]
+        caps = {k: min(level.caps[k] for level in window) for k in kinds}
+        change = {k: _worst(_capped_change(fine.taus[k].tau_min, level.taus[k].tau_min, caps[k])
+                            for level in window[:-1]) for k in kinds}
+        short = [k for k in kinds if all(_none_below(level.taus[k], caps[k]) for level in window)
+                 and not reaches_resonance(coarse.system, k, tau_max)]
         settled = all(c is not None and c <= tol_spatial for c in change.values())
         if joint:
-            low = _capped_change(minimum(fine), minimum(coarse), tau_max)
+            low = _worst(_capped_change(minimum(fine.taus), minimum(level.taus), tau_max)
+                         for level in window[:-1])
             settled = settled and low is not None and low <= tol_spatial
         converged = settled and not short
-        # the last pair could not pass: its coarser M does not reach these either
-        hopeless = settled and not converged and 2 * m_fine >= limit and \
-            any(not reaches_resonance(fine_system, k, tau_max) for k in short)
+        last = finer(fine.m) > limit  # no later window fits below limit
+        # the next window, the last, could not pass: its coarsest M (this middle one) does not
+        # reach either
+        hopeless = settled and not converged and not last and finer(finer(fine.m)) > limit \
+            and any(not reaches_resonance(window[1].system, k, tau_max) for k in short)
         doubt: list[str] = []
-        if certify and (converged or hopeless or m_fine >= limit):  # the pair to be returned
-            fine = _proved(fine_system, fine, fine_caps, certify)
-            if not coarse_proved:
-                coarse = _proved(system, coarse, coarse_caps, "mark")
-            doubt = _unproved(coarse, coarse_caps)
+        if certify and (converged or hopeless or last):
+            window = [level if level.proved else
+                      dataclasses.replace(level, proved=True, taus=_proved(
+                          level.system, level.taus, level.caps,
+                          certify if level is fine else "mark"))
+                      for level in window]
+            coarse, fine = window[0], window[-1]
+            doubt = sorted({k for level in window[:-1] for k in _unproved(level.taus, level.caps)})
             change.update(dict.fromkeys(doubt, None))
             if doubt and converged:
                 converged = False
-                if m_fine < limit and not _unproved(fine, fine_caps):
-                    m_coarse, coarse, coarse_caps, system = m_fine, fine, fine_caps, fine_system
-                    coarse_proved = True
+                if not last and not _unproved(fine.taus, fine.caps):
                     continue
             break
-        if converged or hopeless or m_fine >= limit:
+        if converged or hopeless or last:
             break
-        m_coarse, coarse, coarse_caps, system = m_fine, fine, fine_caps, fine_system
-        coarse_proved = False
     if not converged and strict:
-        why = f"; n_spatial={m_coarse} does not reach the {' and '.join(short)} resonance" \
+        why = f"; n_spatial={coarse.m} does not reach the {' and '.join(short)} resonance" \
             if short else ""
         if doubt:
-            why += (f"; the empty {' and '.join(doubt)} answer at n_spatial={m_coarse} is not "
+            at = ", ".join(str(level.m) for level in window[:-1]
+                           if _unproved(level.taus, level.caps))
+            why += (f"; the empty {' and '.join(doubt)} answer at n_spatial={at} is not "
                     "proved by the zero count")
         raise ConvergenceError(
-            f"tau_min did not converge to tol_spatial={tol_spatial:g} by n_spatial={m_fine} "
+            f"tau_min did not converge to tol_spatial={tol_spatial:g} by n_spatial={fine.m} "
             f"(last changes {list(change.values())}{why}); relax tol_spatial or give n_spatial")
-    return SpatialTau(taus=fine, n_spatial=m_fine, n_spatial_previous=m_coarse, change=change,
-                      converged=converged, caps=fine_caps)
+    return SpatialTau(taus=fine.taus, n_spatial=fine.m, n_spatial_previous=coarse.m,
+                      change=change, converged=converged, caps=fine.caps)
+
+
+def _worst(changes: Iterable[float | None]) -> float | None:
+    """The largest of ``changes``, None if any is None."""
+    out = 0.0
+    for c in changes:
+        if c is None:
+            return None
+        out = max(out, c)
+    return out
 
 
 def _proved(system: HillSystem, taus: dict[str, MarginalTau], caps: dict[str, float],
