@@ -149,7 +149,7 @@ def test_a_hopeless_last_step_is_skipped(monkeypatch):
     last window (256, 384, 512) could not pass (256 does not reach), so the refinement stops
     unconverged at M = 384 without solving M = 512; with limit 1024 it goes on and passes at
     the window (384, 512, 768). A tau still moving is refined to the limit regardless."""
-    table = {m: {"harmonic": 1.0, "subharmonic": 1.0} for m in sr.ladder(16, 1024)}
+    table = {m: {"harmonic": 1.0, "subharmonic": 1.0} for m in sr.spatial_ladder(16, 1024)}
     calls = _scripted(monkeypatch, table)
     monkeypatch.setattr(sr, "reaches_resonance", lambda system, *_: system.block_size >= 300)
     stop = sr.refine_spatial(_Modes, ("harmonic",), options={"tau_max": 0.5}, start=64,
@@ -214,7 +214,7 @@ def test_coarser_m_tau_min_is_the_next_m_hint_and_changes_nothing_but_speed(monk
     hinted = sr.refine_minimum(factory, KINDS, options=OPTIONS)
     found = {(m, k): t for m, k, _, t in seen}
     solved = sorted({m for m, *_ in seen})
-    assert solved == list(sr.ladder(16, hinted.n_spatial))
+    assert solved == list(sr.spatial_ladder(16, hinted.n_spatial))
     for m, kind, hint, _ in seen:
         coarse = found.get((solved[solved.index(m) - 1], kind))
         if m > 16 and coarse is not None and coarse <= 0.5:
@@ -260,7 +260,7 @@ def test_empty_answers_proved_at_the_returned_window_only(monkeypatch):
     cap = joint.caps["subharmonic"]
     assert joint.converged and other.tau_min is None and cap < 0.5
     assert joint.n_spatial > sr.SPATIAL_START  # a coarser M was solved, and not proved
-    window = (joint.n_spatial_previous, sr.finer(joint.n_spatial_previous), joint.n_spatial)
+    window = (joint.n_spatial_previous, sr.finer_spatial(joint.n_spatial_previous), joint.n_spatial)
     assert window == (16, 24, 32) and set(proved) == set(window)
     # the minimum: the harmonic tau_min of dense eig of W (every real tau of the truncation)
     # at the returned M and N; its change the larger distance to the harmonic tau_min of

@@ -14,17 +14,19 @@ from spectralshell.solvers.marginal import marginal_tau
 
 
 def test_ladder_has_half_of_each_m_two_steps_below():
-    """finer climbs by 3/2 or 4/3 through the powers of two and their 3/2 multiples, so that
+    """finer_spatial climbs by 3/2 or 4/3 through the powers of two and their 3/2 multiples, so that
     a window (finer^-2 L, finer^-1 L, L) always spans L / 2 .. L, and from any start two steps
     at most double M (so that start <= limit // 2 fits a first window)."""
-    assert sr.ladder(16, 1024) == (16, 24, 32, 48, 64, 96, 128, 192, 256, 384, 512, 768, 1024)
-    assert sr.ladder(1, 8) == (1, 2, 3, 4, 6, 8) and sr.ladder(20, 40) == (20, 24, 32)
+    assert sr.spatial_ladder(16, 1024) == (16, 24, 32, 48, 64, 96, 128, 192, 256, 384, 512,
+                                           768, 1024)
+    assert sr.spatial_ladder(1, 8) == (1, 2, 3, 4, 6, 8)
+    assert sr.spatial_ladder(20, 40) == (20, 24, 32)
     for m in range(2, 5000):
-        up = sr.finer(m)
-        assert m < up <= 2 * m and sr.finer(up) <= 2 * m
+        up = sr.finer_spatial(m)
+        assert m < up <= 2 * m and sr.finer_spatial(up) <= 2 * m
         on_ladder = m & (m - 1) == 0 or (m % 3 == 0 and (m // 3) & (m // 3 - 1) == 0)
         if on_ladder and m >= 4:
-            assert sr.finer(sr.finer(m // 2)) == m and up / m in (1.5, 4 / 3)
+            assert sr.finer_spatial(sr.finer_spatial(m // 2)) == m and up / m in (1.5, 4 / 3)
 
 
 #: Human cochlea of the Fig 5.18 scene (Table 5.1, mu = 0.02 g/(cm s)) at one point of its

@@ -50,7 +50,7 @@ from spectralshell.runner.solve import VARIABLES, solve_chunks
 from spectralshell.runner.solve import spatial_system
 from spectralshell.runner.sweep import TASK_SECONDS, dispatch
 from spectralshell.solvers.cost import solve_seconds
-from spectralshell.solvers.spatial_refinement import SPATIAL_START, ladder
+from spectralshell.solvers.spatial_refinement import SPATIAL_START, spatial_ladder
 from spectralshell.runner.store import ZarrStore
 
 CHEAP = {"model": "mathieu", "params": {"nu": 0.1},
@@ -336,7 +336,7 @@ def dense_price(point: dict, largest: int) -> float:
     params = spec.params_at({a.name: a.values[0] for a in spec.axes if a.name != "kind"})
     fixed = params.pop("n_spatial", None)
     ms = ((fixed // 2, fixed) if fixed else
-          ladder(SPATIAL_START, largest))
+          spatial_ladder(SPATIAL_START, largest))
     return sum(solve_seconds(spatial_system(spec.model, params, m), len(spec.kinds),
                              spec.options.n_temporal) for m in ms)
 

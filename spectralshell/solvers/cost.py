@@ -45,7 +45,7 @@ from dataclasses import dataclass
 
 from ..models.base import HillSystem
 from .marginal import FIRST_MARGIN, N_MAX, TruncationSchedule, coarser, finer
-from .spatial_refinement import SPATIAL_LIMIT, SPATIAL_START, ladder
+from .spatial_refinement import SPATIAL_LIMIT, SPATIAL_START, spatial_ladder
 
 #: Seconds per n^3 of a dense truncation of order n (module notes).
 DENSE_SECONDS = 2.5e-9
@@ -131,8 +131,8 @@ def spatial_cost(factory: Callable[[int], HillSystem], kinds: Iterable[str], *,
     if n_spatial is not None:
         least = most = tuple(m for m in (n_spatial // 2, n_spatial) if m >= 1)
     else:
-        least = ladder(SPATIAL_START, 2 * SPATIAL_START)
-        most = ladder(SPATIAL_START, SPATIAL_LIMIT) if upper else least
+        least = spatial_ladder(SPATIAL_START, 2 * SPATIAL_START)
+        most = spatial_ladder(SPATIAL_START, SPATIAL_LIMIT) if upper else least
     systems = {m: factory(m) for m in most}
     price = {m: solve_seconds(s, count, n_temporal) for m, s in systems.items()}
     return CostEstimate(seconds=sum(price[m] for m in least), seconds_max=sum(price.values()),

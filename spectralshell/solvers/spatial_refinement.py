@@ -1,20 +1,19 @@
 """Convergence of tau_min in the number M of spatial modes (models with a spatial truncation).
 
-A model whose Hill blocks carry M spatial modes (the cochlea's cosine modes, thesis 5.3) is
-solved at M = 16, 24, 32, 48, 64, 96, ... (the ladder of :func:`finer`: powers of two and 3/2
-of them) until, over a *window* of three successive M of the ladder, L / 2 < L' < L, every asked
-kind's tau_min at L differs by at most ``tol_spatial`` (absolute) from its value at L / 2 and at
-L'. The pair (L / 2, L) is the thesis's spatial error epsilon_M = |tau_2M - tau_M| of 5.3
-(Fig 5.6), used here as a stopping rule; the middle M L' guards it against two truncations too
-coarse to resolve the resonant wave that agree by chance. On the seeded 100-point Fig 5.18
-sample of validation/bench_sweep.py the pair alone (on M = 16, 32, 64, ...) passed at M = 64 for
-two points whose tau_min moved on by 56 and 27 times the reported change: the human cochlea at
-2826 Hz, sigma = 2.72e8 g cm^-2 s^-2 (tau_min at M = 32, 48, 64: 0.029229, 0.047184,
-0.029293; 0.032849 from M = 128 on) and at 17.2 kHz, sigma = 1.06e9 (0.038589, 0.037211,
-0.039216; 0.022488 from M = 192 on). The window ends them at M = 192 and 256 on the converged
-values; the sample as a whole costs the same (239 s against 232 s CPU, side by side), since
-the ladder's finer steps end most points at a smaller M than doubling. Refinements of the
-plain rule:
+A model whose Hill blocks carry M spatial modes (the cochlea's cosine modes, thesis 5.3) is solved
+at M = 16, 24, 32, 48, 64, 96, ... (the ladder of :func:`finer_spatial`: powers of two and 3/2 of
+them) until, over a *window* of three successive M of the ladder, L / 2 < L' < L, every asked kind's
+tau_min at L differs by at most ``tol_spatial`` (absolute) from its value at L / 2 and at L'. The
+pair (L / 2, L) is the thesis's spatial error epsilon_M = |tau_2M - tau_M| of 5.3 (Fig 5.6), used
+here as a stopping rule; the middle M L' guards it against two truncations too coarse to resolve the
+resonant wave that agree by chance. On the seeded 100-point Fig 5.18 sample of
+validation/bench_sweep.py the pair alone (on M = 16, 32, 64, ...) passed at M = 64 for two points
+whose tau_min moved on by 56 and 27 times the reported change: the human cochlea at 2826 Hz, sigma =
+2.72e8 g cm^-2 s^-2 (tau_min at M = 32, 48, 64: 0.029229, 0.047184, 0.029293; 0.032849 from M = 128
+on) and at 17.2 kHz, sigma = 1.06e9 (0.038589, 0.037211, 0.039216; 0.022488 from M = 192 on). The
+window ends them at M = 192 and 256 on the converged values; the sample as a whole costs the same
+(239 s against 232 s CPU, side by side), since the ladder's finer steps end most points at a smaller
+M than doubling. Refinements of the plain rule:
 
 * Cap. With a finite tau_max the compared quantity is tau_min capped at tau_max (what a sweep
   stores: tau_max where there is none), so a tau_min just below tau_max at one M and none at the
@@ -169,18 +168,19 @@ class SpatialTau:
     caps: dict[str, float] = dataclasses.field(default_factory=dict)
 
 
-def finer(m: int) -> int:
+def finer_spatial(m: int) -> int:
     """The M after ``m`` (>= 1) on the refinement's ladder 1, 2, 3, 4, 6, 8, 12, 16, 24, ...:
     the powers of two and 3/2 of them, so that every M >= 4 on it has M / 2 two steps below."""
     k = m.bit_length() - 1
     return 3 << (k - 1) if k >= 1 and m < 3 << (k - 1) else 1 << (k + 1)
 
 
-def ladder(start: int, limit: int) -> tuple[int, ...]:
-    """The M a refinement from ``start`` may solve, up to ``limit``: start, finer(start), ..."""
+def spatial_ladder(start: int, limit: int) -> tuple[int, ...]:
+    """The M a refinement from ``start`` may solve, up to ``limit``: start,
+    finer_spatial(start), ..."""
     out = [start]
     while out[-1] < limit:
-        out.append(finer(out[-1]))
+        out.append(finer_spatial(out[-1]))
     return tuple(m for m in out if m <= limit)
 
 
@@ -309,8 +309,8 @@ def refine_spatial(factory: Callable[[int], HillSystem], kinds: Iterable[str], *
                    options: dict[str, Any], tol_spatial: float = TOL_SPATIAL,
                    start: int = SPATIAL_START, limit: int = SPATIAL_LIMIT,
                    strict: bool = True) -> SpatialTau:
-    """tau_min of each kind, converged in M = start, finer(start), ... to ``tol_spatial`` over a
-    window of three successive M (module notes).
+    """tau_min of each kind, converged in M = start, finer_spatial(start), ... to
+    ``tol_spatial`` over a window of three successive M (module notes).
 
     Parameters
     ----------
@@ -320,7 +320,7 @@ def refine_spatial(factory: Callable[[int], HillSystem], kinds: Iterable[str], *
         :func:`reaches_resonance`).
     start : the first M (a neighbour's M for continuation, see the module notes); its
         window of three M must fit below ``limit`` (start <= limit // 2 suffices for start > 1).
-    limit : the largest M tried (the last window's finest M is the last of :func:`ladder`).
+    limit : the largest M tried (the last window's finest M is the last of :func:`spatial_ladder`).
     strict : raise when ``limit`` is reached unconverged (or the last step is hopeless, or
         an empty answer of the last window cannot be proved, see the module notes); with False
         return the values at the last M with ``converged = False`` (a map records and flags
@@ -370,7 +370,7 @@ class _Level:
 def _refine(factory: Callable[[int], HillSystem], kinds: tuple[str, ...], options: dict[str, Any],
             tol_spatial: float, start: int, limit: int, strict: bool, joint: bool,
             hints: dict[str, float | None] | None = None) -> SpatialTau:
-    if not (isinstance(start, int) and start >= 1 and finer(finer(start)) <= limit):
+    if not (isinstance(start, int) and start >= 1 and finer_spatial(finer_spatial(start)) <= limit):
         raise ParameterError(f"start = {start!r} is invalid: must be an integer >= 1 with a window "
                              f"of three M up to limit = {limit} (at most {limit // 2})")
     tau_max = options.get("tau_max") or math.inf
@@ -390,9 +390,9 @@ def _refine(factory: Callable[[int], HillSystem], kinds: tuple[str, ...], option
         return _Level(m, system, {k: taus[k] for k in kinds}, {k: caps[k] for k in kinds})
 
     window = [solve(start, None)]
-    window.append(solve(finer(start), window[0]))
+    window.append(solve(finer_spatial(start), window[0]))
     while True:
-        window = [*window[-2:], solve(finer(window[-1].m), window[-1])]
+        window = [*window[-2:], solve(finer_spatial(window[-1].m), window[-1])]
         coarse, fine = window[0], window[-1]
         caps = {k: min(level.caps[k] for level in window) for k in kinds}
         change = {k: _worst(_capped_change(fine.taus[k].tau_min, level.taus[k].tau_min, caps[k])
@@ -405,10 +405,11 @@ def _refine(factory: Callable[[int], HillSystem], kinds: tuple[str, ...], option
                          for level in window[:-1])
             settled = settled and low is not None and low <= tol_spatial
         converged = settled and not short
-        last = finer(fine.m) > limit  # no later window fits below limit
+        last = finer_spatial(fine.m) > limit  # no later window fits below limit
         # the next window, the last, could not pass: its coarsest M (this middle one) does not
         # reach either
-        hopeless = settled and not converged and not last and finer(finer(fine.m)) > limit \
+        hopeless = settled and not converged and not last \
+            and finer_spatial(finer_spatial(fine.m)) > limit \
             and any(not reaches_resonance(window[1].system, k, tau_max) for k in short)
         doubt: list[str] = []
         if certify and (converged or hopeless or last):
