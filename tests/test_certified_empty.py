@@ -17,7 +17,7 @@ from spectralshell.params.physical import CARDIAC, PhysicalSphere, bpm_to_rad_pe
 from spectralshell.solvers import marginal
 from spectralshell.solvers.marginal import Pencils, dense_taus, marginal_tau, truncation_taus
 
-from test_contour_blocks import cochlea, qz_squares
+from test_contour_blocks import cochlea, qz_squares, real_squares
 from test_marginal_fast import cochlea_like
 
 #: The atrium (Fig 6.13) at sigma = 15000 dyn/cm, 300 beats/min, m = 2: no tau <= 1/2 of
@@ -115,7 +115,7 @@ def test_cochlea_count_replaces_empty_truncation(kind, monkeypatch):
     cochlea_system = cochlea(8)
     hill = Pencils(cochlea_system, kind).get(12, "two-sided")[0]
     z = qz_squares(hill)
-    smallest = float(np.sqrt(z[np.abs(z.imag) <= 1e-9 * np.abs(z)].real.min()))
+    smallest = float(np.sqrt(real_squares(z).min()))
     assert smallest < 0.5
     below = truncation_taus(cochlea_system, kind, 12, tau_max=0.99 * smallest,
                             count_first=True)

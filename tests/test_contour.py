@@ -6,7 +6,6 @@ import dataclasses
 
 import numpy as np
 import pytest
-import scipy.linalg as sla
 
 from spectralshell.models.fibre import hill_system as fibre
 from spectralshell.models.sphere import hill_system as sphere
@@ -16,6 +15,8 @@ from spectralshell.runner.floquet import tau_map
 from spectralshell.solvers import _schur, contour
 from spectralshell.solvers.marginal import (Pencils, TruncationSchedule, dense_taus,
                                             marginal_tau, truncation_taus)
+
+from test_contour_blocks import qz_squares, real_squares
 
 KINDS = ("harmonic", "subharmonic")
 TAU_MAX = 0.5
@@ -70,14 +71,6 @@ def test_kernel_rejects_other_blocks():
     with pytest.raises(ValueError, match="2 x 2"):
         _schur.logdet(one, one[:2], one[:2], np.zeros(1, complex), np.zeros(1, complex),
                       np.zeros(1, complex))
-
-
-def qz_squares(hill):
-    """z = tau^2 of every finite eigenvalue of the pencil (dense QZ), each +-tau pair once."""
-    alpha, beta = sla.eigvals(hill.A.toarray(), hill.B.toarray(), homogeneous_eigvals=True)
-    finite = np.abs(beta) > 1e-12 * np.abs(alpha)
-    tau = alpha[finite] / beta[finite]
-    return tau[tau.real > 0] ** 2
 
 
 def inside(z, left, right, half, margin=0.0):
@@ -540,7 +533,7 @@ def test_opposite_signs_at_rectangle_ends_mean_an_odd_count(sigma, bpm, m, kind)
     hill = two_sided(atrium(sigma, bpm, m), kind, 16)
     log_g = contour.LogDet(hill)
     z = qz_squares(hill)
-    real = np.sort(z.real[np.abs(z.imag) <= 1e-9 * np.abs(z)])
+    real = real_squares(z)
     real = real[real > 0][:3]
     rights = [real[0] / 2] + [(a + b) / 2 for a, b in zip(real, real[1:])]
     checked = set()

@@ -54,6 +54,12 @@ def qz_squares(hill):
     return tau[(tau.real > 0) & ~axis | axis & (tau.imag > 0)] ** 2
 
 
+def real_squares(z: np.ndarray) -> np.ndarray:
+    """The real ones of :func:`qz_squares`' ``z`` (|Im z| <= 1e-9 |z|), ascending: real tau
+    for z > 0, imaginary tau for z < 0."""
+    return np.sort(z[np.abs(z.imag) <= 1e-9 * np.abs(z)].real)
+
+
 def dense_log_g(hill, z):
     """(log|g|, phase factor of g) at z by LAPACK's LU of the assembled matrices."""
     sign, modulus = np.linalg.slogdet(hill.dense(np.sqrt(z)))
@@ -184,8 +190,8 @@ def test_block_winding_counts_qz_eigenvalues_cochlea(kind, inverse_below, monkey
     monkeypatch.setattr(contour, "INVERSE_BELOW", inverse_below)
     hill = Pencils(cochlea(8), kind).get(12, "two-sided")[0]
     z = qz_squares(hill)
-    real = z[np.abs(z.imag) <= 1e-9 * np.abs(z)]
-    assert real.size and real.real.min() < 0.25  # some z = tau^2 to count in the strips
+    real = real_squares(z)
+    assert real.size and real.min() < 0.25  # some z = tau^2 to count in the strips
     rectangles = [(-2.5e-5, 0.25, 2.5e-5), (-2.5e-3, 0.25, 2.5e-3), (-0.01, 0.5, 0.05),
                   (0.1, 1.0, 0.3)]
     assert check_counts(hill, rectangles) >= 3
@@ -237,7 +243,7 @@ def test_odd_count_shortcut_cochlea(kind, monkeypatch):
     a close pair (test_count_misses_close_real_pair)."""
     hill = Pencils(cochlea(8), kind).get(12, "two-sided")[0]
     z = qz_squares(hill)
-    real = np.sort(z[np.abs(z.imag) <= 1e-9 * np.abs(z)].real)
+    real = real_squares(z)
     complex_z = z[np.abs(z.imag) > 1e-9 * np.abs(z)]
     assert real.size >= 4
     caps = [0.9 * real[0]] + [(a + b) / 2 for a, b in zip(real[:3], real[1:4])]
@@ -266,7 +272,7 @@ def test_count_sees_close_real_pair():
     Each strip's count is QZ's."""
     hill = Pencils(cochlea(8), "subharmonic").get(12, "two-sided")[0]
     z = qz_squares(hill)
-    real = np.sort(z[np.abs(z.imag) <= 1e-9 * np.abs(z)].real)
+    real = real_squares(z)
     z_max = (real[1] + real[2]) / 2
     assert np.count_nonzero(real < z_max) == 2
     assert not contour.none_up_to(hill, float(np.sqrt(z_max)))
@@ -284,7 +290,8 @@ def test_odd_count_shortcut_random_pencils():
     for seed in range(4):
         hill = random_pencil(7, 4, seed, symmetric=True)
         z = qz_squares(hill)
-        real = np.sort(z[(np.abs(z.imag) <= 1e-9 * np.abs(z)) & (z.real > 0)].real)
+        real = real_squares(z)
+        real = real[real > 0]
         log_g = contour.LogDet(hill)
         for right in np.concatenate([real[:4] * 0.97, real[:4] * 1.03]):
             expected = np.count_nonzero(real < right) % 2 == 1

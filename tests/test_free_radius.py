@@ -12,13 +12,13 @@ from spectralshell.solvers.half_product import (coupled_solves, cut_solves, free
 from spectralshell.solvers.marginal import (Pencils, TruncationSchedule, certify_empty_answer,
                                              finer, marginal_tau)
 
-from test_contour_blocks import cochlea, qz_squares, random_pencil
+from test_contour_blocks import cochlea, qz_squares, random_pencil, real_squares
 
 
 def real_taus(hill) -> np.ndarray:
     """The real tau > 0 of QZ, ascending."""
-    z = qz_squares(hill)
-    return np.sort(np.sqrt(z[(np.abs(z.imag) <= 1e-9 * np.abs(z)) & (z.real > 0)].real))
+    z = real_squares(qz_squares(hill))
+    return np.sqrt(z[z > 0])
 
 
 def smallest_modulus(hill) -> float:
@@ -103,8 +103,7 @@ def test_disk_proof_agrees_with_count(kind):
     assert contour._zeros_below(contour.LogDet(hill), z_max * (1 + 1e-6), z_max) == 0
     assert contour.none_up_to(hill, tau_max)
     assert smallest_modulus(hill) > tau_max
-    z = qz_squares(hill)
-    real = np.sqrt(z[np.abs(z.imag) <= 1e-9 * np.abs(z)].real.min())
+    real = np.sqrt(real_squares(qz_squares(hill)).min())
     assert not contour.none_up_to(hill, 1.01 * real)
 
 
