@@ -8,12 +8,12 @@ pair (L / 2, L) is the thesis's spatial error epsilon_M = |tau_2M - tau_M| of 5.
 here as a stopping rule; the middle M L' guards it against two truncations too coarse to resolve the
 resonant wave that agree by chance. On the seeded 100-point Fig 5.18 sample of
 validation/bench_sweep.py the pair alone (on M = 16, 32, 64, ...) passed at M = 64 for two points
-whose tau_min moved on by 56 and 27 times the reported change: the human cochlea at 2826 Hz, sigma =
-2.72e8 g cm^-2 s^-2 (tau_min at M = 32, 48, 64: 0.029229, 0.047184, 0.029293; 0.032849 from M = 128
-on) and at 17.2 kHz, sigma = 1.06e9 (0.038589, 0.037211, 0.039216; 0.022488 from M = 192 on). The
-window ends them at M = 192 and 256 on the converged values; the sample as a whole costs the same
-(239 s against 232 s CPU, side by side), since the ladder's finer steps end most points at a smaller
-M than doubling. Refinements of the plain rule:
+whose tau_min moved on by 56 and 27 times the reported change: the human cochlea at 2826 Hz,
+sigma = 2.72e8 g cm^-2 s^-2 (tau_min at M = 32, 48, 64: 0.029229, 0.047184, 0.029293; 0.032849 from
+M = 128 on) and at 17.2 kHz, sigma = 1.06e9 (0.038589, 0.037211, 0.039216; 0.022488 from M = 192
+on). The window ends them at M = 192 and 256 on the converged values; the sample as a whole costs
+the same (239 s against 232 s CPU, side by side), since the ladder's finer steps end most points at
+a smaller M than doubling. Refinements of the plain rule:
 
 * Cap. With a finite tau_max the compared quantity is tau_min capped at tau_max (what a sweep
   stores: tau_max where there is none), so a tau_min just below tau_max at one M and none at the
@@ -96,10 +96,10 @@ Cost of the coarser M's proof, measured with the pair rule (seeded Fig 5.18 samp
 as validation/bench_sweep.py solves it, one BLAS thread, CPU time, 2 cores under a load of 5-8): the
 crowded cell (human, 63.6 Hz, sigma = 1.85e9, pair M = 32, 64; its subharmonic empty below the
 harmonic 0.4944, where the disk bound fails and the count walks) 58.6 and 64.4 s before, 66.1 and
-68.6 s after (alternately), of which the count at M = 32 is 7.6 s (the one at M = 64 17.4 s); the M
-= 16 counts stay dropped. Where the disk bound proves the empty kind it is a few per cent: human
-8353 Hz, sigma = 5.7e8 (M = 128, 256) 0.13 s of 3.2 s; gerbil 35.5 kHz, sigma = 1.54e8 (M = 256,
-512) 0.71 s of 13.9 s.
+68.6 s after (alternately), of which the count at M = 32 is 7.6 s (the one at M = 64 17.4 s);
+the M = 16 counts stay dropped. Where the disk bound proves the empty kind it is a few per cent:
+human 8353 Hz, sigma = 5.7e8 (M = 128, 256) 0.13 s of 3.2 s; gerbil 35.5 kHz, sigma = 1.54e8
+(M = 256, 512) 0.71 s of 13.9 s.
 
 A kind with no tau below its cap at one M is solved at the next M with
 ``expect_empty`` (:func:`~spectralshell.solvers.marginal.marginal_tau`): its truncations are
