@@ -97,8 +97,9 @@ def sweep(scene: str | Path | Mapping, *, executor: str = "processes", workers: 
 def sweep_summary(scene: str | Path | Mapping, **kwargs: Any) -> dict[str, Any]:
     """Run :func:`sweep` and return ``{"points", "computed", "skipped", "damaged", "outdated",
     "uncertified", "out", "seconds"}`` (damaged: points recomputed because their chunk of the
-    store was damaged; outdated: because the store was written before ``complete_to`` existed;
-    uncertified: points with no tau found and none proved)."""
+    store was damaged; outdated: because their chunks were written before ``complete_to``
+    existed, or under an earlier stopping rule of the refinement in M; uncertified: points with
+    no tau found and none proved)."""
     from .runner import sweep_summary as run
 
     return run(scene, **kwargs)

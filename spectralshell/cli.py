@@ -504,10 +504,8 @@ def _sweep_text(summary: dict) -> str:
     repaired = (f", {summary['damaged']} of them replacing damaged chunks of the store"
                 if summary["damaged"] else "")
     if summary["outdated"]:
-        from .runner.store import OUTDATED
-
-        repaired += (f", {summary['outdated']} of them in chunks of a store {OUTDATED}, "
-                     "recomputed")
+        repaired += (f", {summary['outdated']} of them in outdated chunks of the store (written "
+                     "by an earlier spectralshell whose values are not kept), recomputed")
     if summary["uncertified"]:
         repaired += f"; {summary['uncertified']} uncertified (no tau found, none proved)"
     return (f"sweep: {summary['points']} points ({summary['computed']} computed{repaired}, "

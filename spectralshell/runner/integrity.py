@@ -4,10 +4,14 @@ still holds what was written.
 Once every variable of a chunk is on disk (its ``computed`` flags last), its record
 ``.chunks/KEY.json`` is written (to a temporary name, then renamed, so it is whole or absent;
 KEY names the chunk's Zarr files, e.g. ``0.3.0``). The record holds the scene hash, the chunk's
-number, origin and length, and a sha256 digest of those and of the chunk's values of every
-stored variable (name, dtype, shape and bytes). Reading the store back, a chunk is
+number, origin and length, for a sweep that refines M per point the name of the refinement's
+stopping rule (:data:`~spectralshell.solvers.spatial_refinement.SPATIAL_RULE`), and a sha256
+digest of those and of the chunk's values of every stored variable (name, dtype, shape and
+bytes). Reading the store back, a chunk is
 
 * finished: its record equals the one of the values decoded at the chunk's place;
+* outdated: its record would be that, but names another stopping rule, or none (written before
+  records named it): intact, but not this code's values;
 * damaged: it has a record, but a chunk file is missing (Zarr reads the fill value), cannot be
   decoded, or holds other values -- e.g. another cell's file copied over it, or another
   store's record; identical bytes would verify, and are harmless;
@@ -33,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from ..params.sweep_grid import SweepSpec
+from ..solvers.spatial_refinement import SPATIAL_RULE
 from .layout import Chunk, chunk_key, chunks, region
 
 RECORDS = ".chunks"  # directory of the completion records, inside the store
@@ -51,21 +56,46 @@ def _sha256(place: Mapping, block: Mapping[str, np.ndarray]) -> str:
     return digest.hexdigest()
 
 
-def record_text(spec: SweepSpec, chunk: Chunk, block: Mapping[str, np.ndarray]) -> str:
+def record_text(spec: SweepSpec, chunk: Chunk, block: Mapping[str, np.ndarray],
+                rule: str | None = SPATIAL_RULE) -> str:
     """The completion record (JSON) of a chunk holding ``block`` (every stored variable, in
-    the store's order and dtypes)."""
+    the store's order and dtypes); where the sweep refines M per point it names the stopping
+    ``rule`` of that refinement (None: a record of before records named it)."""
     place = {"scene_hash": spec.digest, "chunk": chunk.index, "origin": list(chunk.origin),
              "length": chunk.length}
+    if spec.refines_spatial and rule is not None:
+        place["spatial_rule"] = rule
     return json.dumps({**place, "sha256": _sha256(place, block)}, sort_keys=True)
 
 
-def dataset_digest(spec: SweepSpec, arrays: Mapping[str, np.ndarray]) -> str:
-    """sha256 of a whole sweep written at once (NetCDF): the scene hash, every axis's values
-    and every stored variable (``arrays``, in the store's order and dtypes). Kept in the file's
-    attributes (``data_sha256``) and checked when it is read back, as a Zarr chunk's record is."""
+def stated_rule(fields: Mapping) -> str | None:
+    """The stopping rule of the refinement in M that a record's or file's ``fields`` name (None:
+    none, as before records named it, or not a string)."""
+    rule = fields.get("spatial_rule")
+    return rule if isinstance(rule, str) else None
+
+
+def _rule_of(record: str) -> str | None:
+    """:func:`stated_rule` of a record's text (None also when it is not a JSON object)."""
+    try:
+        fields = json.loads(record)
+    except ValueError:
+        return None
+    return stated_rule(fields) if isinstance(fields, dict) else None
+
+
+def dataset_digest(spec: SweepSpec, arrays: Mapping[str, np.ndarray],
+                   rule: str | None = SPATIAL_RULE) -> str:
+    """sha256 of a whole sweep written at once (NetCDF): the scene hash, every axis's values,
+    the stopping ``rule`` of a refinement in M (as in :func:`record_text`) and every stored
+    variable (``arrays``, in the store's order and dtypes). Kept in the file's attributes
+    (``data_sha256``, the rule as ``spatial_rule``) and checked when it is read back, as a Zarr
+    chunk's record is."""
     place = {"scene_hash": spec.digest,
              "axes": [[a.name, [v.item() if hasattr(v, "item") else v for v in a.values]]
                       for a in spec.axes]}
+    if spec.refines_spatial and rule is not None:
+        place["spatial_rule"] = rule
     return _sha256(place, arrays)
 
 
@@ -118,18 +148,19 @@ def read_variable(array, spec: SweepSpec, dtype: type) -> tuple[np.ndarray, froz
 
 @dataclass(frozen=True)
 class Census:
-    """The chunks of a store by state: ``finished`` and ``damaged`` (chunk numbers); the
-    others are unfinished."""
+    """The chunks of a store by state: ``finished``, ``damaged`` and ``outdated`` (chunk
+    numbers); the others are unfinished."""
 
     finished: frozenset[int]
     damaged: frozenset[int]
+    outdated: frozenset[int] = frozenset()
 
 
 def census(spec: SweepSpec, arrays: Mapping[str, np.ndarray], unreadable: frozenset[int],
            records: Mapping[str, str]) -> Census:
     """Compare every chunk's values (``arrays``: every stored variable, decoded; ``unreadable``:
     chunks some variable could not be decoded) with its completion record."""
-    finished, damaged = set(), set()
+    finished, damaged, outdated = set(), set(), set()
     for chunk in chunks(spec):
         found = records.get(chunk_key(spec, chunk))
         if found is None:
@@ -138,6 +169,11 @@ def census(spec: SweepSpec, arrays: Mapping[str, np.ndarray], unreadable: frozen
         block = {name: values[where] for name, values in arrays.items()}
         if chunk.index not in unreadable and found == record_text(spec, chunk, block):
             finished.add(chunk.index)
+            continue
+        rule = _rule_of(found)
+        if spec.refines_spatial and rule != SPATIAL_RULE and chunk.index not in unreadable and \
+                found == record_text(spec, chunk, block, rule):
+            outdated.add(chunk.index)
         else:
             damaged.add(chunk.index)
-    return Census(frozenset(finished), frozenset(damaged))
+    return Census(frozenset(finished), frozenset(damaged), frozenset(outdated))

@@ -41,6 +41,12 @@ their empty points were never proved: their finished chunks, verified against th
 records, are ``outdated`` -- reading such a store (:func:`open_sweep`, ``plot``) refuses it in
 one line that says so, and a rerun adds ``complete_to`` to the store, recomputes those chunks
 and reports them as such (``SweepRun.outdated``), not as damage.
+Likewise for a sweep that refines M per point (the cochlea without n_spatial): each chunk's
+record (a NetCDF file's digest) names the stopping rule of that refinement
+(:data:`~spectralshell.solvers.spatial_refinement.SPATIAL_RULE`), and the intact chunks of
+another rule, or of none (written before records named it: the pair rule, which two coarse M
+agreeing by chance could pass), are ``outdated``: refused on reading, recomputed on a rerun,
+never mixed with this rule's values.
 Stores written before tau_min was NaN where there is none hold tau_max there; they verify as
 written (the records digest the stored bytes), reading them (:func:`open_sweep`, a rerun) gives
 NaN there (:func:`without_tau_as_nan`), and a rerun rewrites those chunks (values and records)
@@ -69,8 +75,9 @@ from .._validate import require_writable_directory
 from .._version import stamp
 from ..errors import ParameterError, StoreDamaged
 from ..params.sweep_grid import LONG_NAMES, VARIABLE_LONG_NAMES, SweepSpec, sweep_spec
+from ..solvers.spatial_refinement import SPATIAL_RULE
 from .integrity import (DECODE_ERRORS, census, dataset_digest, read_records, read_variable,
-                        record_path, write_record)
+                        record_path, stated_rule, write_record)
 from .layout import Chunk, chunk_key, chunks, region, store_chunks
 from .solve import NONUNIFORM_VARIABLES, SPATIAL_VARIABLES, VARIABLES, variables
 
@@ -81,6 +88,9 @@ SUFFIXES = (".zarr", ".nc")
 #: Why the chunks of a store without ``complete_to`` are recomputed (module notes).
 OUTDATED = ("written before certified empty answers (no complete_to: its empty points were never "
             "proved)")
+#: Why the chunks whose records name another stopping rule of the refinement in M are.
+OUTDATED_RULE = ("written under an earlier stopping rule of the refinement in M (the pair M/2, M "
+                 "alone, which two coarse M agreeing by chance could pass)")
 _VAR_ATTRS = {
     "tau_min": {"long_name": VARIABLE_LONG_NAMES["tau_min"], "units": "1",
                 "note": "NaN where has_tau is false"},
@@ -131,6 +141,7 @@ def provenance(spec: SweepSpec) -> dict[str, Any]:
             "params": json.dumps(dict(spec.fixed)),
             "solver_options": json.dumps(canonical["options"], sort_keys=True),
             "tau_max": spec.options.tau_max, "chunk": spec.chunk,
+            **({"spatial_rule": SPATIAL_RULE} if spec.refines_spatial else {}),
             "line_axis": "" if spec.line_axis is None else spec.dims[spec.line_axis],
             "conventions": "K(t) = kappa (1 + 2 tau sin t), forcing period 2 pi; harmonic "
                            "gamma = 0, subharmonic gamma = i/2"}
@@ -199,8 +210,9 @@ class StoredSweep:
     finished chunks), its ``attrs``, the ``damaged`` chunks (numbers), the coordinates
     whose stored values differ from the scene's, the finished chunks stored with tau_max
     where there is no tau (``legacy``: written before NaN was), and, in a store written
-    before ``complete_to`` existed, the chunks with a completion record (``outdated``: none of
-    its values is kept, and a rerun recomputes them)."""
+    before ``complete_to`` existed, the chunks with a completion record, and in a store of a
+    sweep refining M the chunks whose records name an earlier stopping rule (``outdated``, why
+    in ``outdated_why``: none of their values is kept, and a rerun recomputes them)."""
 
     arrays: dict[str, np.ndarray]
     attrs: dict[str, Any]
@@ -208,6 +220,7 @@ class StoredSweep:
     coordinates: tuple[str, ...] = ()
     legacy: frozenset[int] = frozenset()
     outdated: frozenset[int] = frozenset()
+    outdated_why: str = OUTDATED
 
     def damage(self, spec: SweepSpec) -> str:
         """'3 of 8 chunks missing, unreadable or altered[, coordinates kappa]' ('' if none)."""
@@ -246,7 +259,8 @@ def read_zarr(path: Path, spec: SweepSpec | None = None) -> tuple[SweepSpec, Sto
     first: a chunk a running writer finishes meanwhile reads as unfinished, not as damaged).
     Without ``spec``, the store's own scene is used; with it, the store must hold that scene.
     A store of the scene written before ``complete_to`` existed keeps nothing: its recorded
-    chunks are ``outdated`` (module notes).
+    chunks are ``outdated`` (module notes); so are the intact chunks whose records name an
+    earlier stopping rule of the refinement in M (:func:`~.integrity.census`).
 
     Raises
     ------
@@ -294,7 +308,7 @@ def read_zarr(path: Path, spec: SweepSpec | None = None) -> tuple[SweepSpec, Sto
     legacy = frozenset(c.index for c in chunks(spec) if old[region(spec, c)].any())
     coordinates = tuple(a.name for a in spec.axes if not _coordinate_intact(group, a))
     return spec, StoredSweep(without_tau_as_nan(stored), attrs, state.damaged, coordinates,
-                             legacy)
+                             legacy, state.outdated, OUTDATED_RULE)
 
 
 def load_existing(path: Path, spec: SweepSpec) -> StoredSweep | None:
@@ -315,23 +329,28 @@ def load_existing(path: Path, spec: SweepSpec) -> StoredSweep | None:
             if not restore_metadata(path, spec):
                 raise
             return read_zarr(path, spec)[1]
-        if stored.outdated:  # written before complete_to existed: add it (ZarrStore.repair
-            restore_metadata(path, spec)  # then removes the outdated chunks)
+        if stored.outdated_why == OUTDATED and stored.outdated:  # no complete_to: add it
+            restore_metadata(path, spec)  # (ZarrStore.repair then removes the outdated chunks)
         return stored
     with _open_netcdf(path, "out") as ds:
         found = ds.attrs.get("scene_hash")
         if found != spec.digest:
             raise _other_scene(path, found, spec)
         arrays = _netcdf_arrays(ds, spec)
+        every = frozenset(c.index for c in chunks(spec))
+        if arrays is None and _of_earlier_rule(ds, spec):  # recomputed, and the file replaced
+            return StoredSweep(empty_arrays(spec), dict(ds.attrs), outdated=every,
+                               outdated_why=OUTDATED_RULE)
         if arrays is None:  # damaged: every chunk is recomputed, and the file replaced
-            return StoredSweep(empty_arrays(spec), dict(ds.attrs),
-                               frozenset(c.index for c in chunks(spec)))
+            return StoredSweep(empty_arrays(spec), dict(ds.attrs), every)
         return StoredSweep(arrays, dict(ds.attrs))
 
 
-def _netcdf_arrays(ds: xr.Dataset, spec: SweepSpec) -> dict[str, np.ndarray] | None:
+def _netcdf_arrays(ds: xr.Dataset, spec: SweepSpec,
+                   rule: str | None = SPATIAL_RULE) -> dict[str, np.ndarray] | None:
     """The stored variables of a NetCDF sweep of ``spec``, or None when they are missing, have
-    other dimensions or coordinates, or differ from their digest (attrs ``data_sha256``)."""
+    other dimensions or coordinates, or differ from their digest (attrs ``data_sha256``) with
+    the stopping ``rule`` of a refinement in M (:func:`~.integrity.dataset_digest`)."""
     wanted = stored_variables(spec)
     if any(v not in ds for v in wanted) or tuple(ds["tau_min"].dims) != spec.dims:
         return None
@@ -341,9 +360,17 @@ def _netcdf_arrays(ds: xr.Dataset, spec: SweepSpec) -> dict[str, np.ndarray] | N
         return None
     if any(not np.array_equal(ds[a.name].values, np.array(a.values)) for a in spec.axes):
         return None
-    if ds.attrs.get("data_sha256") != dataset_digest(spec, arrays):
+    if ds.attrs.get("data_sha256") != dataset_digest(spec, arrays, rule):
         return None
     return without_tau_as_nan(arrays)
+
+
+def _of_earlier_rule(ds: xr.Dataset, spec: SweepSpec) -> bool:
+    """Whether a NetCDF sweep that refines M was written, intact, under another stopping rule
+    of the refinement (attrs ``spatial_rule``; none before files named it)."""
+    rule = stated_rule(ds.attrs)
+    return (spec.refines_spatial and rule != SPATIAL_RULE
+            and _netcdf_arrays(ds, spec, rule) is not None)
 
 
 #: Zarr (format 2) metadata files of a store and of each of its arrays.
@@ -530,7 +557,8 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
     ParameterError : no such store, or not a spectralshell sweep.
     StoreDamaged : chunks of the Zarr store are missing, unreadable or altered (rerunning the
         sweep into it recomputes exactly those), or it was written before ``complete_to``
-        existed (rerunning recomputes its chunks).
+        existed or, refining M, under an earlier stopping rule of that refinement (rerunning
+        recomputes those chunks).
     """
     path = Path(path)
     if not path.exists():
@@ -545,9 +573,9 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
                                    "rebuild it (finished chunks are kept)") from None
             raise
         if stored.outdated:
-            raise StoreDamaged(f"sweep = {str(path)!r} was {OUTDATED}; rerun its sweep with "
-                               f"out={str(path)!r} to recompute its {len(stored.outdated)} "
-                               "finished chunks")
+            raise StoreDamaged(f"sweep = {str(path)!r} was {stored.outdated_why}; rerun its "
+                               f"sweep with out={str(path)!r} to recompute its "
+                               f"{len(stored.outdated)} finished chunks")
         damage = stored.damage(spec)
         if damage:
             raise StoreDamaged(f"sweep = {str(path)!r} is damaged: {damage}; rerun its sweep "
@@ -556,7 +584,11 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
     with _open_netcdf(path, "sweep") as ds:
         if "scene_hash" not in ds.attrs or "tau_min" not in ds:
             raise ParameterError(f"sweep = {str(path)!r} is invalid: not a spectralshell sweep")
-        arrays = _netcdf_arrays(ds, _stored_spec(path, dict(ds.attrs)))
+        spec = _stored_spec(path, dict(ds.attrs))
+        arrays = _netcdf_arrays(ds, spec)
+        if arrays is None and _of_earlier_rule(ds, spec):
+            raise StoreDamaged(f"sweep = {str(path)!r} was {OUTDATED_RULE}; rerun its sweep "
+                               f"with out={str(path)!r} to recompute it")
         if arrays is None:
             raise StoreDamaged(f"sweep = {str(path)!r} is damaged: its variables, dimensions, "
                                "coordinates or values differ from what was written (data_sha256);"

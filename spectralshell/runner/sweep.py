@@ -97,9 +97,10 @@ class SweepRun:
 
     damaged : points computed now because their chunk in the store was missing, unreadable or
         altered (counted in ``computed``).
-    outdated : points computed now because the store was written before ``complete_to``
-        existed (:data:`~spectralshell.runner.store.OUTDATED`; counted in ``computed``, not in
-        ``damaged``).
+    outdated : points computed now because their chunks in the store were written before
+        ``complete_to`` existed (:data:`~spectralshell.runner.store.OUTDATED`) or under an
+        earlier stopping rule of the refinement in M (``OUTDATED_RULE``); counted in
+        ``computed``, not in ``damaged``.
 
     uncertified : points with no tau found whose emptiness the zero count could not prove
         (:func:`~spectralshell.results.maps.uncertified`; stored, never as "none").

@@ -142,6 +142,11 @@ SPATIAL_LIMIT = 512   # the refinement stops (not converged) at this M
 #: 20 kHz, sigma = 8.3e7 and the gerbil at 50 kHz, sigma = 1.5e8 (~90 s each, one thread).
 MINIMUM_LIMIT = 2 * SPATIAL_LIMIT
 TOL_SPATIAL = 1e-3    # default absolute tolerance of tau_min in M
+#: The stopping rule of the module notes, by name. A sweep chunk's completion record carries it
+#: (runner/integrity.py), so that chunks of a store written under another rule (before it, the
+#: pair (M / 2, M) alone: two coarse M that agree by chance passed) are recomputed on a rerun,
+#: not mixed with this rule's values.
+SPATIAL_RULE = "window of three M: L/2, middle, L"
 #: Lowest response frequency (units of the forcing frequency) of each Floquet kind: the
 #: principal subharmonic resonance at 1/2, the first harmonic one at 1.
 RESONANCE = {"harmonic": 1.0, "subharmonic": 0.5}
