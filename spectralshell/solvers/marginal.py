@@ -940,6 +940,27 @@ def empty_not_certified(kind: str, n_prev: int, n: int, tau_max: float) -> Conve
         "tau_max=, or fix n_temporal= to get the values with what is proved (complete_to)")
 
 
+def on_block_threads(solver: Callable) -> Callable:
+    """``solver(system, ...)`` on one BLAS thread where ``system`` has blocks larger than 2 x 2
+    (the cochlea's M x M): its block inverses, products, LUs and counts are LAPACK and BLAS calls
+    on M x M blocks (M <= 1024), where OpenBLAS's threads only cost. Measured on the human
+    cochlea (Table 5.1) at 2826 and 3000 Hz, sigma = 2.72e8, M = 128 fixed, both kinds, as a
+    serial sweep (2 cores, nothing else running, two runs each): 6.5-6.9 s wall (12.6-13.3 s
+    CPU) on OpenBLAS's two threads, 1.0-1.1 s on one, the same values; a refinement in M to
+    192 11.6 s against 1.4 s (spatial_refinement notes, "Threads"). The dense eig of W inside loses a little at large orders (random complex W, best of
+    3: 1.0x at order 600, 1.2x at 900, 1.6x at 1300 slower on one thread); sphere, fibre and
+    Mathieu keep the dense eig's own policy (ONE_THREAD_ORDERS). Sweep workers run on one thread
+    anyway (runner/executors.py)."""
+
+    @functools.wraps(solver)
+    def limited(system: HillSystem, *args, **kwargs):
+        with one_blas_thread() if system.block_size > 2 else contextlib.nullcontext():
+            return solver(system, *args, **kwargs)
+
+    return limited
+
+
+@on_block_threads
 def certify_empty_answer(system: HillSystem, kind: str, answer: MarginalTau, tau_max: float,
                          certify_empty: bool | str) -> MarginalTau:
     """``answer`` (of :func:`marginal_tau` with ``n_temporal=None`` and no ``certify_empty``,
@@ -979,6 +1000,7 @@ def _unproved_answer(answer: MarginalTau, kind: str, tau_max: float,
     return dataclasses.replace(answer, complete_to=0.0)
 
 
+@on_block_threads
 def marginal_tau(system: HillSystem, kind: str, *, tol: float = 1e-10,
                  n_temporal: int | None = None, n_max: int = N_MAX,
                  tau_max: float = np.inf, method: str = "auto",

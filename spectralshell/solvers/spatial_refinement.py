@@ -108,12 +108,13 @@ proves them empty and makes their later proof free (``empty_proved``); where it 
 proof of that answer at its cap fails at once (``count_failed``: the same count, not walked
 twice). The values are the same.
 
-Threads. Every solve and proof here runs on one BLAS thread: their work is LAPACK and BLAS
-calls on M x M blocks (M <= 1024), where OpenBLAS's threads only cost. Measured on the 2826 Hz
-point of tests/test_spatial_refinement_window.py (refine_minimum, M to 192, 2 cores, nothing
-else running): 11.6 s wall (22.7 s CPU) on OpenBLAS's two threads, 1.43 s on one; marginal_tau
-at M = 256 alone 2.72 s against 0.65 s. Sweep workers were already limited to one thread each
-(runner/executors.py); ``floquet`` and serial sweeps were not.
+Threads. Every solve and proof here runs on one BLAS thread (marginal_tau and
+certify_empty_answer limit themselves for blocks larger than 2 x 2:
+:func:`~spectralshell.solvers.marginal.on_block_threads`; the reach test here): their work is
+LAPACK and BLAS calls on M x M blocks (M <= 1024), where OpenBLAS's threads only cost.
+Measured on the 2826 Hz point of tests/test_spatial_refinement_window.py (refine_minimum, M to
+192, 2 cores, nothing else running): 11.6 s wall (22.7 s CPU) on OpenBLAS's two threads,
+1.43 s on one.
 
 The model is seen only through ``factory(M) -> HillSystem``: this module never knows which
 model it solves.
@@ -288,8 +289,7 @@ def _solve(system: HillSystem, kinds: tuple[str, ...], options: dict[str, Any], 
         own = {} if hints is None else {"hint": _below(hints.get(k), cap)}
         if k in empty:
             own["expect_empty"] = True
-        with one_blas_thread():  # M x M blocks (module notes, "Threads")
-            taus[k] = marginal_tau(system, k, **{**options, "tau_max": cap, **own})
+        taus[k] = marginal_tau(system, k, **{**options, "tau_max": cap, **own})
         if joint and taus[k].tau_min is not None:
             cap = min(cap, taus[k].tau_min)
     return taus, caps
@@ -472,8 +472,7 @@ def _proved(system: HillSystem, taus: dict[str, MarginalTau], caps: dict[str, fl
             certify: bool | str) -> dict[str, MarginalTau]:
     """``taus`` (solved at ``caps``) with each empty answer proved or marked
     (:func:`~spectralshell.solvers.marginal.certify_empty_answer`)."""
-    with one_blas_thread():  # M x M blocks (module notes, "Threads")
-        return {k: certify_empty_answer(system, k, m, caps[k], certify) for k, m in taus.items()}
+    return {k: certify_empty_answer(system, k, m, caps[k], certify) for k, m in taus.items()}
 
 
 def _unproved(taus: dict[str, MarginalTau], caps: dict[str, float]) -> list[str]:
