@@ -18,7 +18,8 @@ gives up, against dense eig of W and against that Arnoldi followed by dense eig 
 nu = 1e-3, alpha = 1), against the cover alone. With --json-rows these print BENCH rows;
 ``--quick`` (a smoke run) only issue 25's point, at M = 16.
 BLAS runs single-threaded for both sides (the machine is shared: threaded OpenBLAS under load
-spends most of its time waiting); the M = 250 case is also timed with 2 threads.
+spends most of its time waiting; marginal_tau limits block models to one thread itself,
+solvers/marginal.py on_block_threads).
 Run: python validation/bench_hill_large.py
 """
 
@@ -107,13 +108,11 @@ def block_table() -> None:
             print(f"{60:4d} {kind:>12} | {t_pkg:10.2e} {t_d:10.2e} {t_d / t_pkg:6.1f} | "
                   f"{res.tau_min:18.15f} {abs(res.tau_min - dense.tau_min):8.1e} {res.method:>8}")
     system = cochlea_like(250)
-    for threads in (1, 2):
-        with threadpool_limits(threads):
-            for kind in KINDS:
-                t_pkg, res = best_time(lambda: marginal_tau(system, kind, n_temporal=20), repeat=2)
-                print(f" 250 {kind:>12} | {t_pkg:10.2e} {'-':>10} {'-':>6} | {res.tau_min:18.15f} "
-                      f"{'-':>8} {res.method:>8}  ({threads} BLAS thread{'s' * (threads > 1)}, "
-                      f"N = 20 vs 15: error estimate {res.error_estimate:.1e})")
+    for kind in KINDS:
+        t_pkg, res = best_time(lambda: marginal_tau(system, kind, n_temporal=20), repeat=2)
+        print(f" 250 {kind:>12} | {t_pkg:10.2e} {'-':>10} {'-':>6} | {res.tau_min:18.15f} "
+              f"{'-':>8} {res.method:>8}  (N = 20 vs 15: error estimate "
+              f"{res.error_estimate:.1e})")
     print("M = 250 at a small truncation, Arnoldi against dense eig of W (agreement check):")
     with threadpool_limits(1):
         for kind in KINDS:
