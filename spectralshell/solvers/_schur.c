@@ -58,17 +58,20 @@
  *   g_j <- inv_j (g_j - C_j g_{j+1}) for j = m-2..0; start a vector x (b), the forward pass
  *   g_j <- g_j - inv_j (C_j p), p = x for j = 0, else the new g_{j-1}. inv (m, b, b); coupling
  *   (c, b, b) with c = 1 (one block for every j: the forcing repeated) or one block C_j per j.
- *   Each block product is one BLAS zgemv (use_blas(), called once by shift_invert.py at import,
- *   hands over SciPy's): the blocks are small (b = 16..128), and the per-call overhead of 4 m
- *   matrix-vector products from Python is what this saves.
+ *   Each block product is one BLAS zgemv (SciPy's: use_scipy()); the blocks are small
+ *   (b = 16..128), and the per-call overhead of 4 m matrix-vector products from Python is what
+ *   this saves.
  * rotated_logdet(diag, coupling, z, inverse_below) -> (value, slope) or None: log det(A - tau B)
  *   and its derivative in z at one z = tau^2 for M x M blocks coupled by one diagonal L
  *   (lower L, upper -L: the cochlea after contour.rotated_coupling), by the Schur recursion of
  *   contour.diagonal_log_det; diag (K, M, M), coupling (M). Per block one LAPACK ?getrf, the
  *   inverse (?getri below inverse_below rows, else ?getrs on the identity) and two ?gemm, the
- *   routines SciPy's own (use_lapack(), called once by contour.py at import, hands them over);
+ *   routines SciPy's own (use_scipy());
  *   None on an exactly singular block or a non-finite value. From Python the ~10 calls per
  *   block cost more than their flops at M = 16..32.
+ * use_scipy(zgemv, zgetrf, zgetri, zgetrs, zgemm) -> None: hands over the BLAS and LAPACK
+ *   routines of sweep() and rotated_logdet(), scipy.linalg.cython_blas's and cython_lapack's
+ *   capsules (solvers/_compiled.py, once, at import).
  * conditioning(diag, lower, upper) -> (cond, coupled): the largest 1-norm condition number
  *   ||A_k||_1 ||A_k^{-1}||_1 of the blocks and the largest ||A_k^{-1}||_1 times
  *   max_k ||L_k||_1 + max_k ||U_k||_1 (the inverse by the adjugate: ||adj A_k||_1 is the largest
@@ -872,7 +875,7 @@ static PyObject *py_conditioning(PyObject *self, PyObject *const *args, Py_ssize
     return Py_BuildValue("(dd)", cond, inverse * coupling);
 }
 
-/* BLAS zgemv (Fortran interface), handed over by use_blas() from SciPy's cython_blas. */
+/* BLAS zgemv (Fortran interface), handed over by use_scipy() from SciPy's cython_blas. */
 typedef void zgemv_fn(char *trans, int *m, int *n, double complex *alpha, double complex *a,
                       int *lda, double complex *x, int *incx, double complex *beta,
                       double complex *y, int *incy);
@@ -886,16 +889,6 @@ static void block_times(const double complex *a, const double complex *x, double
     int one = 1;
     zgemv(&trans, &b, &b, &alpha, (double complex *)a, &b, (double complex *)x, &one, &beta, y,
           &one);
-}
-
-static PyObject *py_use_blas(PyObject *self, PyObject *capsule)
-{
-    (void)self;
-    void *f = PyCapsule_GetPointer(capsule, PyCapsule_GetName(capsule));
-    if (!f)
-        return NULL;
-    zgemv = (zgemv_fn *)f;
-    Py_RETURN_NONE;
 }
 
 static PyObject *py_sweep(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
@@ -924,7 +917,7 @@ static PyObject *py_sweep(PyObject *self, PyObject *const *args, Py_ssize_t narg
         if (ok && zgemv)
             return PyErr_NoMemory();
         PyErr_SetString(PyExc_ValueError, zgemv ? "sweep: inconsistent shapes"
-                                                : "sweep: use_blas() was not called");
+                                                : "sweep: use_scipy() was not called");
         return NULL;
     }
     const double complex *inv = v[0].buf, *coupling = v[1].buf;
@@ -952,7 +945,7 @@ static PyObject *py_sweep(PyObject *self, PyObject *const *args, Py_ssize_t narg
     Py_RETURN_NONE;
 }
 
-/* LAPACK and BLAS (Fortran interface) for rotated_logdet(), handed over by use_lapack() from
+/* LAPACK and BLAS (Fortran interface) for rotated_logdet(), handed over by use_scipy() from
  * SciPy's cython_lapack and cython_blas: the same routines scipy.linalg.lapack calls. */
 typedef void zgetrf_fn(int *m, int *n, double complex *a, int *lda, int *ipiv, int *info);
 typedef void zgetri_fn(int *n, double complex *a, int *lda, int *ipiv, double complex *work,
@@ -967,22 +960,23 @@ static zgetri_fn *zgetri = NULL;
 static zgetrs_fn *zgetrs = NULL;
 static zgemm_fn *zgemm = NULL;
 
-static PyObject *py_use_lapack(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_use_scipy(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
-    void *f[4];
-    if (nargs != 4) {
-        PyErr_SetString(PyExc_TypeError, "use_lapack(zgetrf, zgetri, zgetrs, zgemm) takes four "
-                                         "capsules");
+    void *f[5];
+    if (nargs != 5) {
+        PyErr_SetString(PyExc_TypeError, "use_scipy(zgemv, zgetrf, zgetri, zgetrs, zgemm) takes "
+                                         "five capsules");
         return NULL;
     }
-    for (int i = 0; i < 4; i++)
+    for (int i = 0; i < 5; i++)
         if (!(f[i] = PyCapsule_GetPointer(args[i], PyCapsule_GetName(args[i]))))
             return NULL;
-    zgetrf = (zgetrf_fn *)f[0];
-    zgetri = (zgetri_fn *)f[1];
-    zgetrs = (zgetrs_fn *)f[2];
-    zgemm = (zgemm_fn *)f[3];
+    zgemv = (zgemv_fn *)f[0];
+    zgetrf = (zgetrf_fn *)f[1];
+    zgetri = (zgetri_fn *)f[2];
+    zgetrs = (zgetrs_fn *)f[3];
+    zgemm = (zgemm_fn *)f[4];
     Py_RETURN_NONE;
 }
 
@@ -1101,7 +1095,7 @@ static PyObject *py_rotated_logdet(PyObject *self, PyObject *const *args, Py_ssi
     if (K < 1 || m < 1 || v[0].shape[2] != m || v[1].shape[0] != m || m > 46340 || !zgemm) {
         release(v, 2);
         PyErr_SetString(PyExc_ValueError, zgemm ? "rotated_logdet: inconsistent shapes"
-                                                : "rotated_logdet: use_lapack() was not called");
+                                                : "rotated_logdet: use_scipy() was not called");
         return NULL;
     }
     double complex value, slope, z = zc.real + I * zc.imag;
@@ -1151,11 +1145,9 @@ static PyMethodDef methods[] = {
      "rotated_logdet(diag, coupling, z, inverse_below) -> (log det(A - tau B), its derivative "
      "in z) at z = tau^2 of a pencil with one diagonal coupling (contour.diagonal_log_det), "
      "or None on an exactly singular block or a non-finite value."},
-    {"use_lapack", (PyCFunction)(void (*)(void))py_use_lapack, METH_FASTCALL,
-     "use_lapack(zgetrf, zgetri, zgetrs, zgemm): the routines rotated_logdet() calls "
-     "(scipy.linalg.cython_lapack's and cython_blas's capsules)."},
-    {"use_blas", (PyCFunction)py_use_blas, METH_O,
-     "use_blas(capsule): the zgemv that sweep() calls (scipy.linalg.cython_blas's capsule)."},
+    {"use_scipy", (PyCFunction)(void (*)(void))py_use_scipy, METH_FASTCALL,
+     "use_scipy(zgemv, zgetrf, zgetri, zgetrs, zgemm): the BLAS and LAPACK routines sweep() "
+     "and rotated_logdet() call (scipy.linalg.cython_blas's and cython_lapack's capsules)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_schur",

@@ -234,18 +234,12 @@ import cmath
 import math
 
 import numpy as np
-import scipy.linalg.cython_blas
-import scipy.linalg.cython_lapack
 from scipy.linalg.lapack import zgetrf as _getrf, zgetri as _getri, zgetrs as _getrs
 
 from .._threads import one_blas_thread
 from ..discretise.hill import HillMatrices
-from . import _schur
+from ._compiled import _schur
 from .half_product import free_radius
-
-_schur.use_lapack(*(scipy.linalg.cython_lapack.__pyx_capi__[name]
-                    for name in ("zgetrf", "zgetri", "zgetrs")),
-                  scipy.linalg.cython_blas.__pyx_capi__["zgemm"])  # diagonal_log_det's sweep
 
 #: Half-heights (and left margins) of the counting rectangle, relative to tau_max^2, tried in
 #: turn until one holds no zero (:func:`_zeros_below`). A thinner rectangle lies inside a wider

@@ -65,7 +65,7 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
 from ..discretise.hill import HillMatrices, realify
-from . import _schur
+from ._compiled import _schur
 
 COND_LIMIT = 1e8
 REAL_RTOL = 1e-9

@@ -99,14 +99,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg.cython_blas
 import scipy.sparse.linalg as spla
 
 from ..discretise.hill import HillMatrices, realify
-from . import _schur
+from ._compiled import _schur
 from .half_product import Counted, arpack_restarts, coupling_rows, is_realified
-
-_schur.use_blas(scipy.linalg.cython_blas.__pyx_capi__["zgemv"])  # the sweeps' block products
 
 RADIUS_MARGIN = 1e-3
 K_START = 24
