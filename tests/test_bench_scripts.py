@@ -196,3 +196,29 @@ def test_table_main_runs_scripts_end_to_end(bench_table, tmp_path, monkeypatch):
     assert "| quick run: measures nothing | 0.1 | dense W | 1.5 |" in text
     assert "| `bench_good.py` | ok | 2 |" in text
     assert "| `bench_bad.py` | **failed (3)** | 0 |" in text
+
+
+def test_modal_reduction_with_every_mode_is_the_cosine_system():
+    """validation/explore_modal_reduction.py's projection onto the natural modes: with all M of
+    them it is a congruence of the cosine-mode system, so the marginal tau are the package's
+    (a check of the projected D(s) and G); with fewer, tau_min approaches the package's as m
+    grows (kappa = 1, alpha = 1, M = 16, subharmonic: off by 3e-2, 1e-5, 6e-7 at m = 4, 8, 12)."""
+    sys.path.insert(0, str(VALIDATION))
+    try:
+        explore = importlib.import_module("explore_modal_reduction")
+    finally:
+        sys.path.remove(str(VALIDATION))
+    from spectralshell.models.cochlea import hill_system
+    from spectralshell.solvers.marginal import marginal_tau
+
+    options = {"n_temporal": 8, "tau_max": 0.5}
+    full = hill_system(kappa=0.5, nu=1e-3, alpha=1.0, n_spatial=16)
+    for kind in ("harmonic", "subharmonic"):
+        cosine = marginal_tau(full, kind, **options).tau_min
+        every = explore.reduced_system(full, 1e-3, 16)[0]
+        assert marginal_tau(every, kind, **options).tau_min == pytest.approx(cosine, rel=1e-12)
+    full = hill_system(kappa=1.0, nu=1e-3, alpha=1.0, n_spatial=16)
+    cosine = marginal_tau(full, "subharmonic", **options).tau_min
+    errors = [abs(marginal_tau(explore.reduced_system(full, 1e-3, m)[0], "subharmonic",
+                               **options).tau_min - cosine) for m in (4, 8, 12)]
+    assert errors[0] > 10 * errors[1] > 100 * errors[2] > 0

@@ -1,0 +1,124 @@
+"""Exploration (issue 25; not part of ``make bench``): the cochlea's Hill blocks projected onto
+their lowest inviscid natural modes, against the cosine-mode blocks the package solves.
+
+The package discretises the membrane in M cosine modes: D(s) = diag(Z_k(s)) + kappa C, forcing
+G = kappa C (models/cochlea.py). Here D(s) and G are projected (Galerkin) onto the m lowest
+natural modes of the same M modes: K v = w^2 Mass v with K = kappa C, Mass = diag(2/k) (the
+inviscid added mass, models.cochlea.natural_frequencies), V mass-orthonormal, so that
+V^T G V = diag(w^2) and V^T D(s) V = diag(w^2) + V^T diag(Z_k(s)) V: blocks of size m instead
+of M. For each point of the seeded Fig 5.18 sample of validation/bench_sweep.py (its point
+solved first as the sweep solves it: M refined, both kinds), the kind of the smaller tau_min is
+solved again at the point's final (M, N) -- by the package (``marginal_tau`` with
+``n_temporal = N``, CPU time) and in the reduced basis for m = 8, 12, 16, 24, ... <= M -- and
+the smallest m whose tau_min agrees with the package's to TOL is printed with both times and
+w_m / the kind's resonance (1/2 subharmonic, 1 harmonic).
+
+What this does not do: prove anything about the reduced truncations (no counts, no proof of the
+other kind's empty answer), nor choose m by itself (here m is chosen against the answer); it
+measures how small the blocks could be. Run: python validation/explore_modal_reduction.py
+[--every K] (every K-th point of the sample).
+
+Measured on all 100 points (2026-12-07, 2 processes): the smallest m of the ladder agreeing to
+1e-6 is 8 (the first tried) on 51 points, 12-32 on 12, 48-128 on 27, 192-384 on 10 (the
+high-frequency points, M = 192..512, whose subharmonic resonance at 1/2 lies inside their
+natural frequencies 0.01-4: m ~ M / 2); w_m / resonance 1.1-60 (median 2.3). On the crowded
+low-frequency points, whose cosine-mode solves cost the most, m = 8 agrees to 2e-9..4e-8 at
+15-20x less CPU for the same (M, N) (human 63.6 Hz, sigma = 1.85e9, harmonic, M = 48, N = 51:
+0.20 s against 3.23 s; gerbil 192.7 Hz; human 54.7 Hz), 97x at human 523 Hz (M = 128, m = 8);
+at M = 192..256 and m = 96..128 this script's projection (an einsum per s, O(M m^2)) makes the
+reduced solve no faster (0.5-1.2x). Summed over the points' final truncations: 24.6 s reduced
+against 47.8 s. Across M, the reduced tau_min of the crowded harmonic point (m = 8, N = 51,
+tol 1e-4) moves as the cosine solves do: 0.4943543 at M = 48, 0.4943463 at 96, 0.4943456 at
+192, each in 0.1 s.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+import time
+
+import numpy as np
+import scipy.linalg as sla
+
+from bench_sweep import sample_points
+from spectralshell.models.cochlea import transfer
+from spectralshell.params.registry import make_params
+from spectralshell.params.sweep_grid import sweep_spec
+from spectralshell.runner import run_sweep
+from spectralshell.runner.layout import chunk_points, chunks
+from spectralshell.runner.solve import spatial_system
+from spectralshell.runner.executors import open_pool
+from spectralshell.runner.engine import run_tasks
+from spectralshell.solvers.marginal import marginal_tau
+from spectralshell.solvers.spatial_refinement import RESONANCE
+
+TOL = 1e-6            # agreement of the reduced tau_min with the package's
+LADDER = (8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256, 384, 512)
+
+
+def reduced_system(full, nu: float, m: int):
+    """The HillSystem of ``full`` (the cochlea in M cosine modes, viscosity ``nu``) projected
+    onto its m lowest natural modes, and w_m (the highest kept natural frequency, forcing
+    units). With m = M the projection is a congruence: the same marginal tau."""
+    M = full.block_size
+    k = np.arange(1, M + 1, dtype=float)
+    w2, V = sla.eigh(full.forcing, np.diag(2.0 / k))
+    Vm = np.ascontiguousarray(V[:, :m])
+    idx = np.arange(m)
+
+    def unforced(s: np.ndarray) -> np.ndarray:
+        s = np.asarray(s, dtype=complex).ravel()
+        Z = transfer(s[:, None], k[None, :], nu)                    # (len(s), M)
+        out = np.einsum("ki,nk,kj->nij", Vm, Z, Vm, optimize=True)
+        out[:, idx, idx] += w2[:m]
+        return out
+
+    system = dataclasses.replace(full, block_size=m, forcing=np.diag(w2[:m]),
+                                 unforced=unforced, polynomial=None, n_highest=None)
+    return system, math.sqrt(w2[m - 1])
+
+
+def cell(label: str, scene: dict) -> tuple[str, str]:
+    ds = run_sweep(scene, executor="serial", max_seconds=1e8).dataset
+    spec = sweep_spec(scene)
+    params = spec.params_at(next(iter(chunk_points(spec, chunks(spec)[0])))[1])
+    tau = ds["tau_min"].values.ravel()
+    if np.all(np.isnan(tau)):
+        return label, "no tau <= 1/2: nothing to compare"
+    q = int(np.nanargmin(tau))
+    kind = str(ds["kind"].values[q])
+    M, N = int(ds["n_spatial"].values.ravel()[q]), int(ds["n_temporal"].values.ravel()[q])
+    options = {"n_temporal": N, "tau_max": 0.5}
+    full = spatial_system(spec.model, params, M)
+    nu = make_params(spec.model, {**params, "n_spatial": M}).nu
+    t0 = time.process_time()
+    reference = marginal_tau(full, kind, **options).tau_min
+    t_full = time.process_time() - t0
+    for m in (m for m in LADDER if m <= M):
+        system, w_m = reduced_system(full, nu, m)
+        t0 = time.process_time()
+        found = marginal_tau(system, kind, **options).tau_min
+        t_red = time.process_time() - t0
+        if found is not None and reference is not None and abs(found - reference) <= TOL:
+            return label, (f"{kind:11s} M = {M:3d} N = {N:2d} tau_min {reference:.6f}: m = {m:3d} "
+                           f"(w_m / resonance {w_m / RESONANCE[kind]:7.2f}) {t_red:6.2f} s "
+                           f"against {t_full:6.2f} s ({t_full / max(t_red, 1e-9):5.1f}x), "
+                           f"|diff| {abs(found - reference):.1e}")
+    return label, f"{kind} M = {M} N = {N}: no m <= M agrees to {TOL:g}"
+
+
+def main() -> None:
+    every = int(sys.argv[sys.argv.index("--every") + 1]) if "--every" in sys.argv else 1
+    tasks = sample_points()[::every]
+    print(f"modal reduction on {len(tasks)} points of the seeded Fig 5.18 sample: the smallest m "
+          f"reproducing the package's tau_min to {TOL:g} at its (M, N), CPU s (one BLAS thread)")
+    with open_pool("processes") as pool:
+        run_tasks(pool.executor, cell, tasks, in_flight=pool.slots,
+                  on_result=lambda task, result: print(f"  {result[0]:<46} {result[1]}",
+                                                       flush=True))
+
+
+if __name__ == "__main__":
+    main()
