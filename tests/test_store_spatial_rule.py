@@ -94,7 +94,8 @@ def test_a_netcdf_sweep_of_an_earlier_rule_is_refused_then_recomputed(clean, tmp
     with xr.open_dataset(clean / "map.nc") as ds:
         old = ds.load()
     assert old.attrs["spatial_rule"] == SPATIAL_RULE
-    arrays = {name: old[name].values.astype(dtype) for name, dtype in stored_variables(SPEC).items()}
+    arrays = {name: old[name].values.astype(dtype)
+              for name, dtype in stored_variables(SPEC).items()}
     del old.attrs["spatial_rule"]  # as written before files named the rule
     old.attrs["data_sha256"] = dataset_digest(SPEC, arrays, None)
     old.to_netcdf(path)

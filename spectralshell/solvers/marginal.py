@@ -239,7 +239,8 @@ truncation is cut out of a larger one, a larger one reuses the inverses of the b
 needs both) and cuts the first out of it. The dense eig calls LAPACK ?gebal/?geev directly
 (the same calls and workspace as ``scipy.linalg.matrix_balance``/``eigvals``, without their
 per-call overhead: the same numbers), the routines and the workspace size looked up once per
-dtype and order of W; a W of order 100..599 is solved on one BLAS thread (ONE_THREAD_ORDERS).
+dtype and order of W; a W of order 100..599 is solved on one BLAS thread (ONE_THREAD_ORDERS),
+and every solve of a block model (b > 2) runs on one (:func:`on_block_threads`).
 
 Infinite tau (mu = 0: B is singular, and the harmonic Im u_0 slot is a zero row) are removed as
 mu^2 <= 64 eps ||W_bal||_F, W_bal the diagonally balanced W that the eigen-solver works on (for
@@ -947,10 +948,10 @@ def on_block_threads(solver: Callable) -> Callable:
     cochlea (Table 5.1) at 2826 and 3000 Hz, sigma = 2.72e8, M = 128 fixed, both kinds, as a
     serial sweep (2 cores, nothing else running, two runs each): 6.5-6.9 s wall (12.6-13.3 s
     CPU) on OpenBLAS's two threads, 1.0-1.1 s on one, the same values; a refinement in M to
-    192 11.6 s against 1.4 s (spatial_refinement notes, "Threads"). The dense eig of W inside loses a little at large orders (random complex W, best of
-    3: 1.0x at order 600, 1.2x at 900, 1.6x at 1300 slower on one thread); sphere, fibre and
-    Mathieu keep the dense eig's own policy (ONE_THREAD_ORDERS). Sweep workers run on one thread
-    anyway (runner/executors.py)."""
+    192 11.6 s against 1.4 s (spatial_refinement notes, "Threads"). The dense eig of W inside
+    loses a little at large orders (random complex W, best of 3: 1.0x at order 600, 1.2x at
+    900, 1.6x at 1300 slower on one thread); sphere, fibre and Mathieu keep the dense eig's own
+    policy (ONE_THREAD_ORDERS). Sweep workers run on one thread anyway (runner/executors.py)."""
 
     @functools.wraps(solver)
     def limited(system: HillSystem, *args, **kwargs):
