@@ -10,26 +10,34 @@ of M. For each point of the seeded Fig 5.18 sample of validation/bench_sweep.py 
 solved first as the sweep solves it: M refined, both kinds), the kind of the smaller tau_min is
 solved again at the point's final (M, N) -- by the package (``marginal_tau`` with
 ``n_temporal = N``, CPU time) and in the reduced basis for m = 8, 12, 16, 24, ... <= M -- and
-the smallest m whose tau_min agrees with the package's to TOL is printed with both times and
-w_m / the kind's resonance (1/2 subharmonic, 1 harmonic).
+the smallest m whose tau_min agrees with the package's to TOL is printed with w_m / the kind's
+resonance (1/2 subharmonic, 1 harmonic) and the package's time; and where a rule that needs no
+reference would stop: the first window of three m of the ladder (m / 2 <= m' < m) agreeing to
+TOL_WINDOW whose coarsest m reaches REACH times the resonance, with its error and the reduced
+solves' time up to it.
 
 What this does not do: prove anything about the reduced truncations (no counts, no proof of the
-other kind's empty answer), nor choose m by itself (here m is chosen against the answer); it
+other kind's empty answer), refine M or N in the reduced basis, or project efficiently; it
 measures how small the blocks could be. Run: python validation/explore_modal_reduction.py
 [--every K] (every K-th point of the sample).
 
-Measured on all 100 points (2026-12-07, 2 processes): the smallest m of the ladder agreeing to
-1e-6 is 8 (the first tried) on 51 points, 12-32 on 12, 48-128 on 27, 192-384 on 10 (the
-high-frequency points, M = 192..512, whose subharmonic resonance at 1/2 lies inside their
-natural frequencies 0.01-4: m ~ M / 2); w_m / resonance 1.1-60 (median 2.3). On the crowded
-low-frequency points, whose cosine-mode solves cost the most, m = 8 agrees to 2e-9..4e-8 at
-15-20x less CPU for the same (M, N) (human 63.6 Hz, sigma = 1.85e9, harmonic, M = 48, N = 51:
-0.20 s against 3.23 s; gerbil 192.7 Hz; human 54.7 Hz), 97x at human 523 Hz (M = 128, m = 8);
-at M = 192..256 and m = 96..128 this script's projection (an einsum per s, O(M m^2)) makes the
-reduced solve no faster (0.5-1.2x). Summed over the points' final truncations: 24.6 s reduced
-against 47.8 s. Across M, the reduced tau_min of the crowded harmonic point (m = 8, N = 51,
-tol 1e-4) moves as the cosine solves do: 0.4943543 at M = 48, 0.4943463 at 96, 0.4943456 at
-192, each in 0.1 s.
+Measured on all 100 points (2026-12-07, 2 processes): the smallest m of the ladder agreeing to 1e-6
+is 8 (the first tried) on 51 points, 12-32 on 12, 48-128 on 27, 192-384 on 10 (the high-frequency
+points, M = 192..512, whose subharmonic resonance at 1/2 lies inside their natural frequencies
+0.01-4: m ~ M / 2); w_m / resonance 1.1-60 (median 2.3). On the crowded low-frequency points, whose
+cosine-mode solves cost the most, m = 8 agrees to 2e-9..4e-8 at 15-20x less CPU for the same (M, N)
+(human 63.6 Hz, sigma = 1.85e9, harmonic, M = 48, N = 51: 0.20 s against 3.23 s; gerbil 192.7 Hz;
+human 54.7 Hz), 97x at human 523 Hz (M = 128, m = 8); at M = 192..256 and m = 96..128 this script's
+projection (an einsum per s, O(M m^2)) makes the reduced solve no faster (0.5-1.2x). Summed over
+the points' final truncations: 24.6 s reduced against 47.8 s. The window rule in m: without the
+reach condition it stopped at m = 16 on the high-frequency points with no tau at m = 8, 12, 16 (off
+by 0.47: bases too small to carry the resonant modes agree on nothing, as truncations in M do
+without their reach test); with it (REACH = 2, TOL_WINDOW = 1e-4) it stops on 65 of the 100 points
+(at m = 16 on 45, 24-64 on 13, 96-192 on 7), each within 8.8e-8 of the package's tau_min, and on
+none of the 35 others (M >= 96, mostly 192-384: keep the cosine basis there); the crowded points'
+ladders (m = 8, 12, 16) took 0.15-1.41 s against 1.3-2.9 s for one cosine solve of the same (M, N).
+Across M, the reduced tau_min of the crowded harmonic point (m = 8, N = 51, tol 1e-4) moves as the
+cosine solves do: 0.4943543 at M = 48, 0.4943463 at 96, 0.4943456 at 192, each in 0.1 s.
 """
 
 from __future__ import annotations
