@@ -73,13 +73,21 @@ REACH = 2.0
 LADDER = (8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256, 384, 512)
 
 
-def reduced_system(full, nu: float, m: int):
+def natural_basis(full) -> tuple[np.ndarray, np.ndarray]:
+    """(w^2 ascending, V mass-orthonormal) of ``full`` (the cochlea in M cosine modes):
+    K v = w^2 Mass v, K = kappa C (the forcing), Mass = diag(2/k)."""
+    k = np.arange(1, full.block_size + 1, dtype=float)
+    return sla.eigh(full.forcing, np.diag(2.0 / k))
+
+
+def reduced_system(full, nu: float, m: int, basis: tuple[np.ndarray, np.ndarray] | None = None):
     """The HillSystem of ``full`` (the cochlea in M cosine modes, viscosity ``nu``) projected
-    onto its m lowest natural modes, and w_m (the highest kept natural frequency, forcing
-    units). With m = M the projection is a congruence: the same marginal tau."""
+    onto its m lowest natural modes (``basis``: :func:`natural_basis` of ``full``, computed
+    when not given), and w_m (the highest kept natural frequency, forcing units). With m = M
+    the projection is a congruence: the same marginal tau."""
     M = full.block_size
     k = np.arange(1, M + 1, dtype=float)
-    w2, V = sla.eigh(full.forcing, np.diag(2.0 / k))
+    w2, V = natural_basis(full) if basis is None else basis
     Vm = np.ascontiguousarray(V[:, :m])
     idx = np.arange(m)
 
@@ -112,8 +120,9 @@ def cell(label: str, scene: dict) -> tuple[str, str]:
     reference = marginal_tau(full, kind, **options).tau_min
     t_full = time.process_time() - t0
     found, spent, matched, window, reach = {}, 0.0, None, None, {}
+    basis = natural_basis(full)
     for m in (m for m in LADDER if m <= M):
-        system, w_m = reduced_system(full, nu, m)
+        system, w_m = reduced_system(full, nu, m, basis)
         reach[m] = w_m >= REACH * RESONANCE[kind]
         t0 = time.process_time()
         tau = marginal_tau(system, kind, **options).tau_min

@@ -61,11 +61,15 @@ def record_text(spec: SweepSpec, chunk: Chunk, block: Mapping[str, np.ndarray],
     """The completion record (JSON) of a chunk holding ``block`` (every stored variable, in
     the store's order and dtypes); where the sweep refines M per point it names the stopping
     ``rule`` of that refinement (None: a record of before records named it)."""
-    place = {"scene_hash": spec.digest, "chunk": chunk.index, "origin": list(chunk.origin),
-             "length": chunk.length}
-    if spec.refines_spatial and rule is not None:
-        place["spatial_rule"] = rule
+    place = _with_rule(spec, rule, {"scene_hash": spec.digest, "chunk": chunk.index,
+                                    "origin": list(chunk.origin), "length": chunk.length})
     return json.dumps({**place, "sha256": _sha256(place, block)}, sort_keys=True)
+
+
+def _with_rule(spec: SweepSpec, rule: str | None, place: dict) -> dict:
+    """``place`` naming the stopping ``rule`` of the refinement in M where ``spec`` refines M
+    (and ``rule`` is not None: a record or file of before they named it)."""
+    return {**place, "spatial_rule": rule} if spec.refines_spatial and rule is not None else place
 
 
 def stated_rule(fields: Mapping) -> str | None:
@@ -91,11 +95,10 @@ def dataset_digest(spec: SweepSpec, arrays: Mapping[str, np.ndarray],
     variable (``arrays``, in the store's order and dtypes). Kept in the file's attributes
     (``data_sha256``, the rule as ``spatial_rule``) and checked when it is read back, as a Zarr
     chunk's record is."""
-    place = {"scene_hash": spec.digest,
-             "axes": [[a.name, [v.item() if hasattr(v, "item") else v for v in a.values]]
-                      for a in spec.axes]}
-    if spec.refines_spatial and rule is not None:
-        place["spatial_rule"] = rule
+    place = _with_rule(spec, rule, {
+        "scene_hash": spec.digest,
+        "axes": [[a.name, [v.item() if hasattr(v, "item") else v for v in a.values]]
+                 for a in spec.axes]})
     return _sha256(place, arrays)
 
 
