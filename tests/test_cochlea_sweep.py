@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 
 import spectralshell as ss
+from spectralshell.discretise.natural_modes import (PROBE_MODES, RATIO, START, natural_basis_pays,
+                                                natural_mode_system)
 from spectralshell.errors import ConvergenceError, ParameterError
 from spectralshell.models.cochlea import hill_system, natural_frequencies
 from spectralshell.params.physical import cochlea_forced
@@ -297,7 +299,8 @@ def test_neighbours_tau_min_is_the_solvers_hint_and_changes_nothing_but_speed(mo
 
 def test_minimum_over_kinds_sweep_equals_the_joint_refinement_and_caps_the_other_kind():
     """over_kinds = 'minimum': per point the smaller tau_min of the two kinds equals
-    refine_minimum called directly (same code path: bitwise) and the separate per-kind
+    refine_minimum called directly (same code path, in the natural basis the plan picks at
+    these low-frequency points: bitwise) and the separate (cosine-basis) per-kind
     refinement within tol_spatial; the other kind, resolved only below the minimum, has
     has_tau False and tau_min NaN; the option changes the scene hash and is refused where M
     is not refined per point."""
@@ -308,8 +311,11 @@ def test_minimum_over_kinds_sweep_equals_the_joint_refinement_and_caps_the_other
     each = run_sweep(scene(grid), executor="serial").dataset
     for sigma in (1e7, 1e8):
         factory = _factory(400.0, sigma)
-        direct = sr.refine_minimum(factory, ("harmonic", "subharmonic"), options=OPTIONS,
-                                   tol_spatial=1e-3, strict=False)
+        # the plan of runner.solve.spatial_basis: natural modes where few lie below the forcing
+        assert natural_basis_pays(factory(PROBE_MODES))
+        direct = sr.refine_minimum(lambda M, f=factory: natural_mode_system(f(M), M // RATIO),
+                                   ("harmonic", "subharmonic"), options=OPTIONS,
+                                   tol_spatial=1e-3, start=START, strict=False)
         per_kind = each.sel(frequency=400.0, sigma=sigma)
         reference = float(per_kind["tau_min"].where(per_kind["has_tau"]).min())
         for ds in (alone, joint):

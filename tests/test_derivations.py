@@ -17,7 +17,8 @@ LONG = pytest.mark.slow
 @pytest.mark.parametrize("script", [
     "mathieu_mapping.py", pytest.param("sphere_linear.py", marks=LONG),
     pytest.param("fibre_linear.py", marks=LONG), "cochlea_linear.py", "cochlea_wkb.py",
-    "fibre_modes.py", pytest.param("fibre_radial.py", marks=LONG), "cochlea_vertical.py"])
+    "fibre_modes.py", pytest.param("fibre_radial.py", marks=LONG), "cochlea_vertical.py",
+    "natural_mode_blocks.py"])
 def test_derivation_script_passes(script):
     done = subprocess.run([sys.executable, str(DERIVATIONS / script)], capture_output=True, text=True,
                           timeout=300)

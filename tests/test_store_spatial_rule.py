@@ -15,6 +15,7 @@ from spectralshell.params.sweep_grid import sweep_spec
 from spectralshell.runner import open_sweep, run_sweep
 from spectralshell.runner.integrity import dataset_digest, record_path, record_text
 from spectralshell.runner.layout import chunks, region
+from spectralshell.runner.solve import NATURAL_RULE, spatial_rule
 from spectralshell.runner.store import read_zarr, stored_variables
 from spectralshell.solvers.spatial_refinement import SPATIAL_RULE
 
@@ -55,7 +56,8 @@ def test_records_name_the_rule_only_where_m_is_refined(clean):
     fixed = sweep_spec({**SCENE, "params": {"mu": 2.0, "n_spatial": 16}})
     assert not fixed.refines_spatial
     block = {name: 0 for name in stored_variables(fixed)}
-    assert "spatial_rule" not in json.loads(record_text(fixed, chunks(fixed)[0], block))
+    assert "spatial_rule" not in json.loads(record_text(fixed, chunks(fixed)[0], block,
+                                                        SPATIAL_RULE))
 
 
 @pytest.mark.parametrize("rule", [None, "pair M/2, M"])
@@ -107,3 +109,26 @@ def test_a_netcdf_sweep_of_an_earlier_rule_is_refused_then_recomputed(clean, tmp
     assert again.attrs["spatial_rule"] == SPATIAL_RULE
     for name in stored_variables(SPEC):
         xr.testing.assert_equal(again[name], fresh[name])
+
+
+def test_a_minimum_map_names_its_basis_and_recomputes_chunks_of_cosine_blocks(tmp_path):
+    """A minimum-tau map's records name the natural-mode basis of its blocks as well
+    (runner.solve.spatial_rule); a chunk recorded under the window rule alone (written when
+    every point used cosine-mode blocks) is outdated: refused, then recomputed."""
+    scene = {**SCENE, "grid": {"frequency": [400.0], "sigma": [1e8]},
+             "tau_min": {**SCENE["tau_min"], "over_kinds": "minimum"}}
+    spec = sweep_spec(scene)
+    store = tmp_path / "min.zarr"
+    run_sweep(scene, executor="serial", out=store)
+    first = chunks(spec)[0]
+    record = json.loads(record_path(store, spec, first).read_text())
+    assert record["spatial_rule"] == spatial_rule(spec) == f"{SPATIAL_RULE}; {NATURAL_RULE}"
+    clean = tree(store)
+    arrays = read_zarr(store, spec)[1].arrays
+    block = {name: arrays[name][region(spec, first)].copy() for name in stored_variables(spec)}
+    record_path(store, spec, first).write_text(record_text(spec, first, block, SPATIAL_RULE))
+    with pytest.raises(StoreDamaged, match=EARLIER + r".*cosine-mode blocks at every point"):
+        open_sweep(store)
+    run = run_sweep(scene, executor="serial", out=store)
+    assert (run.computed, run.outdated, run.damaged) == (2, 2, 0)  # the point's two kinds
+    assert tree(store) == clean

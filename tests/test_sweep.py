@@ -543,13 +543,14 @@ def test_a_netcdf_of_the_tau_max_convention_reads_as_nan(serial, tmp_path):
     """A NetCDF sweep written before NaN (tau_max where there is no tau, its digest of those
     values) verifies and reads with NaN there; a rerun computes nothing."""
     from spectralshell.runner.integrity import dataset_digest
+    from spectralshell.runner.solve import spatial_rule
     from spectralshell.runner.store import stored_variables, to_dataset
 
     spec, out = sweep_spec(SCENE), tmp_path / "old.nc"
     arrays = {n: serial.dataset[n].values.copy() for n in stored_variables(spec)}
     arrays["tau_min"] = np.where(arrays["has_tau"], arrays["tau_min"], spec.options.tau_max)
     ds = to_dataset(spec, arrays)
-    ds.attrs["data_sha256"] = dataset_digest(spec, arrays)
+    ds.attrs["data_sha256"] = dataset_digest(spec, arrays, spatial_rule(spec))
     ds.to_netcdf(out)
     assert_same(open_sweep(out), serial.dataset)
     assert run_sweep(SCENE, executor="serial", out=out).computed == 0

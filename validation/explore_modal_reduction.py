@@ -1,5 +1,8 @@
 """Exploration (issue 25; not part of ``make bench``): the cochlea's Hill blocks projected onto
-their lowest inviscid natural modes, against the cosine-mode blocks the package solves.
+their lowest inviscid natural modes, against the cosine-mode blocks the package solves. (What
+it found is now the package's natural basis of minimum-tau maps,
+spectralshell/discretise/natural_modes.py: m = M / 4 natural modes of M cosine modes, refined in
+M by the window rule, planned per point; this script keeps measuring m at a fixed M.)
 
 The package discretises the membrane in M cosine modes: D(s) = diag(Z_k(s)) + kappa C, forcing
 G = kappa C (models/cochlea.py). Here D(s) and G are projected (Galerkin) onto the m lowest

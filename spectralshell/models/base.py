@@ -77,6 +77,13 @@ class HillSystem:
         there: the Floquet exponents' winding count puts a vertex of its slit above and below
         each (:func:`spectralshell.solvers.hill_exponents.hill_exponents`), since the phase
         turn of 2 pi by a double pole within the slit's width aliases to 0 between samples.
+    inertia : the symmetric positive definite inertia Mass of the inviscid limit, where the model
+        has one: D(s) = G + s^2 Mass at nu = 0, so that its natural modes solve
+        G v = w^2 Mass v (cochlea: the added mass diag(2/k)); else None. Needed to project the
+        blocks onto natural modes (:mod:`spectralshell.discretise.natural_modes`).
+    diagonal_response : s (shape (k,)) -> the diagonal of D(s) - G, shape (k, b), where
+        D(s) - G is diagonal (cochlea: Z_k(s)); else None. Lets a projection onto m modes cost
+        O(b m^2) per s instead of O(b^2 m).
     """
 
     name: str
@@ -88,6 +95,8 @@ class HillSystem:
     n_highest: float | None = None
     branch_point: float = 0.0
     cut_poles: Callable[[float], np.ndarray] | None = None
+    inertia: np.ndarray | None = None
+    diagonal_response: Callable[[np.ndarray], np.ndarray] | None = None
 
 
 def modal_system_in_beta(name: str, *, nu: float, n_modes: int, residual, residual_mp, seeds,

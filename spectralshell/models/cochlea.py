@@ -174,7 +174,10 @@ def _modes_system(kappa: float, nu: float, modes: np.ndarray, C: np.ndarray,
         polynomial = (G.copy(), np.zeros_like(G), np.diag(2.0 / modes))
     return HillSystem(name="cochlea", block_size=modes.size, forcing=G,
                       unforced=lambda s: unforced(s, kappa=kappa, nu=nu, modes=modes, coupling=C),
-                      polynomial=polynomial, n_resonant=n_resonant, n_highest=n_highest)
+                      polynomial=polynomial, n_resonant=n_resonant, n_highest=n_highest,
+                      inertia=np.diag(2.0 / modes),
+                      diagonal_response=lambda s: transfer(np.asarray(s, dtype=complex).ravel()[:, None],
+                                                           modes[None, :], nu))
 
 
 def wavenumber_system(wavenumber: float, *, kappa: float, nu: float) -> HillSystem:

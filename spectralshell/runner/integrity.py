@@ -5,7 +5,7 @@ Once every variable of a chunk is on disk (its ``computed`` flags last), its rec
 ``.chunks/KEY.json`` is written (to a temporary name, then renamed, so it is whole or absent;
 KEY names the chunk's Zarr files, e.g. ``0.3.0``). The record holds the scene hash, the chunk's
 number, origin and length, for a sweep that refines M per point the name of the refinement's
-stopping rule (:data:`~spectralshell.solvers.spatial_refinement.SPATIAL_RULE`), and a sha256
+stopping rule (:func:`~spectralshell.runner.solve.spatial_rule`), and a sha256
 digest of those and of the chunk's values of every stored variable (name, dtype, shape and
 bytes). Reading the store back, a chunk is
 
@@ -37,8 +37,8 @@ from pathlib import Path
 import numpy as np
 
 from ..params.sweep_grid import SweepSpec
-from ..solvers.spatial_refinement import SPATIAL_RULE
 from .layout import Chunk, chunk_key, chunks, region
+from .solve import spatial_rule
 
 RECORDS = ".chunks"  # directory of the completion records, inside the store
 #: What decoding a damaged chunk file raises: blosc (RuntimeError), a buffer of the wrong size
@@ -57,7 +57,7 @@ def _sha256(place: Mapping, block: Mapping[str, np.ndarray]) -> str:
 
 
 def record_text(spec: SweepSpec, chunk: Chunk, block: Mapping[str, np.ndarray],
-                rule: str | None = SPATIAL_RULE) -> str:
+                rule: str | None) -> str:
     """The completion record (JSON) of a chunk holding ``block`` (every stored variable, in
     the store's order and dtypes); where the sweep refines M per point it names the stopping
     ``rule`` of that refinement (None: a record of before records named it)."""
@@ -89,7 +89,7 @@ def _rule_of(record: str) -> str | None:
 
 
 def dataset_digest(spec: SweepSpec, arrays: Mapping[str, np.ndarray],
-                   rule: str | None = SPATIAL_RULE) -> str:
+                   rule: str | None) -> str:
     """sha256 of a whole sweep written at once (NetCDF): the scene hash, every axis's values,
     the stopping ``rule`` of a refinement in M (as in :func:`record_text`) and every stored
     variable (``arrays``, in the store's order and dtypes). Kept in the file's attributes
@@ -113,7 +113,7 @@ def write_record(store: Path, spec: SweepSpec, chunk: Chunk,
     path = record_path(store, spec, chunk)
     path.parent.mkdir(exist_ok=True)
     tmp = path.parent / f"{uuid.uuid4().hex}.partial"  # named as Zarr names its temporary files
-    tmp.write_text(record_text(spec, chunk, block))
+    tmp.write_text(record_text(spec, chunk, block, spatial_rule(spec)))
     os.replace(tmp, path)
 
 
@@ -164,17 +164,18 @@ def census(spec: SweepSpec, arrays: Mapping[str, np.ndarray], unreadable: frozen
     """Compare every chunk's values (``arrays``: every stored variable, decoded; ``unreadable``:
     chunks some variable could not be decoded) with its completion record."""
     finished, damaged, outdated = set(), set(), set()
+    current = spatial_rule(spec)
     for chunk in chunks(spec):
         found = records.get(chunk_key(spec, chunk))
         if found is None:
             continue
         where = region(spec, chunk)
         block = {name: values[where] for name, values in arrays.items()}
-        if chunk.index not in unreadable and found == record_text(spec, chunk, block):
+        if chunk.index not in unreadable and found == record_text(spec, chunk, block, current):
             finished.add(chunk.index)
             continue
         rule = _rule_of(found)
-        if spec.refines_spatial and rule != SPATIAL_RULE and chunk.index not in unreadable and \
+        if spec.refines_spatial and rule != current and chunk.index not in unreadable and \
                 found == record_text(spec, chunk, block, rule):
             outdated.add(chunk.index)
         else:

@@ -43,9 +43,10 @@ one line that says so, and a rerun adds ``complete_to`` to the store, recomputes
 and reports them as such (``SweepRun.outdated``), not as damage.
 Likewise for a sweep that refines M per point (the cochlea without n_spatial): each chunk's
 record (a NetCDF file's digest) names the stopping rule of that refinement
-(:data:`~spectralshell.solvers.spatial_refinement.SPATIAL_RULE`), and the intact chunks of
-another rule, or of none (written before records named it: the pair rule, which two coarse M
-agreeing by chance could pass), are ``outdated``: refused on reading, recomputed on a rerun,
+(:func:`~spectralshell.runner.solve.spatial_rule`: for a minimum-tau map also the basis of its
+blocks), and the intact chunks of another rule, or of none (written before records named it:
+the pair rule, which two coarse M agreeing by chance could pass; or, for a minimum-tau map,
+before its natural-mode basis), are ``outdated``: refused on reading, recomputed on a rerun,
 never mixed with this rule's values.
 Stores written before tau_min was NaN where there is none hold tau_max there; they verify as
 written (the records digest the stored bytes), reading them (:func:`open_sweep`, a rerun) gives
@@ -75,11 +76,10 @@ from .._validate import require_writable_directory
 from .._version import stamp
 from ..errors import ParameterError, StoreDamaged
 from ..params.sweep_grid import LONG_NAMES, VARIABLE_LONG_NAMES, SweepSpec, sweep_spec
-from ..solvers.spatial_refinement import SPATIAL_RULE
 from .integrity import (DECODE_ERRORS, census, dataset_digest, read_records, read_variable,
                         record_path, stated_rule, write_record)
 from .layout import Chunk, chunk_key, chunks, region, store_chunks
-from .solve import NONUNIFORM_VARIABLES, SPATIAL_VARIABLES, VARIABLES, variables
+from .solve import NONUNIFORM_VARIABLES, SPATIAL_VARIABLES, VARIABLES, spatial_rule, variables
 
 #: Every variable a store may hold, in the order a loaded Dataset lists them.
 KNOWN_VARIABLES = {**VARIABLES, **SPATIAL_VARIABLES, **NONUNIFORM_VARIABLES,
@@ -90,7 +90,8 @@ OUTDATED = ("written before certified empty answers (no complete_to: its empty p
             "proved)")
 #: Why the chunks whose records name another stopping rule of the refinement in M are.
 OUTDATED_RULE = ("written under an earlier stopping rule of the refinement in M (the pair M/2, M "
-                 "alone, which two coarse M agreeing by chance could pass)")
+                 "alone, which two coarse M agreeing by chance could pass; or, for a minimum-tau "
+                 "map, cosine-mode blocks at every point)")
 _VAR_ATTRS = {
     "tau_min": {"long_name": VARIABLE_LONG_NAMES["tau_min"], "units": "1",
                 "note": "NaN where has_tau is false"},
@@ -141,7 +142,7 @@ def provenance(spec: SweepSpec) -> dict[str, Any]:
             "params": json.dumps(dict(spec.fixed)),
             "solver_options": json.dumps(canonical["options"], sort_keys=True),
             "tau_max": spec.options.tau_max, "chunk": spec.chunk,
-            **({"spatial_rule": SPATIAL_RULE} if spec.refines_spatial else {}),
+            **({"spatial_rule": spatial_rule(spec)} if spec.refines_spatial else {}),
             "line_axis": "" if spec.line_axis is None else spec.dims[spec.line_axis],
             "conventions": "K(t) = kappa (1 + 2 tau sin t), forcing period 2 pi; harmonic "
                            "gamma = 0, subharmonic gamma = i/2"}
@@ -336,7 +337,7 @@ def load_existing(path: Path, spec: SweepSpec) -> StoredSweep | None:
         found = ds.attrs.get("scene_hash")
         if found != spec.digest:
             raise _other_scene(path, found, spec)
-        arrays = _netcdf_arrays(ds, spec)
+        arrays = _netcdf_arrays(ds, spec, spatial_rule(spec))
         every = frozenset(c.index for c in chunks(spec))
         if arrays is None and _of_earlier_rule(ds, spec):  # recomputed, and the file replaced
             return StoredSweep(empty_arrays(spec), dict(ds.attrs), outdated=every,
@@ -347,7 +348,7 @@ def load_existing(path: Path, spec: SweepSpec) -> StoredSweep | None:
 
 
 def _netcdf_arrays(ds: xr.Dataset, spec: SweepSpec,
-                   rule: str | None = SPATIAL_RULE) -> dict[str, np.ndarray] | None:
+                   rule: str | None) -> dict[str, np.ndarray] | None:
     """The stored variables of a NetCDF sweep of ``spec``, or None when they are missing, have
     other dimensions or coordinates, or differ from their digest (attrs ``data_sha256``) with
     the stopping ``rule`` of a refinement in M (:func:`~.integrity.dataset_digest`)."""
@@ -369,7 +370,7 @@ def _of_earlier_rule(ds: xr.Dataset, spec: SweepSpec) -> bool:
     """Whether a NetCDF sweep that refines M was written, intact, under another stopping rule
     of the refinement (attrs ``spatial_rule``; none before files named it)."""
     rule = stated_rule(ds.attrs)
-    return (spec.refines_spatial and rule != SPATIAL_RULE
+    return (spec.refines_spatial and rule != spatial_rule(spec)
             and _netcdf_arrays(ds, spec, rule) is not None)
 
 
@@ -536,7 +537,8 @@ def write_netcdf(spec: SweepSpec, arrays: dict[str, np.ndarray], path: Path) -> 
     """Write the sweep as NetCDF, with the digest of its values (:func:`dataset_digest`), via
     a temporary file in the same directory (never a partial file)."""
     ds = to_dataset(spec, arrays)
-    ds.attrs["data_sha256"] = dataset_digest(spec, {n: arrays[n] for n in stored_variables(spec)})
+    ds.attrs["data_sha256"] = dataset_digest(spec, {n: arrays[n] for n in stored_variables(spec)},
+                                          spatial_rule(spec))
     tmp = path.parent / f".partial-{uuid.uuid4().hex[:8]}-{path.name}"
     try:
         ds.to_netcdf(tmp)
@@ -585,7 +587,7 @@ def open_sweep(path: str | os.PathLike) -> xr.Dataset:
         if "scene_hash" not in ds.attrs or "tau_min" not in ds:
             raise ParameterError(f"sweep = {str(path)!r} is invalid: not a spectralshell sweep")
         spec = _stored_spec(path, dict(ds.attrs))
-        arrays = _netcdf_arrays(ds, spec)
+        arrays = _netcdf_arrays(ds, spec, spatial_rule(spec))
         if arrays is None and _of_earlier_rule(ds, spec):
             raise StoreDamaged(f"sweep = {str(path)!r} was {OUTDATED_RULE}; rerun its sweep "
                                f"with out={str(path)!r} to recompute it")
