@@ -7,8 +7,9 @@ import pytest
 
 from spectralshell.errors import ConvergenceError
 from spectralshell.solvers import contour, marginal
-from spectralshell.solvers.half_product import (coupled_solves, cut_solves, free_radius,
-                                                 negated_coupling)
+from spectralshell.solvers.half_product import (block_inverses, coupled_solves, cut_solves,
+                                                 dense_half_product, free_radius, mirrored,
+                                                 mirrored_solves, negated_coupling)
 from spectralshell.solvers.marginal import (Pencils, TruncationSchedule, certify_empty_answer,
                                              finer, marginal_tau)
 
@@ -52,7 +53,8 @@ def test_free_radius_real_form_and_random():
 def test_radius_of_a_cut_from_the_larger_truncations_solves(kind):
     """The disk bound of the pair (N, N') from the block solves kept for N'
     (Pencils.coupled_solves; N's cut out of them by half_product.cut_solves) equals each
-    truncation's own bound bitwise, and every block of A is solved once for both."""
+    truncation's own bound bitwise, and each of the first half of the blocks of A is solved
+    once for both (the two-sided form is mirrored: the other half are their conjugates)."""
     system = cochlea(16, 3000.0)
     first = TruncationSchedule.of(system).first
     pencils = Pencils(system, kind)
@@ -62,7 +64,41 @@ def test_radius_of_a_cut_from_the_larger_truncations_solves(kind):
         assert free_radius(hill, pencils.coupled_solves(n, "two-sided")) == free_radius(hill)
     solve, negated = pencils.coupled_solves(finer(first), "two-sided")
     assert negated  # the cochlea's coupling i G, -i G
-    assert solve.cache_info().misses == len(pencils.pencil(finer(first), "two-sided").diag)
+    assert solve.cache_info().misses == -(-len(pencils.pencil(finer(first), "two-sided").diag) // 2)
+
+
+def dense_radius(hill) -> float:
+    """The bound of free_radius from the blocks of the dense W (dense_half_product, block
+    inverses instead of LU solves): rho of the tridiagonal matrix of block norms, the larger
+    radius of the 1- and inf-norms."""
+    K, s, _ = hill.diag.shape
+    W = dense_half_product(hill, block_inverses(hill))
+    m = (K + 1) // 2
+    radius = 0.0
+    for axis in (0, 1):  # column sums: 1-norm; row sums: inf-norm
+        N = np.array([[np.abs(W[i * s:(i + 1) * s, j * s:(j + 1) * s]).sum(axis=axis).max()
+                       for j in range(m)] for i in range(m)])
+        radius = max(radius, np.abs(np.linalg.eigvals(N)).max() ** -0.5)
+    return radius
+
+
+@pytest.mark.parametrize("kind", ["harmonic", "subharmonic"])
+@pytest.mark.parametrize("n_temporal", [6, 7, 12])
+def test_mirrored_radius_equals_dense_block_norms(kind, n_temporal):
+    """The two-sided cochlea pencil is mirrored (A_{K-1-k} = conj(A_k)); its radius, whose
+    blocks past the middle come from their reflections (K odd, harmonic: the norms of W's
+    blocks too), equals the bound formed from every block of the dense W; each mirrored block
+    solve equals the direct one."""
+    hill = Pencils(cochlea(8, 3000.0), kind).pencil(n_temporal, "two-sided")
+    assert mirrored(hill)
+    assert free_radius(hill) == pytest.approx(dense_radius(hill), rel=1e-10)
+    solve, _ = coupled_solves(hill)
+    reflected = mirrored_solves(solve, len(hill.diag))
+    for k in range(len(hill.diag)):
+        for own, mirror in zip(solve(k), reflected(k)):
+            assert (own is None) == (mirror is None)
+            if own is not None:
+                np.testing.assert_allclose(mirror, own, rtol=0, atol=1e-13 * np.abs(own).max())
 
 
 def test_radius_of_a_cut_random_coupling():

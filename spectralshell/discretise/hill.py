@@ -167,7 +167,10 @@ def assemble(system: HillSystem, kind: str, n_temporal: int, form: str = "real",
     self_coupling = None
     if form == "two-sided":
         s_k = truncation_frequencies(kind, n_temporal, two_sided=True)
-        diag = np.asarray(system.unforced(s_k + shift if shift != 0 else s_k), dtype=complex)
+        # C order: a model may return a strided stack (e.g. a broadcast cast), which every
+        # block operation downstream would otherwise copy or walk with a large stride
+        diag = np.ascontiguousarray(system.unforced(s_k + shift if shift != 0 else s_k),
+                                    dtype=complex)
         lower = np.empty((len(s_k) - 1, b, b), dtype=complex)
         lower[...] = 1j * G
         upper = -lower

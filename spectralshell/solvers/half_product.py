@@ -353,6 +353,34 @@ def cut_solves(solve, rows: slice):
     return solve_cut
 
 
+def mirrored(hill: HillMatrices) -> bool:
+    """Whether the pencil is its own conjugate reflection: A_{K-1-k} = conj(A_k) and
+    B_{K-1-k,K-2-k} = conj(B_{k,k+1}) exactly (the two-sided form of a real model, module
+    notes), so that C-_{K-1-k} = conj(C+_k) and C+_{K-1-k} = conj(C-_k)."""
+    half = len(hill.diag) // 2  # the other half of each equality is the same comparison
+    return (hill.self_coupling is None
+            and np.array_equal(hill.diag[::-1][:half], hill.diag[:half].conj())
+            and np.array_equal(hill.lower[::-1], hill.upper.conj()))
+
+
+def mirrored_solves(solve, K: int):
+    """The ``solve`` of :func:`coupled_solves` for a :func:`mirrored` pencil of K blocks with
+    the blocks past the middle taken from their reflections: C-_k = conj(C+_{K-1-k}),
+    C+_k = conj(C-_{K-1-k}); only the first ceil(K / 2) blocks of A are solved. Exact: LU and
+    triangular solves commute with conjugation (the pivot choice |Re| + |Im| included)."""
+
+    def solve_mirrored(k: int) -> tuple[np.ndarray | None, np.ndarray | None] | None:
+        if 2 * k < K:
+            return solve(k)
+        here = solve(K - 1 - k)
+        if here is None:
+            return None
+        cm, cp = here
+        return (None if cp is None else cp.conj()), (None if cm is None else cm.conj())
+
+    return solve_mirrored
+
+
 def free_radius(hill: HillMatrices, solves=None) -> float:
     """A radius r such that no eigenvalue tau of the bipartite pencil has |tau| < r, from norms
     of the blocks of W (0 when a block of A is singular or ill conditioned: no bound).
@@ -374,7 +402,12 @@ def free_radius(hill: HillMatrices, solves=None) -> float:
     the cochlea's forcing), the blocks of W come in pairs that differ in sign only,
     W_{p,p} = -(C-_p C-_{p-1} + C-_p C-_{p+1}) and W_{p,p+-2} = C-_p C-_{p+-1} away from the
     ends: one product per block of A instead of two, about 2.7 K s^3, with the same numbers
-    (negating a factor negates a product exactly). Issue 25.
+    (negating a factor negates a product exactly). Where the pencil is :func:`mirrored` (the
+    two-sided form), the blocks past the middle are solved as conjugates of their reflections
+    (:func:`mirrored_solves`), and with K odd (the harmonic kind: even positions reflect onto
+    even ones, p -> K - 1 - p) W_{K-1-p,K-1-p} = conj(W_{p,p}) and W_{K-1-p,K-3-p} =
+    conj(W_{p,p+2}), so only the blocks of W up to the middle are formed and the other norms
+    are their reflections': half the work, the same numbers. Issue 25.
     """
     if not hill.bipartite:
         raise ValueError("free_radius needs a bipartite pencil (no self-coupling in B)")
@@ -382,7 +415,13 @@ def free_radius(hill: HillMatrices, solves=None) -> float:
     if K == 1:  # B = 0: no finite eigenvalue
         return np.inf
     solve, negated = coupled_solves(hill) if solves is None else solves
-    norms = {"diag": [], "up": [], "low": []}  # each entry (1-norm, inf-norm)
+    mirror = mirrored(hill)
+    if mirror:
+        solve = mirrored_solves(solve, K)
+    # norms (1-norm, inf-norm) of W_{p,p}, W_{p,p-2}, W_{p,p+2} by even position p
+    diag: dict[int, tuple[float, float]] = {}
+    low: dict[int, tuple[float, float]] = {}
+    up: dict[int, tuple[float, float]] = {}
 
     def measure(block: np.ndarray | None) -> tuple[float, float]:
         if block is None:
@@ -390,30 +429,41 @@ def free_radius(hill: HillMatrices, solves=None) -> float:
         size = np.abs(block)
         return float(size.sum(axis=0).max()), float(size.sum(axis=1).max())
 
+    reflected = mirror and K % 2 == 1
     previous = pending = None  # (C-, C+) of k - 1; the partial W_{p,p} of the even p = k - 1
-    for k in range(K):
+    for k in range(min(K, K // 2 + 2) if reflected else K):
         here = solve(k)
         if here is None:
             return 0.0
         cm, cp = here
         if k % 2 == 0:  # even p = k: W_{p,p} starts with C-_p C+_{p-1}; W_{p,p-2} = C-_p C-_{p-1}
-            low = cm @ previous[0] if k >= 2 else None
-            pending = None if k == 0 else -low if negated else cm @ previous[1]
+            w_low = cm @ previous[0] if k >= 2 else None
+            pending = None if k == 0 else -w_low if negated else cm @ previous[1]
             if k >= 2:
-                norms["low"].append(measure(low))
+                low[k] = measure(w_low)
             if k + 1 == K:
-                norms["diag"].append(measure(pending))
+                diag[k] = measure(pending)
         else:  # odd k = p + 1: W_{p,p} += C+_p C-_{p+1}; W_{p,p+2} = C+_p C+_{p+1}
             term = previous[1] @ cm
-            norms["diag"].append(measure(term if pending is None else pending + term))
+            diag[k - 1] = measure(term if pending is None else pending + term)
             if cp is not None and k + 1 < K:
-                norms["up"].append(measure(-term if negated else previous[1] @ cp))
+                up[k - 1] = measure(-term if negated else previous[1] @ cp)
         previous = here
+    positions = range(0, K, 2)
+    if reflected:  # the norms past the middle: those of the reflected blocks
+        for p in positions:
+            q = K - 1 - p
+            if p not in diag:
+                diag[p] = diag[q]
+            if p >= 2 and p not in low:
+                low[p] = up[q]
+            if p + 2 < K and p not in up:
+                up[p] = low[q]
     radius = 0.0
     for which in (0, 1):  # either norm bounds rho(W): the larger radius holds
-        d = np.array([n[which] for n in norms["diag"]])
-        off = np.sqrt(np.array([n[which] for n in norms["low"]])
-                      * np.array([n[which] for n in norms["up"]]))
+        d = np.array([diag[p][which] for p in positions])
+        off = np.sqrt(np.array([low[p + 2][which] * up[p][which] for p in positions
+                                if p + 2 < K]))
         rho = float(np.abs(sla.eigvalsh_tridiagonal(d, off)).max()) if len(d) > 1 else d[0]
         if not np.isfinite(rho):
             return 0.0
