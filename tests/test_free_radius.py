@@ -8,8 +8,8 @@ import pytest
 from spectralshell.errors import ConvergenceError
 from spectralshell.solvers import contour, marginal
 from spectralshell.solvers.half_product import (block_inverses, coupled_solves, cut_solves,
-                                                 dense_half_product, free_radius, mirrored,
-                                                 mirrored_solves, negated_coupling)
+                                                 dense_half_product, free_radius,
+                                                 mirrored_solves)
 from spectralshell.solvers.marginal import (Pencils, TruncationSchedule, certify_empty_answer,
                                              finer, marginal_tau)
 
@@ -90,7 +90,7 @@ def test_mirrored_radius_equals_dense_block_norms(kind, n_temporal):
     blocks too), equals the bound formed from every block of the dense W; each mirrored block
     solve equals the direct one."""
     hill = Pencils(cochlea(8, 3000.0), kind).pencil(n_temporal, "two-sided")
-    assert mirrored(hill)
+    assert hill.mirrored and hill.reflected and hill.negated
     assert free_radius(hill) == pytest.approx(dense_radius(hill), rel=1e-10)
     solve, _ = coupled_solves(hill)
     reflected = mirrored_solves(solve, len(hill.diag))
@@ -112,7 +112,7 @@ def test_radius_of_a_cut_random_coupling():
         for n in (2, 3):
             cut = big.truncated(n)
             own = free_radius(cut)
-            kept = free_radius(cut, (cut_solves(solve, big.block_range(n)), negated_coupling(cut)))
+            kept = free_radius(cut, (cut_solves(solve, big.block_range(n)), cut.negated))
             assert own > 0 and kept == pytest.approx(own, rel=1e-12)
 
 
@@ -290,3 +290,21 @@ def test_failed_count_is_not_walked_again(monkeypatch):
     assert certify_empty_answer(system, kind, answer, tau_max, "mark").complete_to == 0.0
     with pytest.raises(ConvergenceError, match="cannot prove"):
         certify_empty_answer(system, kind, answer, tau_max, True)
+
+
+def test_cut_inherits_checked_structure_and_replace_does_not():
+    """A central cut of a mirrored two-sided pencil is mirrored, reflected and negated without
+    its own check (its parent's holds); a copy with other blocks (dataclasses.replace) checks
+    its own data: a changed block breaks the reflection."""
+    import dataclasses
+
+    big = Pencils(cochlea(8, 3000.0), "harmonic").pencil(12, "two-sided")
+    cut = big.truncated(7)
+    assert cut.parent is big and cut.mirrored and cut.reflected and cut.negated
+    diag = cut.diag.copy()
+    diag[0] *= 1 + 1e-12
+    changed = dataclasses.replace(cut, diag=diag)
+    assert changed.parent is None
+    assert not changed.reflected and not changed.mirrored and changed.negated
+    real = Pencils(cochlea(8, 3000.0), "harmonic").pencil(12, "real")
+    assert not real.truncated(7).reflected  # a leading cut of the real form: checked, real

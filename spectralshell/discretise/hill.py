@@ -26,7 +26,7 @@ Two forms, with identical finite spectra (packing in :mod:`spectralshell.discret
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
@@ -49,6 +49,9 @@ class HillMatrices:
     lower, upper : (K - 1, s, s) blocks B_{k,k-1} and B_{k,k+1}.
     self_coupling : (K, s, s) diagonal blocks of B, or None when they all vanish (then B couples
         only neighbouring Fourier indices and the pencil is bipartite).
+    parent : the pencil this one was cut out of (:meth:`truncated`), or None; a structure
+        checked on the parent (:attr:`reflected`, :attr:`mirrored`, :attr:`negated`) holds for
+        the cut, which then skips its own check.
     """
 
     kind: str
@@ -58,6 +61,42 @@ class HillMatrices:
     lower: np.ndarray
     upper: np.ndarray
     self_coupling: np.ndarray | None
+    # not an init field: dataclasses.replace (other blocks) must not inherit the parent's checks
+    parent: HillMatrices | None = field(default=None, init=False, repr=False)
+
+    @cached_property
+    def reflected(self) -> bool:
+        """Whether A_{K-1-k} = conj(A_k) exactly for every k, on complex blocks: the two-sided
+        form of a model with D(conj s) = conj D(s) (the index reflection maps s_k to conj s_k:
+        harmonic k -> -k, subharmonic k -> -k-1). Checked on the data, never assumed; a central
+        cut (two-sided :meth:`truncated`) of a reflected pencil is reflected."""
+        if self._central_cut_of("reflected"):
+            return True
+        half = len(self.diag) // 2  # the other half of the equality is the same comparison
+        return bool(np.iscomplexobj(self.diag)
+                    and np.array_equal(self.diag[::-1][:half], self.diag[:half].conj()))
+
+    @cached_property
+    def mirrored(self) -> bool:
+        """Whether the pencil is its own conjugate reflection: :attr:`reflected`, bipartite, and
+        B_{K-1-k,K-2-k} = conj(B_{k,k+1}) exactly (then C-_{K-1-k} = conj(C+_k) and
+        C+_{K-1-k} = conj(C-_k) for C-+_k = A_k^{-1} B_{k,k-+1})."""
+        if self._central_cut_of("mirrored"):
+            return True
+        return bool(self.bipartite and self.reflected
+                    and np.array_equal(self.lower[::-1], self.upper.conj()))
+
+    @cached_property
+    def negated(self) -> bool:
+        """Whether B_{k,k+1} = -B_{k,k-1} exactly for every 0 < k < K - 1 (the forcing's
+        i G, -i G); every cut of a negated pencil is negated."""
+        if self.parent is not None and self.parent.negated:
+            return True
+        return bool(np.array_equal(self.upper[1:], -self.lower[:-1]))
+
+    def _central_cut_of(self, structure: str) -> bool:
+        """Whether this pencil is a central cut (two-sided form) of one with ``structure``."""
+        return self.parent is not None and not self.is_real and getattr(self.parent, structure)
 
     @property
     def is_real(self) -> bool:
@@ -118,9 +157,11 @@ class HillMatrices:
         rows = self.block_range(n_temporal)
         couple = slice(rows.start, rows.stop - 1)
         self_coupling = None if self.self_coupling is None else self.self_coupling[rows]
-        return HillMatrices(kind=self.kind, form=self.form, n_temporal=int(n_temporal),
-                            diag=self.diag[rows], lower=self.lower[couple],
-                            upper=self.upper[couple], self_coupling=self_coupling)
+        cut = HillMatrices(kind=self.kind, form=self.form, n_temporal=int(n_temporal),
+                           diag=self.diag[rows], lower=self.lower[couple],
+                           upper=self.upper[couple], self_coupling=self_coupling)
+        object.__setattr__(cut, "parent", self)  # frozen: set once, here
+        return cut
 
 
 def realify(d: np.ndarray) -> np.ndarray:

@@ -167,8 +167,9 @@ class BlockInverses:
         return solve
 
 
-def _inverses(diag: np.ndarray) -> BlockInverses:
-    """A_k^{-1} of every block, using the exact symmetries of the module notes."""
+def _inverses(diag: np.ndarray, reflected: bool) -> BlockInverses:
+    """A_k^{-1} of every block, using the exact symmetries of the module notes (``reflected``:
+    diag[K-1-k] = conj(diag[k]) for every k, checked by the caller)."""
     K, s, _ = diag.shape
     every, none = np.arange(K), np.arange(0)
     empty = np.zeros((0, s // 2, s // 2), dtype=complex)
@@ -180,7 +181,7 @@ def _inverses(diag: np.ndarray) -> BlockInverses:
     if s < SMALL_BLOCK:  # the savings below do not pay for their own overhead
         return BlockInverses(size=s, rows=every, inv=np.linalg.inv(diag), complex_rows=none,
                              complex_inv=empty)
-    if np.iscomplexobj(diag) and np.array_equal(diag[::-1], diag.conj()):
+    if reflected:
         inv = np.empty_like(diag)
         upper = np.arange(K // 2, K)
         inv[upper] = np.linalg.inv(diag[upper])
@@ -233,14 +234,17 @@ def _joined(parts: list[tuple[np.ndarray, BlockInverses]], size: int) -> BlockIn
                          complex_inv=np.concatenate([p.complex_inv for _, p in parts])[order_c])
 
 
-def _reusing(diag: np.ndarray, rows: slice, known: BlockInverses) -> BlockInverses:
-    """A_k^{-1} of every block, those at positions ``rows`` taken from ``known``."""
+def _reusing(diag: np.ndarray, reflected: bool, rows: slice,
+             known: BlockInverses) -> BlockInverses:
+    """A_k^{-1} of every block, those at positions ``rows`` taken from ``known`` (``reflected``
+    as for :func:`_inverses`, of all of ``diag``)."""
     done = np.zeros(len(diag), dtype=bool)
     done[rows] = True
     parts = [(np.flatnonzero(done), known)]
     todo = np.flatnonzero(~done)
-    if todo.size:
-        parts.append((todo, _inverses(diag[todo])))
+    if todo.size:  # the blocks left reflect onto each other where they lie at both ends alike
+        symmetric = np.array_equal(todo, len(diag) - 1 - todo[::-1])
+        parts.append((todo, _inverses(diag[todo], reflected and symmetric)))
     return _joined(parts, diag.shape[1])
 
 
@@ -252,9 +256,10 @@ def block_inverses(hill: HillMatrices,
     ``known``: (block positions, their inverses), reused instead of inverting those blocks."""
     try:
         if known is None or hill.diag.shape[1] < SMALL_BLOCK:
-            inv = _inverses(np.ascontiguousarray(hill.diag))  # C order, as full() passes it on
+            inv = _inverses(np.ascontiguousarray(hill.diag),  # C order, as full() passes it on
+                            hill.diag.shape[1] >= SMALL_BLOCK and hill.reflected)
         else:
-            inv = _reusing(hill.diag, *known)
+            inv = _reusing(hill.diag, hill.reflected, *known)
     except np.linalg.LinAlgError:
         return None
     inv_norm = inv.norms()
@@ -297,20 +302,16 @@ def dense_half_product(hill: HillMatrices, inverses: BlockInverses) -> np.ndarra
     return W.reshape(m, m, s, s).transpose(0, 2, 1, 3).reshape(m * s, m * s)
 
 
-def negated_coupling(hill: HillMatrices) -> bool:
-    """Whether B_{k,k+1} = -B_{k,k-1} for every 0 < k < K - 1 (the forcing's i G, -i G)."""
-    return bool(np.array_equal(hill.upper[1:], -hill.lower[:-1]))
-
-
 def coupled_solves(hill: HillMatrices):
     """(solve, negated): solve is k -> (C-_k, C+_k) = (A_k^{-1} B_{k,k-1}, A_k^{-1} B_{k,k+1})
     (None outside the pencil) by LAPACK's LU of A_k, one solve for both when
-    ``negated`` (:func:`negated_coupling`; then C+_k = -C-_k exactly there); None for a block
+    ``negated`` (:attr:`~spectralshell.discretise.hill.HillMatrices.negated`; then
+    C+_k = -C-_k exactly there); None for a block
     whose 1-norm condition exceeds COND_LIMIT (or a singular one)."""
     K = len(hill.diag)
     getrf, gecon, getrs = sla.lapack.get_lapack_funcs(("getrf", "gecon", "getrs"),
                                                       (hill.diag[0], hill.lower[:1]))
-    negated = negated_coupling(hill)
+    negated = hill.negated
 
     def solve(k: int) -> tuple[np.ndarray | None, np.ndarray | None] | None:
         a = np.array(hill.diag[k], dtype=np.result_type(hill.diag, hill.lower), order="F")
@@ -353,18 +354,9 @@ def cut_solves(solve, rows: slice):
     return solve_cut
 
 
-def mirrored(hill: HillMatrices) -> bool:
-    """Whether the pencil is its own conjugate reflection: A_{K-1-k} = conj(A_k) and
-    B_{K-1-k,K-2-k} = conj(B_{k,k+1}) exactly (the two-sided form of a real model, module
-    notes), so that C-_{K-1-k} = conj(C+_k) and C+_{K-1-k} = conj(C-_k)."""
-    half = len(hill.diag) // 2  # the other half of each equality is the same comparison
-    return (hill.self_coupling is None
-            and np.array_equal(hill.diag[::-1][:half], hill.diag[:half].conj())
-            and np.array_equal(hill.lower[::-1], hill.upper.conj()))
-
-
 def mirrored_solves(solve, K: int):
-    """The ``solve`` of :func:`coupled_solves` for a :func:`mirrored` pencil of K blocks with
+    """The ``solve`` of :func:`coupled_solves` for a mirrored pencil
+    (:attr:`~spectralshell.discretise.hill.HillMatrices.mirrored`) of K blocks with
     the blocks past the middle taken from their reflections: C-_k = conj(C+_{K-1-k}),
     C+_k = conj(C-_{K-1-k}); only the first ceil(K / 2) blocks of A are solved. Exact: LU and
     triangular solves commute with conjugation (the pivot choice |Re| + |Im| included)."""
@@ -402,7 +394,7 @@ def free_radius(hill: HillMatrices, solves=None) -> float:
     the cochlea's forcing), the blocks of W come in pairs that differ in sign only,
     W_{p,p} = -(C-_p C-_{p-1} + C-_p C-_{p+1}) and W_{p,p+-2} = C-_p C-_{p+-1} away from the
     ends: one product per block of A instead of two, about 2.7 K s^3, with the same numbers
-    (negating a factor negates a product exactly). Where the pencil is :func:`mirrored` (the
+    (negating a factor negates a product exactly). Where the pencil is mirrored (the
     two-sided form), the blocks past the middle are solved as conjugates of their reflections
     (:func:`mirrored_solves`), and with K odd (the harmonic kind: even positions reflect onto
     even ones, p -> K - 1 - p) W_{K-1-p,K-1-p} = conj(W_{p,p}) and W_{K-1-p,K-3-p} =
@@ -415,7 +407,7 @@ def free_radius(hill: HillMatrices, solves=None) -> float:
     if K == 1:  # B = 0: no finite eigenvalue
         return np.inf
     solve, negated = coupled_solves(hill) if solves is None else solves
-    mirror = mirrored(hill)
+    mirror = hill.mirrored
     if mirror:
         solve = mirrored_solves(solve, K)
     # norms (1-norm, inf-norm) of W_{p,p}, W_{p,p-2}, W_{p,p+2} by even position p

@@ -277,7 +277,7 @@ from ..results.records import MarginalTau
 from . import tridiagonal
 from .contour import STRIPS, none_up_to, smallest_real_tau
 from .half_product import (REAL_RTOL, BlockInverses, block_inverses, coupled_solves,
-                           cut_solves, dense_half_product, negated_coupling, smallest_taus,
+                           cut_solves, dense_half_product, smallest_taus,
                            tau_from_squares, tridiagonal_half_product, well_conditioned)
 from .shift_invert import Shift, interval_taus
 
@@ -578,7 +578,7 @@ class Pencils:
         solve, negated = self._solves[form]
         if hill is big:
             return solve, negated
-        return cut_solves(solve, big.block_range(n_temporal)), negated_coupling(hill)
+        return cut_solves(solve, big.block_range(n_temporal)), hill.negated
 
     def _assemble(self, n_temporal: int, form: str) -> HillMatrices:
         """Assemble a larger truncation; its block inverses are formed when asked for, reusing
