@@ -165,7 +165,7 @@ def sector_system(sector: Sector, *, nu: float, kappa_mean: float) -> HillSystem
 
     def unforced(s: np.ndarray) -> np.ndarray:
         s = np.asarray(s, dtype=complex).ravel()
-        out = np.broadcast_to(C, (s.size,) + C.shape).astype(complex)
+        out = np.broadcast_to(C, (s.size,) + C.shape).astype(complex, order="C")
         cache: dict[tuple[int, str], np.ndarray] = {}
         for l, component, pos in groups:
             if (l, component) not in cache:

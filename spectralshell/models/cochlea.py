@@ -103,7 +103,7 @@ def unforced(s: np.ndarray, *, kappa: float, nu: float, modes: np.ndarray,
     """D(s) = diag(Z_k(s)) + kappa C for the cosine modes ``modes``, shape (len(s), M, M)."""
     s = np.asarray(s, dtype=complex).ravel()
     modes = np.asarray(modes)
-    out = np.broadcast_to(kappa * coupling, (s.size,) + coupling.shape).astype(complex)
+    out = np.broadcast_to(kappa * coupling, (s.size,) + coupling.shape).astype(complex, order="C")
     idx = np.arange(modes.size)
     out[:, idx, idx] += transfer(s[:, None], modes[None, :], nu)
     return out

@@ -313,7 +313,7 @@ def _unforced_at(s: np.ndarray, beta: np.ndarray, x: np.ndarray, *, m: int, k: f
     """:func:`unforced` at beta = k + x on either sheet (:func:`_fluid_load_at`)."""
     idx = components(m, k, component)
     E = kappa * elastic_matrix(m, k)[np.ix_(idx, idx)]
-    out = np.broadcast_to(E, (s.size, len(idx), len(idx))).astype(complex)
+    out = np.broadcast_to(E, (s.size, len(idx), len(idx))).astype(complex, order="C")
     live = s != 0
     if live.any():
         out[live] += _fluid_load_at(s[live], beta[live], x[live], m=m, k=k,

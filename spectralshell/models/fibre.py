@@ -103,7 +103,7 @@ def unforced(s: np.ndarray, *, m: int, kappa: float, nu: float) -> np.ndarray:
     """
     nu = require_positive("nu", nu)
     s = np.asarray(s, dtype=complex).ravel()
-    out = np.broadcast_to(kappa * elastic_matrix(m), (s.size, 2, 2)).astype(complex)
+    out = np.broadcast_to(kappa * elastic_matrix(m), (s.size, 2, 2)).astype(complex, order="C")
     live = s != 0
     if live.any():
         sl = s[live]
