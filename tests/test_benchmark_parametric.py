@@ -167,6 +167,8 @@ def test_score_reports_known_perturbations(reference, tmp_path):
         assert abs(sparse.growth_rate - other.growth_rate) < 1e-6 * omega
 
 
+@pytest.mark.slow  # 15 s; the CLI's bytes are checked in the fast suite by the fibre and
+# cochlea problems' tests (benchmark_cases.cli_writes)
 def test_cli_writes_the_same_bytes(reference, tmp_path, capsys):
     """`benchmark write sphere-parametric` writes the bytes of the same computation written
     from Python; show and score work; bad margins and foreign parameters exit 2."""

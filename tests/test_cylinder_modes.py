@@ -388,9 +388,10 @@ def test_large_zeta_mode_count_over_the_grid(component, m, k, zeta):
     assert abs(count - round(count)) < 1e-6 and round(count) == found
 
 
-@pytest.mark.parametrize("m,k,zeta", [(1, 2.0, 3.0), (25, 10.0, 300.0), (5, 10.0, 1e3),
-                                      (2, 1.0, 0.5),
-                                      (1, 0.1, 3.0),
+@pytest.mark.parametrize("m,k,zeta", [(1, 2.0, 3.0), (2, 1.0, 0.5), (1, 0.1, 3.0),
+                                      # ~10 s each: with the slow tests (make test-all)
+                                      pytest.param(25, 10.0, 300.0, marks=pytest.mark.slow),
+                                      pytest.param(5, 10.0, 1e3, marks=pytest.mark.slow),
                                       pytest.param(17, 0.5, 10.0, marks=pytest.mark.slow),
                                       pytest.param(25, 40.0, 1e3, marks=pytest.mark.slow)])
 def test_large_zeta_roots_against_30_digit_roots(m, k, zeta):
@@ -521,7 +522,8 @@ def test_exponents_at_tau_zero_are_the_natural_modes(params):
     np.testing.assert_allclose(np.sort_complex(ex), _folded(modes), atol=1e-10)
 
 
-@pytest.mark.parametrize("kind,line", [("harmonic", 0.0), ("subharmonic", 0.5)])
+@pytest.mark.parametrize("kind,line", [("harmonic", 0.0),  # the subharmonic: 12 s, slow
+                                       pytest.param("subharmonic", 0.5, marks=pytest.mark.slow)])
 def test_exponents_at_tau_min_are_marginal(kind, line):
     floquet = ss.floquet("cylinder", **_EXPONENT_CASE)
     tau = getattr(floquet, kind).tau_min

@@ -8,6 +8,7 @@ fewer modes tau_min converges to the cosine truncation's as m grows; the count o
 frequencies below w against the eigenvalues of models.cochlea.natural_frequencies.
 """
 
+import functools
 import math
 
 import numpy as np
@@ -98,3 +99,40 @@ def test_bad_input_names_the_parameter():
     with pytest.raises(ParameterError, match="no inviscid inertia"):
         natural_mode_system(scalar, 1)
     assert natural_basis_pays(scalar) is False
+
+
+def test_fig_5_18_cells_in_the_natural_basis_equal_the_cosine_ones(monkeypatch):
+    """Cells of the packaged human Fig 5.18 scene at low tones, each planned in the natural
+    basis, against the same cells refined in cosine modes throughout (the path before the
+    plan): the same answer for each kind (found or not, certified), and tau_min within the sum
+    of the two error estimates (each at least its spatial change,
+    spatial_refinement.spatial_error). At 232.2 Hz, sigma = 8.3e8 the subharmonic tau_min
+    differs by 2.3e-5 between the bases, within that sum."""
+    from spectralshell.params.sweep_grid import sweep_spec
+    from spectralshell.reports.figures import fig_5_18_scene
+    from spectralshell.runner import run_sweep, solve
+
+    scene = fig_5_18_scene("human")
+    cells = [{**scene, "grid": {"frequency": [f], "sigma": [s]}}
+             for f, s in ((232.2, 8.3e8), (627.1, 7.4e7))]
+    for cell in cells:
+        spec = sweep_spec(cell)
+        params = spec.params_at({a.name: a.values[0] for a in spec.axes if a.name != "kind"})
+        assert solve.spatial_basis("cochlea", params)[1] == solve.NATURAL_START  # planned so
+    natural = [run_sweep(cell, executor="serial").dataset for cell in cells]
+    cosine_basis = lambda model, params: (  # noqa: E731 - the plan without the natural basis
+        functools.partial(solve.spatial_system, model, params), solve.SPATIAL_START)
+    monkeypatch.setattr(solve, "spatial_basis", cosine_basis)
+    cosine = [run_sweep(cell, executor="serial").dataset for cell in cells]
+    for nat, cos in zip(natural, cosine):
+        for name in ("has_tau", "spatial_converged"):
+            np.testing.assert_array_equal(nat[name].values, cos[name].values)
+        found = nat["has_tau"].values
+        assert found.any() and not found.all()  # one kind attains the minimum, the other not
+        gap = np.abs(nat["tau_min"].values - cos["tau_min"].values)[found]
+        allowed = (nat["error_estimate"].values + cos["error_estimate"].values)[found]
+        assert np.all(gap <= allowed) and np.all(allowed < 1e-3)
+        for ds in (nat, cos):  # certified up to tau_min; the other kind up to the minimum
+            least = float(ds["tau_min"].values[found].min())
+            bound = np.where(found, ds["tau_min"].values, least)
+            assert np.all(ds["complete_to"].values >= bound)
