@@ -432,7 +432,8 @@ def projection(cost_sphere: float, per_task: float, overhead_fraction: float,
     costs = np.array([c for _, c, _ in sample])
     mean, spread = float(costs.mean()), float(costs.std(ddof=1) / math.sqrt(costs.size))
     print(f"  * per map point (both kinds, M refined): the mean CPU time of the {costs.size} "
-          f"random points measured above (each the least of its runs), {mean:.1f} s (standard error {spread:.1f} s; median "
+          f"random points measured above (each the least of its runs), {mean:.1f} s (standard "
+          f"error {spread:.1f} s; median "
           f"{float(np.median(costs)):.1f} s, max {float(costs.max()):.1f} s). The cost varies by "
           "two orders of magnitude over the map (it is largest at low frequency and high sigma, "
           "where only high-order resonances exist), so the sample mean is a rough estimate; the "
